@@ -1,0 +1,123 @@
+#include "geom/grid.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rtm {
+namespace {
+
+struct Interval {
+  double lo, hi;
+};
+
+Interval operator+(Interval a, Interval b) { return {a.lo + b.lo, a.hi + b.hi}; }
+
+Interval scale(double k, Interval a) { return k >= 0 ? Interval{k * a.lo, k * a.hi} : Interval{k * a.hi, k * a.lo}; }
+
+Interval mul(Interval a, Interval b) {
+  const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+  return {std::min({p[0], p[1], p[2], p[3]}), std::max({p[0], p[1], p[2], p[3]})};
+}
+
+/// x² is never negative: tighter than mul(a, a) when the interval straddles zero.
+Interval square(Interval a) {
+  const double l = a.lo * a.lo, h = a.hi * a.hi;
+  if (a.lo <= 0 && a.hi >= 0) return {0, std::max(l, h)};
+  return {std::min(l, h), std::max(l, h)};
+}
+
+/// Voxels are grown by this fraction of their size when registering primitives, so surfaces on
+/// a voxel face, and hits computed in float32 a little off the true surface, still find their
+/// primitive listed.
+constexpr double kVoxelPad = 1e-5;
+
+}  // namespace
+
+Aabb Grid::voxel_box(int x, int y, int z) const {
+  return Aabb{{plane(0, x), plane(1, y), plane(2, z)}, {plane(0, x + 1), plane(1, y + 1), plane(2, z + 1)}};
+}
+
+bool quadric_may_vanish(const Quadric& q, const Aabb& b) {
+  const Interval x{b.lo.x, b.hi.x}, y{b.lo.y, b.hi.y}, z{b.lo.z, b.hi.z};
+  const auto& c = q.c;
+  Interval v = scale(c[kA], square(x)) + scale(c[kB], square(y)) + scale(c[kC], square(z)) +
+               scale(c[kD], mul(x, y)) + scale(c[kE], mul(y, z)) + scale(c[kF], mul(z, x)) + scale(c[kG], x) +
+               scale(c[kH], y) + scale(c[kI], z) + Interval{c[kJ], c[kJ]};
+  // Rounding in the sums above is far below this slack, which is relative to the terms' size.
+  double mag = 0;
+  for (double t : {std::abs(v.lo), std::abs(v.hi), std::abs(c[kJ])}) mag = std::max(mag, t);
+  const double slack = 1e-12 * mag;
+  return v.lo <= slack && v.hi >= -slack;
+}
+
+bool box_touches_halfspace(const Aabb& b, const HalfSpace& h) {
+  // The box corner minimising n·p.
+  const Vec3 p{h.n.x >= 0 ? b.lo.x : b.hi.x, h.n.y >= 0 ? b.lo.y : b.hi.y, h.n.z >= 0 ? b.lo.z : b.hi.z};
+  return h.eval(p) <= 1e-12 * (max_abs(h.n) * max_abs(p) + std::abs(h.d));
+}
+
+std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const GridOptions& opt) {
+  const Vec3 e = box.extent();
+  const double longest = std::max({e.x, e.y, e.z});
+  // Flat scenes would give zero volume: treat each axis as at least a small slice of the longest.
+  const Vec3 safe = glm::max(e, Vec3(longest * 1e-3));
+  const double volume = safe.x * safe.y * safe.z;
+  const double per_unit = std::cbrt(opt.voxels_per_primitive * double(std::max<size_t>(primitives, 1)) / volume);
+  std::array<int, 3> n{};
+  for (int a = 0; a < 3; ++a)
+    n[a] = std::clamp(int(std::lround(e[a] * per_unit)), 1, std::max(1, opt.max_auto_axis));
+  return n;
+}
+
+Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt) {
+  Grid g;
+  for (const Primitive& p : prims) g.box.extend(p.bounds);
+  if (prims.empty()) g.box = Aabb{{0, 0, 0}, {1, 1, 1}};
+  // Pad the object space so surfaces lying on its boundary are strictly inside.
+  const Vec3 e = g.box.extent();
+  const double pad = 1e-6 * std::max({e.x, e.y, e.z, 1e-300});
+  g.box.lo -= Vec3(pad);
+  g.box.hi += Vec3(pad);
+
+  const bool automatic = opt.resolution == std::array<int, 3>{0, 0, 0};
+  g.n = automatic ? auto_resolution(g.box, prims.size(), opt) : opt.resolution;
+  for (int a = 0; a < 3; ++a)
+    if (g.n[a] < 1) throw std::invalid_argument("grid resolution must be at least 1 voxel per axis");
+  if (double(g.n[0]) * g.n[1] * g.n[2] > 1.5e9) throw std::invalid_argument("grid resolution is too large");
+  g.cell = g.box.extent() / Vec3(g.n[0], g.n[1], g.n[2]);
+
+  // Lists per voxel first, then compacted into one contiguous array (the PE's voxel data).
+  std::vector<std::vector<uint32_t>> per_voxel(size_t(g.voxel_count()));
+  for (uint32_t id = 0; id < prims.size(); ++id) {
+    const Primitive& p = prims[id];
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::clamp(int(std::floor((p.bounds.lo[a] - g.box.lo[a]) / g.cell[a])) - 1, 0, g.n[a] - 1);
+      hi[a] = std::clamp(int(std::floor((p.bounds.hi[a] - g.box.lo[a]) / g.cell[a])) + 1, 0, g.n[a] - 1);
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+          Aabb vb = g.voxel_box(x, y, z);
+          vb.lo -= kVoxelPad * g.cell;
+          vb.hi += kVoxelPad * g.cell;
+          if (!vb.overlaps(p.bounds)) continue;
+          bool touches = quadric_may_vanish(p.q, vb);
+          for (size_t k = 0; touches && k < p.clips.size(); ++k) touches = box_touches_halfspace(vb, p.clips[k]);
+          if (touches) per_voxel[size_t(g.index(x, y, z))].push_back(id);
+        }
+  }
+  g.start.assign(per_voxel.size() + 1, 0);
+  size_t total = 0;
+  for (size_t v = 0; v < per_voxel.size(); ++v) {
+    g.start[v] = uint32_t(total);
+    total += per_voxel[v].size();
+  }
+  if (total > UINT32_MAX) throw std::invalid_argument("grid holds too many primitive references");
+  g.start.back() = uint32_t(total);
+  g.items.reserve(total);
+  for (auto& list : per_voxel) g.items.insert(g.items.end(), list.begin(), list.end());
+  return g;
+}
+
+}  // namespace rtm

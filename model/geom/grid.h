@@ -1,0 +1,52 @@
+// The uniform grid ("voxel data"): which primitives each equal-sized voxel holds.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geom/quadric.h"
+
+namespace rtm {
+
+struct GridOptions {
+  /// Voxels per axis; all zero means automatic (see auto_resolution).
+  std::array<int, 3> resolution{0, 0, 0};
+  /// Automatic resolution aims at this many voxels per primitive.
+  double voxels_per_primitive = 4.0;
+  /// Automatic resolution never exceeds this many voxels on an axis.
+  int max_auto_axis = 128;
+};
+
+struct Grid {
+  Aabb box;                      ///< the object space; voxels tile it exactly
+  std::array<int, 3> n{1, 1, 1};  ///< voxels per axis
+  Vec3 cell{1, 1, 1};            ///< voxel edge lengths
+  /// Compressed rows: voxel v holds items[start[v] .. start[v+1]).
+  std::vector<uint32_t> start;
+  std::vector<uint32_t> items;
+
+  int64_t voxel_count() const { return int64_t(n[0]) * n[1] * n[2]; }
+  int64_t index(int x, int y, int z) const { return (int64_t(z) * n[1] + y) * n[0] + x; }
+  uint32_t count(int64_t v) const { return start[v + 1] - start[v]; }
+  const uint32_t* begin(int64_t v) const { return items.data() + start[v]; }
+  Aabb voxel_box(int x, int y, int z) const;
+  /// Position of a voxel boundary plane on an axis, computed from the index (no accumulated drift).
+  double plane(int axis, int i) const { return box.lo[axis] + i * cell[axis]; }
+};
+
+/// Automatic resolution: voxels of equal size in every direction, about voxels_per_primitive
+/// voxels per primitive (Cleary & Wyvill / Woo's cube-root rule), clamped to [1, max_auto_axis].
+std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const GridOptions& opt);
+
+/// Conservative voxelisation: a primitive is listed in every voxel its clipped surface may touch.
+/// Tighter than its bounding box: a voxel entirely outside one clip half-space is skipped, and
+/// so is a voxel over which interval arithmetic proves the quadric has no zero.
+Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt);
+
+/// Interval bound check used by the voxeliser: can Q be zero somewhere in the box?
+bool quadric_may_vanish(const Quadric& q, const Aabb& box);
+/// Can the box hold a point with n·p + d <= 0?
+bool box_touches_halfspace(const Aabb& box, const HalfSpace& h);
+
+}  // namespace rtm

@@ -1,0 +1,93 @@
+// The MAC unit's operand table: how the paper's 6 / 12 / 10 products form α, β, γ.
+//
+// Each product is latch(x) · latch(y) · ram(w): multiplier 1 multiplies two operands from the
+// U/V latches, multiplier 2 multiplies that by one word of the coefficient RAM, the adder
+// accumulates. The paper does not say how 2A·Ux·Vx, G·Ux and J are fed; here the RAM holds the
+// pre-scaled words 2A, 2B, 2C and a latch holds the constant 1.0 (both exact in binary floating
+// point, so the sums equal direct substitution term by term).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "geom/quadric.h"
+
+namespace rtm {
+
+/// Latch operands: the ray direction U, origin V, and the constant one.
+enum Latch : uint8_t { kUx, kUy, kUz, kVx, kVy, kVz, kOne };
+/// Coefficient RAM words: A..J in the paper's order, then the pre-scaled 2A, 2B, 2C.
+enum RamWord : uint8_t { kRamA, kRamB, kRamC, kRamD, kRamE, kRamF, kRamG, kRamH, kRamI, kRamJ, kRam2A, kRam2B, kRam2C };
+constexpr int kRamWords = 13;
+/// Which sum a product is accumulated into.
+enum Sum : uint8_t { kAlpha, kBeta, kGamma };
+
+struct MacOp {
+  Latch x, y;
+  RamWord w;
+  Sum sum;
+};
+
+constexpr int kAlphaProducts = 6, kBetaProducts = 12, kGammaProducts = 10;
+constexpr int kMacProducts = kAlphaProducts + kBetaProducts + kGammaProducts;
+
+/// The full schedule in issue order: α's 6, then β's 12, then γ's 10.
+constexpr std::array<MacOp, kMacProducts> kMacSchedule{{
+    // α = A Ux² + B Uy² + C Uz² + D Ux Uy + E Uy Uz + F Uz Ux
+    {kUx, kUx, kRamA, kAlpha}, {kUy, kUy, kRamB, kAlpha}, {kUz, kUz, kRamC, kAlpha},
+    {kUx, kUy, kRamD, kAlpha}, {kUy, kUz, kRamE, kAlpha}, {kUz, kUx, kRamF, kAlpha},
+    // β = 2A Ux Vx + 2B Uy Vy + 2C Uz Vz + D (Ux Vy + Uy Vx) + E (Uy Vz + Uz Vy)
+    //     + F (Uz Vx + Ux Vz) + G Ux + H Uy + I Uz
+    {kUx, kVx, kRam2A, kBeta}, {kUy, kVy, kRam2B, kBeta}, {kUz, kVz, kRam2C, kBeta},
+    {kUx, kVy, kRamD, kBeta},  {kUy, kVx, kRamD, kBeta},  {kUy, kVz, kRamE, kBeta},
+    {kUz, kVy, kRamE, kBeta},  {kUz, kVx, kRamF, kBeta},  {kUx, kVz, kRamF, kBeta},
+    {kUx, kOne, kRamG, kBeta}, {kUy, kOne, kRamH, kBeta}, {kUz, kOne, kRamI, kBeta},
+    // γ = A Vx² + B Vy² + C Vz² + D Vx Vy + E Vy Vz + F Vz Vx + G Vx + H Vy + I Vz + J
+    {kVx, kVx, kRamA, kGamma}, {kVy, kVy, kRamB, kGamma}, {kVz, kVz, kRamC, kGamma},
+    {kVx, kVy, kRamD, kGamma}, {kVy, kVz, kRamE, kGamma}, {kVz, kVx, kRamF, kGamma},
+    {kVx, kOne, kRamG, kGamma}, {kVy, kOne, kRamH, kGamma}, {kVz, kOne, kRamI, kGamma},
+    {kOne, kOne, kRamJ, kGamma},
+}};
+
+template <class Real>
+using CoefRam = std::array<Real, kRamWords>;
+template <class Real>
+using Latches = std::array<Real, 7>;
+
+template <class Real>
+CoefRam<Real> load_ram(const Quadric& q) {
+  CoefRam<Real> r{};
+  for (int i = 0; i < 10; ++i) r[i] = static_cast<Real>(q.c[i]);
+  r[kRam2A] = 2 * r[kRamA];
+  r[kRam2B] = 2 * r[kRamB];
+  r[kRam2C] = 2 * r[kRamC];
+  return r;
+}
+
+template <class Real>
+Latches<Real> load_latches(const Vec3& dir, const Vec3& origin) {
+  return {static_cast<Real>(dir.x),    static_cast<Real>(dir.y),    static_cast<Real>(dir.z),
+          static_cast<Real>(origin.x), static_cast<Real>(origin.y), static_cast<Real>(origin.z), Real(1)};
+}
+
+template <class Real>
+struct Abg {
+  Real a = 0, b = 0, g = 0;  ///< α, β, γ of α t² + β t + γ = 0
+};
+
+/// One product as the hardware forms it: (x · y) · w, rounded after each multiply.
+template <class Real>
+Real mac_product(const MacOp& op, const Latches<Real>& l, const CoefRam<Real>& ram) {
+  const Real m1 = l[op.x] * l[op.y];
+  return m1 * ram[op.w];
+}
+
+/// α, β, γ by running the schedule in order; the clock-level MAC model must match this bit for bit.
+template <class Real>
+Abg<Real> form_abg(const Latches<Real>& l, const CoefRam<Real>& ram) {
+  Real acc[3] = {0, 0, 0};
+  for (const MacOp& op : kMacSchedule) acc[op.sum] += mac_product(op, l, ram);
+  return {acc[kAlpha], acc[kBeta], acc[kGamma]};
+}
+
+}  // namespace rtm

@@ -1,0 +1,352 @@
+#include "geom/quadric.h"
+
+#include <stdexcept>
+
+namespace rtm {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+void require_finite(const Vec3& v, const char* what) {
+  require(all_finite(v), std::string(what) + " is not finite");
+}
+
+void require_positive(double x, const char* what) {
+  require(std::isfinite(x) && x > 0, std::string(what) + " must be a finite positive number");
+}
+
+/// Symmetric 4x4 matrix S with Q(p) = [p 1]ᵀ S [p 1].
+using Sym4 = std::array<std::array<double, 4>, 4>;
+
+Quadric from_sym(const Sym4& s) {
+  Quadric q;
+  q.c = {s[0][0],     s[1][1],     s[2][2],     2 * s[0][1], 2 * s[1][2],
+         2 * s[0][2], 2 * s[0][3], 2 * s[1][3], 2 * s[2][3], s[3][3]};
+  return q;
+}
+
+/// The world quadric of a quadric written in frame f's local coordinates: Mᵀ S M, where M maps
+/// world to local (l = Rᵀ (p − o)).
+Quadric to_world(const Frame& f, const Sym4& local) {
+  const Vec3 e[3] = {f.ex, f.ey, f.ez};
+  double m[4][4] = {};
+  for (int i = 0; i < 3; ++i) {
+    m[i][0] = e[i].x;
+    m[i][1] = e[i].y;
+    m[i][2] = e[i].z;
+    m[i][3] = -dot(e[i], f.origin);
+  }
+  m[3][3] = 1;
+  Sym4 w{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      double sum = 0;
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) sum += m[i][r] * local[i][j] * m[j][c];
+      w[r][c] = sum;
+    }
+  return from_sym(w);
+}
+
+/// Box of a disc of radius r centred at c with unit normal a.
+Aabb disc_box(const Vec3& c, const Vec3& a, double r) {
+  const Vec3 half{r * std::sqrt(std::max(0.0, 1 - a.x * a.x)), r * std::sqrt(std::max(0.0, 1 - a.y * a.y)),
+                  r * std::sqrt(std::max(0.0, 1 - a.z * a.z))};
+  return Aabb{c - half, c + half};
+}
+
+/// Keep local z within [z0, z1] of frame f.
+void clip_z(Primitive& p, const Frame& f, double z0, double z1) {
+  const double oz = dot(f.ez, f.origin);
+  p.clips.push_back({-f.ez, oz + z0});  // z >= z0
+  p.clips.push_back({f.ez, -oz - z1});  // z <= z1
+}
+
+void check_frame(const Frame& f) {
+  require_finite(f.origin, "frame origin");
+  for (const Vec3& e : {f.ex, f.ey, f.ez}) {
+    require_finite(e, "frame axis");
+    require(std::abs(length(e) - 1) < 1e-9, "frame axes must be unit vectors");
+  }
+  require(std::abs(dot(f.ex, f.ey)) < 1e-9 && std::abs(dot(f.ey, f.ez)) < 1e-9 && std::abs(dot(f.ez, f.ex)) < 1e-9,
+          "frame axes must be orthogonal");
+}
+
+/// A surface of revolution about the frame's z axis between z0 and z1, radius at most r.
+Aabb revolution_box(const Frame& f, double z0, double r0, double z1, double r1) {
+  Aabb b = disc_box(f.origin + z0 * f.ez, f.ez, r0);
+  b.extend(disc_box(f.origin + z1 * f.ez, f.ez, r1));
+  return b;
+}
+
+Primitive finish(Primitive p) {
+  validate(p);
+  return p;
+}
+
+}  // namespace
+
+const char* shape_name(ShapeKind k) {
+  switch (k) {
+    case ShapeKind::Sphere: return "sphere";
+    case ShapeKind::Ellipsoid: return "ellipsoid";
+    case ShapeKind::Cylinder: return "cylinder";
+    case ShapeKind::Cone: return "cone";
+    case ShapeKind::Plane: return "plane";
+    case ShapeKind::Paraboloid: return "paraboloid";
+    case ShapeKind::Hyperboloid1: return "hyperboloid1";
+    case ShapeKind::Hyperboloid2: return "hyperboloid2";
+    case ShapeKind::Polygon: return "polygon";
+    case ShapeKind::Raw: return "quadric";
+  }
+  return "?";
+}
+
+double Quadric::value(const Vec3& p) const {
+  return c[kA] * p.x * p.x + c[kB] * p.y * p.y + c[kC] * p.z * p.z + c[kD] * p.x * p.y + c[kE] * p.y * p.z +
+         c[kF] * p.z * p.x + c[kG] * p.x + c[kH] * p.y + c[kI] * p.z + c[kJ];
+}
+
+Vec3 Quadric::gradient(const Vec3& p) const {
+  return {2 * c[kA] * p.x + c[kD] * p.y + c[kF] * p.z + c[kG], 2 * c[kB] * p.y + c[kD] * p.x + c[kE] * p.z + c[kH],
+          2 * c[kC] * p.z + c[kE] * p.y + c[kF] * p.x + c[kI]};
+}
+
+Frame Frame::along(const Vec3& origin, const Vec3& axis) {
+  Frame f;
+  f.origin = origin;
+  f.ez = normalize(axis);
+  // Pick the world axis least aligned with ez, so the cross product is well conditioned.
+  const Vec3 a = std::abs(f.ez.x) < 0.6 ? Vec3{1, 0, 0} : (std::abs(f.ez.y) < 0.6 ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  f.ex = normalize(cross(a, f.ez));
+  f.ey = cross(f.ez, f.ex);
+  return f;
+}
+
+Primitive make_sphere(const Vec3& centre, double radius) {
+  require_finite(centre, "sphere centre");
+  require_positive(radius, "sphere radius");
+  Primitive p;
+  p.kind = ShapeKind::Sphere;
+  p.q.c = {1, 1, 1, 0, 0, 0, -2 * centre.x, -2 * centre.y, -2 * centre.z, dot(centre, centre) - radius * radius};
+  p.bounds = Aabb{centre - Vec3(radius), centre + Vec3(radius)};
+  p.p0 = centre;
+  p.r0 = radius;
+  return finish(p);
+}
+
+Primitive make_ellipsoid(const Frame& f, const Vec3& radii) {
+  check_frame(f);
+  require_positive(radii.x, "ellipsoid radius x");
+  require_positive(radii.y, "ellipsoid radius y");
+  require_positive(radii.z, "ellipsoid radius z");
+  Sym4 s{};
+  s[0][0] = 1 / (radii.x * radii.x);
+  s[1][1] = 1 / (radii.y * radii.y);
+  s[2][2] = 1 / (radii.z * radii.z);
+  s[3][3] = -1;
+  Primitive p;
+  p.kind = ShapeKind::Ellipsoid;
+  p.q = to_world(f, s);
+  // Exact box of a rotated ellipsoid: half-extent along world axis i is |(R diag(r))_i|.
+  const Vec3 half{length(Vec3{f.ex.x * radii.x, f.ey.x * radii.y, f.ez.x * radii.z}),
+                  length(Vec3{f.ex.y * radii.x, f.ey.y * radii.y, f.ez.y * radii.z}),
+                  length(Vec3{f.ex.z * radii.x, f.ey.z * radii.y, f.ez.z * radii.z})};
+  p.bounds = Aabb{f.origin - half, f.origin + half};
+  p.p0 = f.origin;
+  p.p1 = radii;
+  return finish(p);
+}
+
+Primitive make_cone(const Vec3& base, double base_radius, const Vec3& apex, double apex_radius) {
+  require_finite(base, "cone base centre");
+  require_finite(apex, "cone apex centre");
+  require(std::isfinite(base_radius) && std::isfinite(apex_radius), "cone radii are not finite");
+  // NFF: negative radii (both) mean "inside visible only"; the surface is the same.
+  const double r0 = std::abs(base_radius), r1 = std::abs(apex_radius);
+  require(r0 > 0 || r1 > 0, "cone radii are both zero");
+  const double h = length(apex - base);
+  require(h > 0 && std::isfinite(h), "cone base and apex coincide");
+  const Frame f = Frame::along(base, apex - base);
+  // x² + y² − (r0 + k z)² = 0 with k the radius slope.
+  const double k = (r1 - r0) / h;
+  Sym4 s{};
+  s[0][0] = 1;
+  s[1][1] = 1;
+  s[2][2] = -k * k;
+  s[2][3] = s[3][2] = -r0 * k;
+  s[3][3] = -r0 * r0;
+  Primitive p;
+  p.kind = r0 == r1 ? ShapeKind::Cylinder : ShapeKind::Cone;
+  p.q = to_world(f, s);
+  clip_z(p, f, 0, h);
+  p.bounds = revolution_box(f, 0, r0, h, r1);
+  p.p0 = base;
+  p.p1 = apex;
+  p.r0 = r0;
+  p.r1 = r1;
+  return finish(p);
+}
+
+Primitive make_paraboloid(const Frame& f, double k, double height) {
+  check_frame(f);
+  require_positive(k, "paraboloid k");
+  require_positive(height, "paraboloid height");
+  Sym4 s{};
+  s[0][0] = 1;
+  s[1][1] = 1;
+  s[2][3] = s[3][2] = -k / 2;
+  Primitive p;
+  p.kind = ShapeKind::Paraboloid;
+  p.q = to_world(f, s);
+  clip_z(p, f, 0, height);
+  p.bounds = revolution_box(f, 0, 0, height, std::sqrt(k * height));
+  p.p0 = f.origin;
+  p.r0 = k;
+  p.r1 = height;
+  return finish(p);
+}
+
+namespace {
+Primitive hyperboloid(const Frame& f, double a, double c, double half_height, double constant, ShapeKind kind) {
+  Sym4 s{};
+  s[0][0] = 1 / (a * a);
+  s[1][1] = 1 / (a * a);
+  s[2][2] = -1 / (c * c);
+  s[3][3] = constant;
+  // On either surface x² + y² = a² (z²/c² + constant·(−1)), largest at |z| = half_height.
+  const double rmax = a * std::sqrt(half_height * half_height / (c * c) - constant);
+  Primitive p;
+  p.kind = kind;
+  p.q = to_world(f, s);
+  clip_z(p, f, -half_height, half_height);
+  p.bounds = revolution_box(f, -half_height, rmax, half_height, rmax);
+  p.p0 = f.origin;
+  p.r0 = a;
+  p.r1 = c;
+  return finish(p);
+}
+}  // namespace
+
+Primitive make_hyperboloid1(const Frame& f, double a, double c, double half_height) {
+  check_frame(f);
+  require_positive(a, "hyperboloid a");
+  require_positive(c, "hyperboloid c");
+  require_positive(half_height, "hyperboloid half height");
+  return hyperboloid(f, a, c, half_height, -1, ShapeKind::Hyperboloid1);
+}
+
+Primitive make_hyperboloid2(const Frame& f, double a, double c, double half_height) {
+  check_frame(f);
+  require_positive(a, "hyperboloid a");
+  require_positive(c, "hyperboloid c");
+  require(std::isfinite(half_height) && half_height > c, "two-sheet hyperboloid half height must exceed c");
+  return hyperboloid(f, a, c, half_height, 1, ShapeKind::Hyperboloid2);
+}
+
+namespace {
+void add_box_clips(Primitive& p, const Aabb& box) {
+  p.clips.push_back({{-1, 0, 0}, box.lo.x});
+  p.clips.push_back({{1, 0, 0}, -box.hi.x});
+  p.clips.push_back({{0, -1, 0}, box.lo.y});
+  p.clips.push_back({{0, 1, 0}, -box.hi.y});
+  p.clips.push_back({{0, 0, -1}, box.lo.z});
+  p.clips.push_back({{0, 0, 1}, -box.hi.z});
+}
+
+void require_box(const Aabb& box, const char* what) {
+  require(all_finite(box.lo) && all_finite(box.hi), std::string(what) + " box is not finite");
+  require(!box.empty(), std::string(what) + " box is empty (min must not exceed max)");
+}
+}  // namespace
+
+Primitive make_plane(const Vec3& n, double d, const Aabb& box) {
+  require_finite(n, "plane normal");
+  require(std::isfinite(d), "plane offset is not finite");
+  require(length(n) > 0, "plane normal is zero");
+  require_box(box, "plane");
+  const double len = length(n);
+  Primitive p;
+  p.kind = ShapeKind::Plane;
+  p.q.c = {0, 0, 0, 0, 0, 0, n.x / len, n.y / len, n.z / len, d / len};
+  add_box_clips(p, box);
+  p.bounds = box;
+  p.p0 = n / len;
+  p.r0 = d / len;
+  return finish(p);
+}
+
+Primitive make_polygon(const std::vector<Vec3>& in) {
+  require(in.size() >= 3, "a polygon needs at least 3 vertices");
+  for (const Vec3& v : in) require_finite(v, "polygon vertex");
+  // Drop repeated consecutive vertices: they make zero-length edges with no outward normal.
+  std::vector<Vec3> v;
+  for (const Vec3& p : in)
+    if (v.empty() || p != v.back()) v.push_back(p);
+  if (v.size() > 1 && v.front() == v.back()) v.pop_back();
+  require(v.size() >= 3, "a polygon needs at least 3 distinct vertices");
+
+  // Newell's normal: robust for any planar polygon, whichever corner is degenerate.
+  Vec3 n{0, 0, 0};
+  Aabb box;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Vec3& a = v[i];
+    const Vec3& b = v[(i + 1) % v.size()];
+    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+    box.extend(a);
+  }
+  const double size = length(box.extent());
+  require(length(n) > 1e-12 * size * size, "polygon has zero area");
+  n = normalize(n);
+  const double d = -dot(n, v[0]);
+  for (const Vec3& p : v)
+    require(std::abs(dot(n, p) + d) <= 1e-6 * size, "polygon vertices are not coplanar");
+
+  Primitive p;
+  p.kind = ShapeKind::Polygon;
+  p.q.c = {0, 0, 0, 0, 0, 0, n.x, n.y, n.z, d};
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Vec3& a = v[i];
+    const Vec3 e = v[(i + 1) % v.size()] - a;
+    const Vec3 out = cross(e, n);
+    if (length(out) == 0) continue;
+    const Vec3 m = normalize(out);
+    // Convexity: every other vertex must lie on the inner side of this edge.
+    for (const Vec3& w : v)
+      require(dot(m, w - a) <= 1e-9 * size, "polygon is not convex (only convex polygons are supported)");
+    p.clips.push_back({m, -dot(m, a)});
+  }
+  p.bounds = box;
+  p.vertices = v;
+  return finish(p);
+}
+
+Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, std::vector<HalfSpace> clips) {
+  require_box(box, "quadric");
+  Primitive p;
+  p.kind = ShapeKind::Raw;
+  p.q.c = coef;
+  add_box_clips(p, box);
+  for (const HalfSpace& h : clips) p.clips.push_back(h);
+  p.bounds = box;
+  return finish(p);
+}
+
+void validate(const Primitive& p) {
+  bool any = false;
+  for (int i = 0; i < 10; ++i) {
+    require(std::isfinite(p.q.c[i]), std::string("quadric coefficient ") + "ABCDEFGHIJ"[i] + " is not finite");
+    if (i < kJ && p.q.c[i] != 0) any = true;
+  }
+  require(any, "quadric is degenerate: A..I are all zero, so it has no surface");
+  for (const HalfSpace& h : p.clips) {
+    require(all_finite(h.n) && std::isfinite(h.d), "clip half-space is not finite");
+    require(length(h.n) > 0, "clip half-space has a zero normal");
+  }
+  require(all_finite(p.bounds.lo) && all_finite(p.bounds.hi) && !p.bounds.empty(),
+          "primitive has no finite bound");
+}
+
+}  // namespace rtm

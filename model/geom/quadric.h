@@ -1,0 +1,88 @@
+// Quadric primitives: the surface the paper's machine intersects, bounded so it can be voxelised.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "geom/vec.h"
+
+namespace rtm {
+
+/// Index of each coefficient in the paper's order:
+/// A x² + B y² + C z² + D xy + E yz + F zx + G x + H y + I z + J = 0.
+enum Coef : int { kA, kB, kC, kD, kE, kF, kG, kH, kI, kJ };
+
+struct Quadric {
+  std::array<double, 10> c{};  ///< A..J
+
+  double value(const Vec3& p) const;
+  /// ∇Q; the outward normal for closed surfaces written with Q > 0 outside.
+  Vec3 gradient(const Vec3& p) const;
+};
+
+/// The closed half-space n·p + d <= 0 (the side a clipped surface keeps).
+struct HalfSpace {
+  Vec3 n;
+  double d = 0;
+
+  double eval(const Vec3& p) const { return dot(n, p) + d; }
+};
+
+/// What a primitive was made from: kept so exporters can write the native shape.
+enum class ShapeKind { Sphere, Ellipsoid, Cylinder, Cone, Plane, Paraboloid, Hyperboloid1, Hyperboloid2, Polygon, Raw };
+const char* shape_name(ShapeKind k);
+
+/// A quadric surface kept only where every clip half-space holds, inside a finite box.
+struct Primitive {
+  Quadric q;
+  std::vector<HalfSpace> clips;
+  Aabb bounds;  ///< finite; the surface lies inside it
+  ShapeKind kind = ShapeKind::Raw;
+  int material = 0;
+
+  // The shape's own parameters, for exporters (which fields are used depends on kind).
+  Vec3 p0{}, p1{};              ///< centre / base centre; apex centre
+  double r0 = 0, r1 = 0;        ///< radius / base radius; apex radius
+  std::vector<Vec3> vertices;   ///< polygon corners
+
+  bool inside_clips(const Vec3& p) const {
+    for (const HalfSpace& h : clips)
+      if (h.eval(p) > 0) return false;
+    return true;
+  }
+};
+
+/// An orthonormal frame placing a shape's local z axis in the world.
+struct Frame {
+  Vec3 origin{0, 0, 0};
+  Vec3 ex{1, 0, 0}, ey{0, 1, 0}, ez{0, 0, 1};
+
+  /// Frame with local z along `axis`; x and y are any perpendicular pair.
+  static Frame along(const Vec3& origin, const Vec3& axis);
+};
+
+// Shape constructors. Each validates its arguments and throws std::invalid_argument with a
+// message a user can act on (non-finite values, non-positive radii, degenerate axes, ...).
+Primitive make_sphere(const Vec3& centre, double radius);
+Primitive make_ellipsoid(const Frame& f, const Vec3& radii);
+/// NFF `c`: a cone or cylinder (equal radii) without caps, between two centres, any axis.
+Primitive make_cone(const Vec3& base, double base_radius, const Vec3& apex, double apex_radius);
+/// x² + y² = k z in the frame, 0 <= z <= height.
+Primitive make_paraboloid(const Frame& f, double k, double height);
+/// x²/a² + y²/a² − z²/c² = 1 in the frame, |z| <= half_height.
+Primitive make_hyperboloid1(const Frame& f, double a, double c, double half_height);
+/// x²/a² + y²/a² − z²/c² = −1 in the frame (both sheets), |z| <= half_height (> c).
+Primitive make_hyperboloid2(const Frame& f, double a, double c, double half_height);
+/// The plane n·p + d = 0 clipped to a box.
+Primitive make_plane(const Vec3& n, double d, const Aabb& box);
+/// A convex planar polygon; vertices counter-clockwise seen from the front.
+Primitive make_polygon(const std::vector<Vec3>& vertices);
+/// Raw coefficients, clipped to `box` and the given half-spaces.
+Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, std::vector<HalfSpace> clips);
+
+/// Throws std::invalid_argument unless every coefficient, clip and bound is finite and the
+/// quadric is not identically zero. Called by every constructor; callable on loaded data.
+void validate(const Primitive& p);
+
+}  // namespace rtm

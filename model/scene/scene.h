@@ -1,0 +1,84 @@
+// A scene as the host holds it before pre-processing: camera, lights, materials, primitives.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "geom/grid.h"
+#include "geom/quadric.h"
+
+namespace rtm {
+
+struct Camera {
+  Vec3 eye{0, 0, 10};
+  Vec3 look_at{0, 0, 0};
+  Vec3 up{0, 1, 0};  ///< need not be perpendicular to the view direction
+  double fov_deg = 45;  ///< full horizontal angle, edge to edge (NFF `angle`)
+  int width = 512, height = 512;
+};
+
+struct Light {
+  Vec3 position;
+  Vec3 color{1, 1, 1};
+};
+
+/// The paper's optical coefficients. Brightness semantics are in render/shade.h.
+struct Material {
+  std::string name;
+  Vec3 color{1, 1, 1};
+  double ambient = 0.1;       ///< ka: scales the ambient light
+  double diffuse = 0.9;       ///< kd: scales shadow-ray brightness
+  double specular = 0;        ///< ks: contribution of the reflected ray
+  double transmission = 0;    ///< kt: contribution of the transmitted ray
+  double ior = 1;             ///< index of refraction (inside / outside)
+};
+
+/// Where each primitive came from, for messages: file and line.
+struct SourceLocation {
+  std::string file;
+  int line = 0;
+};
+
+struct Scene {
+  std::string name = "scene";
+  Camera camera;
+  Vec3 background{0, 0, 0};
+  Vec3 ambient_light{0.1, 0.1, 0.1};
+  std::vector<Light> lights;
+  std::vector<Material> materials;
+  std::vector<Primitive> primitives;  ///< numbered in file order; Primitive::material indexes materials
+  std::vector<SourceLocation> origins;  ///< one per primitive
+  double threshold = 0;   ///< branch rays with contribution <= threshold are dropped
+  int max_depth = 5;      ///< primary rays are depth 1
+  GridOptions grid;
+};
+
+/// A scene file problem: the message reads "file:line: what is wrong".
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(const std::string& file, int line, const std::string& what)
+      : std::runtime_error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+
+ private:
+  std::string file_;
+  int line_;
+};
+
+/// Reads a scene by extension: `.nff` for NFF, `.yaml`/`.yml` for the native format.
+Scene load_scene(const std::string& path);
+/// NFF text (classic semantics; see docs/scene-format.md for the mapping to the paper's coefficients).
+Scene parse_nff(const std::string& text, const std::string& file_name);
+/// Native YAML text (docs/scene-format.md).
+Scene parse_native(const std::string& text, const std::string& file_name);
+/// The built-in default scene (every quadric kind, diffuse, reflective and transparent materials).
+Scene default_scene();
+
+/// Overrides the resolution, keeping the horizontal field of view. Throws on a zero-area image.
+void set_resolution(Scene& s, int width, int height);
+/// Checks a whole scene (camera, lights, materials, primitives); throws std::invalid_argument.
+void validate(const Scene& s);
+
+}  // namespace rtm
