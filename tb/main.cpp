@@ -1,3 +1,57 @@
-// placeholder until the CLI lands
+// rtm: the command-line front end of the ray-tracing machine model.
+#include <iostream>
+
+#include <CLI/CLI.hpp>
 #include <systemc>
-int sc_main(int, char**) { return 0; }
+
+#include "options.h"
+
+int sc_main(int argc, char* argv[]) {
+  // Model errors become exceptions the command reports (with a non-zero exit), not aborts.
+  sc_core::sc_report_handler::set_actions(sc_core::SC_ERROR, sc_core::SC_DISPLAY | sc_core::SC_THROW);
+  sc_core::sc_report_handler::set_actions(sc_core::SC_FATAL, sc_core::SC_DISPLAY | sc_core::SC_THROW);
+  CLI::App app{"rtm - a SystemC model of the Gwun/Murakami/Tomita parallel ray-tracing machine"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "rtm 0.1");
+
+  rtm::RenderOptions r;
+  CLI::App* render = app.add_subcommand("render", "Render a whole frame (the built-in default scene if SCENE is omitted)");
+  render->add_option("scene", r.scene, "Scene file: .nff (NFF) or .yaml (native format)");
+  render->add_flag("--reference", r.reference, "Use the untimed double-precision reference renderer instead of the machine");
+  render->add_option("--size", r.size, "Image size WxH (keeps the scene's horizontal field of view)");
+  render->add_option("--out", r.out, "Image file, .png (8-bit, clamped) or .exr (float); default out/<scene>.png");
+  render->add_option("--stats", r.stats, "Statistics JSON file; default beside the image");
+  render->add_option("--id-map", r.id_map, "One-channel EXR: primitive number seen by each primary ray, -1 background");
+  render->add_option("--grid", r.grid, "Grid resolution: auto, N, or NxNyNz; default the scene's own (auto)");
+  render->add_option("--threshold", r.threshold, "Branch-ray contribution threshold (overrides the scene)")
+      ->check(CLI::Range(0.0, 1.0));
+  render->add_option("--max-depth", r.max_depth, "Maximum ray generation, primary = 1 (overrides the scene)")
+      ->check(CLI::Range(1, 255));
+  render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));
+  render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
+  render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
+  render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
+  render->add_option("--pes", r.pes, "Processing elements")->check(CLI::Range(1, 65536));
+  render->add_option("--timing", r.timing, "MAC model: fast (default) or clocked");
+  render->add_option("--precision", r.precision, "MAC arithmetic: fp32 (default) or fp64");
+  render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks or strips");
+  render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE")->check(CLI::Range(1, 256));
+  render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
+  render->add_option("--vcd-window", r.vcd_window, "Waveform window FROM:TO in PE cycles (either may be empty)");
+  render->add_option("--vcd-pes", r.vcd_pes, "PEs to trace, comma-separated (default 0)");
+
+  std::string config_file;
+  std::vector<std::string> sets;
+  CLI::App* config = app.add_subcommand("config", "List every machine configuration key with its value and meaning");
+  config->add_option("--config", config_file, "Start from this configuration file");
+  config->add_option("--set", sets, "Override KEY=VALUE (repeatable)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (render->parsed()) return rtm::run_render(r);
+  if (config->parsed()) return rtm::run_config(config_file, sets);
+  return 2;
+}

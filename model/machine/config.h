@@ -1,0 +1,87 @@
+// The machine configuration: every timing parameter, FIFO depth and unit count in one place.
+// Plain data, parsed once by the testbench and handed to the modules' constructors.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rtm {
+
+enum class Partition { Scanlines, Blocks, Strips };
+enum class Timing { Fast, Clocked };
+enum class Precision { Fp32, Fp64 };
+
+struct MachineConfig {
+  // Multiprocessor
+  int pes = 1;                            ///< processing elements
+  Partition partition = Partition::Scanlines;
+  int tile = 16;                          ///< block edge in pixels (partition = blocks)
+
+  // Fidelity
+  Timing timing = Timing::Fast;
+  Precision precision = Precision::Fp32;  ///< MAC, root unit and clip arithmetic
+
+  // PE clock and units (cycles)
+  double clock_ns = 10;                   ///< PE clock period
+  int search_units = 4;                   ///< replicated 3DDDA units (paper Fig. 1: four)
+  int dda_step_cycles = 2;                ///< one 3DDDA step (compare and increment)
+  int voxel_read_cycles = 2;              ///< read a voxel's occupancy/list header from local memory
+  int mul_latency = 1;                    ///< each MAC multiplier's pipeline depth
+  int add_latency = 1;                    ///< MAC adder latency; dependent accumulation issues one product per add_latency
+  int coef_load_cycles = 4;               ///< load a primitive's 13 coefficient words into the MAC RAM (overlapped with the previous primitive)
+  int root_latency = 12;                  ///< root unit: discriminant, square root, two divisions (pipelined)
+  int clip_cycles = 4;                    ///< one clip half-space test (3 products and an add)
+  int sort_cycles = 1;                    ///< per primitive result merged into the nearest-hit register
+  int shade_cycles = 16;                  ///< normal, ambient term and frame-buffer update for one ray
+  int spawn_cycles = 4;                   ///< generate one shadow or branch ray
+  int accumulate_cycles = 2;              ///< add a shadow ray's or the background's brightness to the frame buffer
+  int fb_dispatch_cycles = 1;             ///< front buffer hands out one ray
+
+  // Buffers (rays)
+  int front_buffer_capacity = 64;         ///< on-chip front buffer; overflow spills to local memory
+  int spill_cycles = 8;                   ///< extra cycles to move a ray to or from the spill area
+  int search_fifo_depth = 16;             ///< front buffer -> search units
+  int intersect_fifo_depth = 16;          ///< search -> intersection
+  int root_fifo_depth = 16;               ///< MAC -> root unit / sort
+  int shade_fifo_depth = 16;              ///< search and intersection -> shading
+  int feedback_fifo_depth = 8;            ///< each path back into the front buffer
+  int loop_credits = 0;                   ///< rays allowed past the front buffer at once; 0 = the largest safe value
+
+  // Host and interconnect
+  double host_clock_ns = 10;
+  int host_voxel_cycles = 40;             ///< per primitive reference registered in a voxel
+  int host_ray_cycles = 20;               ///< per primary ray generated
+  double link_bandwidth_mb_s = 400;       ///< host <-> PE link, MB/s
+  double link_latency_ns = 1000;          ///< per transaction
+  bool broadcast = false;                 ///< one transfer of the scene reaches every PE (else one per PE)
+  int ray_block = 0;                      ///< primary rays per transfer; 0 = all of a PE's rays at once
+
+  /// The safe number of loop credits: no FIFO past the front buffer can then ever be full.
+  int safe_credits() const;
+  /// Throws std::invalid_argument naming the offending key and why.
+  void validate() const;
+};
+
+/// A named configuration key: how users set it from a file, --set key=value, or a sweep.
+struct ConfigKey {
+  std::string name;
+  std::string doc;
+  std::function<std::string(const MachineConfig&)> get;
+  std::function<void(MachineConfig&, const std::string&)> set;  ///< throws std::invalid_argument
+};
+const std::vector<ConfigKey>& config_keys();
+
+/// Sets one key from text; throws std::invalid_argument ("unknown key", "not a number", ...).
+void set_config(MachineConfig& c, const std::string& key, const std::string& value);
+/// Reads a YAML file holding one flat map of `key: value` pairs (the keys of config_keys()).
+/// Errors are "file:line: what is wrong".
+void load_config_file(MachineConfig& c, const std::string& path);
+/// Every key with its value and documentation, one per line.
+std::string describe_config(const MachineConfig& c);
+
+const char* to_string(Partition p);
+const char* to_string(Timing t);
+const char* to_string(Precision p);
+
+}  // namespace rtm

@@ -1,0 +1,80 @@
+#include "machine/front_buffer.h"
+
+namespace rtm {
+
+FrontBuffer::FrontBuffer(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
+    : sc_module(name),
+      ctx_(ctx),
+      mem_(mem),
+      credits_(ctx.config.loop_credits > 0 ? ctx.config.loop_credits : ctx.config.safe_credits()) {
+  SC_THREAD(run);
+}
+
+void FrontBuffer::drain() {
+  MachineRay r;
+  RayEnd e;
+  while (ends_in->nb_read(e)) --in_flight_;
+  for (sc_core::sc_fifo_in<MachineRay>* in : {&from_search, &from_intersect}) {
+    while ((*in)->nb_read(r)) {
+      --in_flight_;
+      queue_.push_back(r);
+    }
+  }
+  // Spawned rays are new: their parent's credit came back through ends_in.
+  while (from_shade->nb_read(r)) queue_.push_back(r);
+  if (ctx_.window.now()) traced_waiting_ = int(queue_.size());
+}
+
+void FrontBuffer::dispatch(MachineRay r, bool from_spill) {
+  ++in_flight_;
+  probe_.begin(r.id);
+  const uint64_t cycles = uint64_t(ctx_.config.fb_dispatch_cycles) + (from_spill ? ctx_.config.spill_cycles : 0);
+  ctx_.counters.front.busy_cycles += cycles;
+  ++ctx_.counters.front.items;
+  sc_core::wait(ctx_.cycles(cycles));
+  rays_out->write(r);  // never blocks: in_flight <= credits <= the FIFO's depth
+  probe_.end();
+}
+
+void FrontBuffer::run() {
+  for (;;) {
+    drain();
+    if (in_flight_ < credits_) {
+      if (!queue_.empty()) {
+        // Rays beyond the on-chip capacity live in the spill area in local memory.
+        const bool spilled = queue_.size() > size_t(ctx_.config.front_buffer_capacity);
+        if (spilled) ++ctx_.counters.spills;
+        MachineRay r = queue_.front();
+        queue_.pop_front();
+        dispatch(r, spilled);
+        continue;
+      }
+      if (next_primary_ < mem_.rays.size()) {
+        ctx_.align();
+        MachineRay r;
+        r.ray = mem_.rays[next_primary_];
+        r.slot = uint32_t(next_primary_);
+        r.id = ctx_.next_ray_id++;
+        ++next_primary_;
+        ++ctx_.counters.counts.rays[size_t(RayKind::Primary)];
+        dispatch(r, false);
+        continue;
+      }
+    }
+    if (next_primary_ == mem_.rays_expected && queue_.empty() && in_flight_ == 0) {
+      finished_ = true;
+      ctx_.counters.finish = sc_core::sc_time_stamp();
+      finished_event.notify(sc_core::SC_ZERO_TIME);
+      return;
+    }
+    sc_core::wait(from_search->data_written_event() | from_intersect->data_written_event() |
+                  from_shade->data_written_event() | ends_in->data_written_event() | mem_.rays_arrived);
+  }
+}
+
+void FrontBuffer::trace(sc_core::sc_trace_file* tf, const std::string& prefix) {
+  probe_.trace(tf, prefix, &ctx_.window);
+  sc_core::sc_trace(tf, traced_waiting_, prefix + ".waiting");
+}
+
+}  // namespace rtm

@@ -1,0 +1,132 @@
+#include "machine/host.h"
+
+#include "render/camera.h"
+
+namespace rtm {
+
+using sc_core::sc_time;
+
+Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
+           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes)
+    : sc_module(name),
+      image(s.camera.width, s.camera.height),
+      config_(c),
+      scene_(s),
+      grid_(g),
+      image_(std::move(image)),
+      parts_(std::move(parts)),
+      pes_(std::move(pes)) {
+  for (size_t i = 0; i < pes_.size(); ++i)
+    links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(("link" + std::to_string(i)).c_str()));
+  SC_THREAD(run);
+}
+
+sc_time Host::link_time(uint64_t bytes) const {
+  return sc_time(config_.link_latency_ns, sc_core::SC_NS) +
+         sc_time(double(bytes) / (config_.link_bandwidth_mb_s * 1e6), sc_core::SC_SEC);
+}
+
+void Host::transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, uint64_t timed_bytes,
+                    SceneImageExtension* ext) {
+  tlm::tlm_generic_payload t;
+  t.set_command(cmd);
+  t.set_address(addr);
+  t.set_data_ptr(data);
+  t.set_data_length(unsigned(len));
+  t.set_streaming_width(unsigned(len));
+  t.set_byte_enable_ptr(nullptr);
+  t.set_dmi_allowed(false);
+  t.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  if (ext) t.set_extension(ext);
+  sc_time delay = timed_bytes ? link_time(timed_bytes) : sc_core::SC_ZERO_TIME;
+  times.link_busy += delay;
+  (*links[size_t(pe)])->b_transport(t, delay);
+  if (ext) t.clear_extension(ext);
+  if (t.is_response_error()) SC_REPORT_FATAL("rtm/host", ("transfer to PE " + std::to_string(pe) + " failed: " + t.get_response_string()).c_str());
+  sc_core::wait(delay);
+}
+
+void Host::run() {
+  const sc_time host_cycle(config_.host_clock_ns, sc_core::SC_NS);
+  const int n = int(pes_.size());
+
+  // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
+  // host is charged per primitive reference it registers).
+  sc_core::wait(host_cycle * double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()));
+  times.voxels = sc_core::sc_time_stamp();
+
+  const PrimaryRays camera(scene_.camera);
+  auto rays_of = [&](int pe, size_t from, size_t count) {
+    std::vector<Ray> rays;
+    const auto& px = parts_[size_t(pe)];
+    for (size_t i = from; i < from + count && i < px.size(); ++i)
+      rays.push_back(camera.at(int(px[i] % uint32_t(scene_.camera.width)), int(px[i] / uint32_t(scene_.camera.width))));
+    return rays;
+  };
+  auto send_rays = [&](int pe, std::vector<Ray>& rays) {
+    if (rays.empty()) return;
+    transfer(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase, reinterpret_cast<unsigned char*>(rays.data()),
+             rays.size() * sizeof(Ray), rays.size() * kRayRecordBytes);
+  };
+  auto send_scene = [&](int pe, bool timed) {
+    SceneImageExtension ext;
+    ext.image = image_;
+    unsigned char unused = 0;  // the image travels in the extension; its size times the transfer
+    transfer(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kSceneBase, &unused, 1, timed ? image_->bytes : 0, &ext);
+  };
+  auto send_scene_to_all = [&]() {
+    for (int pe = 0; pe < n; ++pe) send_scene(pe, !config_.broadcast || pe == 0);
+  };
+
+  const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
+  if (config_.ray_block == 0) {
+    // The paper's flow: all pre-processing first, then every PE's data in turn.
+    sc_core::wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * pixels));
+    times.rays = sc_core::sc_time_stamp();
+    if (config_.broadcast) send_scene_to_all();
+    for (int pe = 0; pe < n; ++pe) {
+      if (!config_.broadcast) send_scene(pe, true);
+      std::vector<Ray> rays = rays_of(pe, 0, parts_[size_t(pe)].size());
+      send_rays(pe, rays);
+    }
+  } else {
+    // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs' work.
+    send_scene_to_all();
+    for (size_t from = 0;; from += size_t(config_.ray_block)) {
+      bool any = false;
+      for (int pe = 0; pe < n; ++pe) {
+        std::vector<Ray> rays = rays_of(pe, from, size_t(config_.ray_block));
+        if (rays.empty()) continue;
+        any = true;
+        sc_core::wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * rays.size()));
+        send_rays(pe, rays);
+      }
+      if (!any) break;
+    }
+    times.rays = sc_core::sc_time_stamp();
+  }
+  times.transfer = sc_core::sc_time_stamp();
+
+  for (Pe* pe : pes_)
+    if (!pe->finished()) sc_core::wait(pe->front.finished_event);
+  times.pes_done = sc_core::sc_time_stamp();
+
+  // Gather every PE's part of the frame.
+  for (int pe = 0; pe < n; ++pe) {
+    const auto& px = parts_[size_t(pe)];
+    std::vector<PixelSum> frame(px.size());
+    std::vector<int32_t> ids(px.size());
+    transfer(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase, reinterpret_cast<unsigned char*>(frame.data()),
+             frame.size() * sizeof(PixelSum), px.size() * kPixelRecordBytes);
+    transfer(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase, reinterpret_cast<unsigned char*>(ids.data()),
+             ids.size() * sizeof(int32_t), 0);
+    for (size_t i = 0; i < px.size(); ++i) {
+      image.rgb[px[i]] = frame[i].value();
+      image.ids[px[i]] = ids[i];
+    }
+  }
+  times.gathered = sc_core::sc_time_stamp();
+  done = true;
+}
+
+}  // namespace rtm

@@ -1,0 +1,56 @@
+// The host (paper §3.2): voxel-data generation and primary-ray generation, then the transfer of
+// the scene and each PE's primary rays into the PEs' local memories over the host-PE link
+// (TLM-2.0 b_transport, timed by bytes, bandwidth and latency), and at the end the gathering
+// of the PEs' frame buffers.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+
+#include "machine/pe.h"
+
+namespace rtm {
+
+/// When each phase of the frame ended.
+struct HostTimes {
+  sc_core::sc_time voxels, rays, transfer, pes_done, gathered;
+  sc_core::sc_time link_busy = sc_core::SC_ZERO_TIME;
+};
+
+class Host : public sc_core::sc_module {
+ public:
+  std::vector<std::unique_ptr<tlm_utils::simple_initiator_socket<Host>>> links;  ///< one per PE
+
+  SC_HAS_PROCESS(Host);
+  Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
+       std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes);
+
+  HostTimes times;
+  Image image;  ///< the gathered frame
+  bool done = false;
+
+ private:
+  void run();
+  void transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, uint64_t timed_bytes,
+                SceneImageExtension* ext = nullptr);
+  sc_core::sc_time link_time(uint64_t bytes) const;
+
+  MachineConfig config_;
+  const Scene& scene_;
+  const Grid& grid_;
+  std::shared_ptr<const SceneImage> image_;
+  std::vector<std::vector<uint32_t>> parts_;
+  std::vector<Pe*> pes_;
+};
+
+/// Bytes the hardware would move for one primary ray: origin and direction as six words and a
+/// pixel number.
+constexpr uint64_t kRayRecordBytes = 28;
+/// Bytes per gathered pixel: RGB as three floats and the primitive id.
+constexpr uint64_t kPixelRecordBytes = 16;
+
+}  // namespace rtm

@@ -1,0 +1,58 @@
+// The intersection stage (paper §5): the MAC unit forms α, β, γ for every primitive in the
+// examined voxel; the root unit solves each quadratic, clip tests keep the bounded part, and
+// the sort keeps the nearest hit inside the voxel. Two threads, so the root unit and sort of one
+// voxel overlap the MAC work of the next, as the paper's pipelining intends.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <systemc>
+
+#include "machine/mac.h"
+#include "machine/machine_ray.h"
+#include "machine/metered_fifo.h"
+#include "machine/pe_context.h"
+
+namespace rtm {
+
+/// What the MAC hands the root unit: the ray and α, β, γ per primitive of its voxel.
+struct MacResult {
+  MachineRay r;
+  std::vector<Abg<float>> abg32;
+  std::vector<Abg<double>> abg64;
+};
+inline std::ostream& operator<<(std::ostream& os, const MacResult& m) { return os << m.r; }
+
+/// Cycles the root unit, clip tests and sort need after the MAC finished a voxel, given each
+/// primitive's clip-test count: primitive p's roots are out root_latency after its sums, and its
+/// clip tests and sort then run on one shared unit.
+uint64_t back_end_cycles(const MachineConfig& c, const MacTiming& mac, const std::vector<uint32_t>& clips);
+
+class IntersectionStage : public sc_core::sc_module {
+ public:
+  sc_core::sc_fifo_in<MachineRay> rays_in{"rays_in"};             ///< occupied voxels, from the search units
+  sc_core::sc_fifo_out<MachineRay> hits_out{"hits_out"};          ///< to shading
+  sc_core::sc_fifo_out<MachineRay> feedback_out{"feedback_out"};  ///< no hit here: back to the front buffer
+  sc_core::sc_fifo_out<RayEnd> ends_out{"ends_out"};              ///< blocked shadow rays; misses with nothing to add
+
+  SC_HAS_PROCESS(IntersectionStage);
+  IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, ClockedMac* clocked_mac);
+  /// Clocked timing: run every MAC job on this clock-level unit (and check it against the schedule).
+  void use_clocked_mac(ClockedMac* mac) { clocked_ = mac; }
+
+  void trace(sc_core::sc_trace_file* tf, const std::string& prefix);
+  MeteredFifo<MacResult>& root_fifo() { return to_root_; }
+
+ private:
+  void mac_thread();
+  void root_thread();
+
+  PeContext& ctx_;
+  MacTiming timing_;
+  ClockedMac* clocked_;  ///< null in fast timing
+  MeteredFifo<MacResult> to_root_;
+  UnitProbe mac_probe_, root_probe_;
+};
+
+}  // namespace rtm

@@ -1,0 +1,123 @@
+#include "machine/mac.h"
+
+#include <deque>
+
+namespace rtm {
+
+using sc_core::sc_time;
+
+ClockedMac::ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision, sc_time period)
+    : sc_module(name), timing_(timing), precision_(precision), period_(period) {
+  SC_THREAD(clocked);
+}
+
+uint64_t ClockedMac::run(const MacJob& job, std::vector<std::array<double, 3>>& sums) {
+  job_ = &job;
+  sums_ = &sums;
+  sums.assign(job.rams.size(), {0, 0, 0});
+  start_.notify();
+  sc_core::wait(done_);
+  job_ = nullptr;
+  return cycles_;
+}
+
+void ClockedMac::clocked() {
+  const Precision p = precision_;
+  for (;;) {
+    sc_core::wait(start_);
+    // The clock's rising edges fall mid-cycle (see Machine): cycle 0's edge is the first after
+    // the job was posted at a cycle boundary.
+    sc_core::wait(clk.posedge_event());
+    const MacJob& job = *job_;
+    const int prims = int(job.rams.size());
+    const int total = prims * kMacProducts;
+    const uint64_t end = timing_.job_cycles(prims);
+
+    // Each multiplier and the adder is a shift register as long as its latency; every edge,
+    // each entry moves one place and the one leaving a unit has that unit's operation applied.
+    std::deque<Stage> mul1(size_t(timing_.mul_latency)), mul2(size_t(timing_.mul_latency)),
+        adder(size_t(timing_.add_latency));
+    double sum[3] = {0, 0, 0};
+    int issued = 0, accumulated = 0;
+    double last_acc = 0;
+    bool tracing = window_ && window_->now();
+    if (tracing) busy.write(true), ray_id.write(job.ray_id);
+
+    for (uint64_t cycle = 0; cycle < end; ++cycle) {
+      // Adder: accumulate the product leaving it into α, β or γ.
+      const Stage out = adder.back();
+      adder.pop_back();
+      if (out.valid) {
+        const MacOp& op = kMacSchedule[size_t(out.k)];
+        sum[op.sum] = round_to(p, sum[op.sum] + out.value);
+        last_acc = sum[op.sum];
+        ++accumulated;
+        if (out.k == kMacProducts - 1) {
+          (*sums_)[size_t(out.prim)] = {sum[0], sum[1], sum[2]};
+          sum[0] = sum[1] = sum[2] = 0;
+        }
+      }
+      // Multiplier 2: multiplier 1's product times the coefficient RAM word.
+      Stage m2 = mul2.back();
+      mul2.pop_back();
+      if (m2.valid) m2.value = round_to(p, m2.value * job.rams[size_t(m2.prim)][kMacSchedule[size_t(m2.k)].w]);
+      adder.push_front(m2);
+      // Multiplier 1: two latch operands.
+      Stage m1 = mul1.back();
+      mul1.pop_back();
+      if (m1.valid) {
+        const MacOp& op = kMacSchedule[size_t(m1.k)];
+        m1.value = round_to(p, job.latches[op.x] * job.latches[op.y]);
+      }
+      mul2.push_front(m1);
+      // Issue the next product when the schedule says so.
+      Stage in;
+      if (issued < total && cycle == timing_.issue(issued / kMacProducts, issued % kMacProducts)) {
+        in.valid = true;
+        in.prim = issued / kMacProducts;
+        in.k = issued % kMacProducts;
+        ++issued;
+      }
+      mul1.push_front(in);
+
+      tracing = window_ && window_->now();
+      if (tracing) {
+        m1_valid.write(in.valid);
+        if (in.valid) {
+          const MacOp& op = kMacSchedule[size_t(in.k)];
+          m1_a.write(job.latches[op.x]);
+          m1_b.write(job.latches[op.y]);
+        }
+        if (m1.valid) m1_out.write(m1.value), m2_coef.write(job.rams[size_t(m1.prim)][kMacSchedule[size_t(m1.k)].w]);
+        m2_valid.write(m1.valid);
+        if (m2.valid) m2_out.write(m2.value);
+        add_valid.write(m2.valid);
+        if (out.valid) acc.write(last_acc);
+        product_counter.write(uint32_t(accumulated));
+      }
+      if (cycle + 1 < end) sc_core::wait(clk.posedge_event());
+    }
+    if (tracing) busy.write(false), m1_valid.write(false), m2_valid.write(false), add_valid.write(false);
+    cycles_ = end;
+    // The sums are in the accumulator at this edge; the stage takes them at the next cycle boundary.
+    done_.notify(period_ / 2);
+  }
+}
+
+void ClockedMac::trace(sc_core::sc_trace_file* tf, const std::string& prefix, const TraceWindow* window) {
+  window_ = window;
+  sc_core::sc_trace(tf, busy, prefix + ".busy");
+  sc_core::sc_trace(tf, ray_id, prefix + ".ray_id");
+  sc_core::sc_trace(tf, m1_valid, prefix + ".m1_valid");
+  sc_core::sc_trace(tf, m1_a, prefix + ".m1_a");
+  sc_core::sc_trace(tf, m1_b, prefix + ".m1_b");
+  sc_core::sc_trace(tf, m1_out, prefix + ".m1_out");
+  sc_core::sc_trace(tf, m2_valid, prefix + ".m2_valid");
+  sc_core::sc_trace(tf, m2_coef, prefix + ".m2_coef");
+  sc_core::sc_trace(tf, m2_out, prefix + ".m2_out");
+  sc_core::sc_trace(tf, add_valid, prefix + ".add_valid");
+  sc_core::sc_trace(tf, acc, prefix + ".acc");
+  sc_core::sc_trace(tf, product_counter, prefix + ".product_counter");
+}
+
+}  // namespace rtm

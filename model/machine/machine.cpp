@@ -1,0 +1,144 @@
+#include "machine/machine.h"
+
+#include "machine/partition.h"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <unistd.h>
+
+namespace rtm {
+
+using sc_core::sc_time;
+
+namespace {
+
+class Machine : public sc_core::sc_module {
+ public:
+  std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
+  std::vector<std::unique_ptr<Pe>> pes;
+  std::unique_ptr<Host> host;
+
+  SC_HAS_PROCESS(Machine);
+  Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress)
+      : sc_module(name), config_(c), progress_(progress) {
+    const sc_time period(c.clock_ns, sc_core::SC_NS);
+    if (c.timing == Timing::Clocked)
+      clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
+    auto parts = partition_screen(s.camera.width, s.camera.height, c);
+    std::vector<Pe*> raw;
+    for (int i = 0; i < c.pes; ++i) {
+      pes.push_back(std::make_unique<Pe>(("pe" + std::to_string(i)).c_str(), i, c, parts[size_t(i)].size(), clock.get()));
+      raw.push_back(pes.back().get());
+    }
+    total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
+    host = std::make_unique<Host>("host", c, s, g, std::make_shared<SceneImage>(s, g, c.precision), std::move(parts), raw);
+    for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
+    if (progress_) SC_THREAD(show_progress);
+  }
+
+ private:
+  /// Wakes every few thousand cycles; redraws at most twice a second of wall time.
+  void show_progress() {
+    const auto start = std::chrono::steady_clock::now();
+    auto last = start;
+    const sc_time step = sc_time(config_.clock_ns, sc_core::SC_NS) * 4096.0;
+    while (!host->done) {
+      sc_core::wait(step);
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last < std::chrono::milliseconds(500) || now - start < std::chrono::seconds(1)) continue;
+      last = now;
+      uint64_t primaries = 0, rays = 0;
+      for (auto& pe : pes) {
+        primaries += pe->ctx.counters.counts.rays[0];
+        rays += pe->ctx.counters.counts.total_rays();
+      }
+      std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles   ", (unsigned long long)rays,
+                   100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
+                   sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS));
+      std::fflush(stderr);
+      drew_ = true;
+    }
+    if (drew_) std::fprintf(stderr, "\r%80s\r", "");
+  }
+
+  MachineConfig config_;
+  bool progress_;
+  bool drew_ = false;
+  uint64_t total_pixels_ = 0;
+};
+
+std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
+  std::map<std::string, FifoSummary> by_kind;
+  std::map<std::string, int> count;
+  for (auto& pe : pes)
+    for (auto& [name, st] : pe->fifo_stats()) {
+      FifoSummary& f = by_kind[st->kind];
+      f.kind = st->kind;
+      f.depth = st->depth;
+      f.peak = std::max(f.peak, st->peak);
+      f.mean += end.to_seconds() > 0 ? st->occupancy_time / end.to_seconds() : 0;
+      ++count[st->kind];
+    }
+  std::vector<FifoSummary> out;
+  for (auto& [kind, f] : by_kind) {
+    f.mean /= count[kind];
+    out.push_back(f);
+  }
+  return out;
+}
+
+}  // namespace
+
+MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt) {
+  c.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  Machine top("machine", s, g, c, opt.progress && isatty(2));
+
+  sc_core::sc_trace_file* tf = nullptr;
+  if (!opt.vcd.empty()) {
+    std::string base = opt.vcd;
+    if (base.size() > 4 && base.substr(base.size() - 4) == ".vcd") base.resize(base.size() - 4);
+    tf = sc_core::sc_create_vcd_trace_file(base.c_str());
+    tf->set_time_unit(1, sc_core::SC_NS);
+    const sc_time period(c.clock_ns, sc_core::SC_NS);
+    for (int pe : opt.vcd_pes) {
+      if (pe < 0 || pe >= c.pes) continue;
+      PeContext& ctx = top.pes[size_t(pe)]->ctx;
+      ctx.window.enabled = true;
+      ctx.window.from = period * double(opt.vcd_from_cycle);
+      if (opt.vcd_to_cycle != UINT64_MAX) ctx.window.to = period * double(opt.vcd_to_cycle);
+      top.pes[size_t(pe)]->trace(tf);
+    }
+  }
+
+  sc_core::sc_start();
+
+  MachineResult r;
+  r.end = sc_core::sc_time_stamp();
+  r.host = top.host->times;
+  for (auto& pe : top.pes) {
+    if (!pe->finished()) {
+      r.deadlock = true;
+      r.deadlock_report += pe->occupancy_report() + "\n";
+    }
+  }
+  if (!top.host->done) r.deadlock = true;
+  r.image = top.host->image;
+  for (auto& pe : top.pes) {
+    const PeCounters& k = pe->ctx.counters;
+    r.counts.add(k.counts);
+    r.mac_products += k.mac_products;
+    r.mac_busy_cycles += k.mac.busy_cycles;
+    r.spills += k.spills;
+    r.per_pe.push_back(k);
+  }
+  r.fifos = summarise_fifos(top.pes, r.end);
+  r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
+  if (tf) sc_core::sc_close_vcd_trace_file(tf);
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace rtm

@@ -1,0 +1,48 @@
+// The whole machine: the host, N PEs and the link between them, run for one frame.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "machine/host.h"
+
+namespace rtm {
+
+struct MachineOptions {
+  std::string vcd;                  ///< waveform file; empty: none
+  uint64_t vcd_from_cycle = 0;      ///< waveform window, in PE cycles
+  uint64_t vcd_to_cycle = UINT64_MAX;
+  std::vector<int> vcd_pes{0};      ///< PEs whose signals are traced
+  bool progress = false;            ///< one-line progress display on stderr
+};
+
+/// Per FIFO kind, over all PEs.
+struct FifoSummary {
+  std::string kind;
+  int depth = 0;
+  int peak = 0;
+  double mean = 0;  ///< time-weighted mean occupancy, averaged over the FIFOs of this kind
+};
+
+struct MachineResult {
+  Image image;
+  TraceCounts counts;
+  uint64_t mac_products = 0, mac_busy_cycles = 0, spills = 0;
+  std::vector<PeCounters> per_pe;
+  std::vector<FifoSummary> fifos;
+  HostTimes host;
+  sc_core::sc_time end;
+  uint64_t cycles = 0;          ///< the frame's simulated time in PE cycles
+  double wall_seconds = 0;
+  bool deadlock = false;
+  std::string deadlock_report;  ///< every FIFO's occupancy when the simulation stalled
+};
+
+/// Elaborates and simulates the machine. SystemC elaborates once per process: call it once.
+MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt);
+
+/// Writes a GTKWave save file for a VCD written by run_machine: signals grouped by PE and stage.
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const MachineConfig& c,
+                const std::vector<int>& pes);
+
+}  // namespace rtm

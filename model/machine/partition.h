@@ -1,0 +1,17 @@
+// Screen partitioning: which pixels each PE renders (paper §1: the screen is split among PEs).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "machine/config.h"
+
+namespace rtm {
+
+/// For each PE, its pixels (y * width + x) in scan order. Every pixel belongs to exactly one PE.
+///  scanlines: row y goes to PE y mod N (interleaved rows);
+///  blocks:    tile × tile blocks in scan order, dealt to PEs round robin;
+///  strips:    contiguous bands of rows, as equal as possible.
+std::vector<std::vector<uint32_t>> partition_screen(int width, int height, const MachineConfig& c);
+
+}  // namespace rtm

@@ -1,0 +1,101 @@
+#include "machine/pe.h"
+
+#include <sstream>
+
+namespace rtm {
+namespace {
+PeContext make_context(int index, const MachineConfig& c) {
+  PeContext ctx;
+  ctx.pe = index;
+  ctx.config = c;
+  ctx.cycle = sc_core::sc_time(c.clock_ns, sc_core::SC_NS);
+  return ctx;
+}
+}  // namespace
+
+Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, size_t pixels, sc_core::sc_clock* clock)
+    : sc_module(name),
+      ctx(make_context(index, c)),
+      memory("memory", ctx, pixels),
+      search_fifo("search_fifo", c.search_fifo_depth, "search"),
+      intersect_fifo("intersect_fifo", c.intersect_fifo_depth, "intersect"),
+      shade_fifo("shade_fifo", c.shade_fifo_depth, "shade"),
+      feedback_search("feedback_search", c.feedback_fifo_depth, "feedback"),
+      feedback_intersect("feedback_intersect", c.feedback_fifo_depth, "feedback"),
+      spawn_fifo("spawn_fifo", c.feedback_fifo_depth, "spawn"),
+      ends_fifo("ends_fifo", c.feedback_fifo_depth, "ends"),
+      front("front_buffer", ctx, memory),
+      intersection("intersection", ctx, nullptr),
+      shading("shading", ctx, memory) {
+  memory.rays_expected = pixels;
+  front.from_search(feedback_search);
+  front.from_intersect(feedback_intersect);
+  front.from_shade(spawn_fifo);
+  front.ends_in(ends_fifo);
+  front.rays_out(search_fifo);
+
+  for (int k = 0; k < c.search_units; ++k) {
+    search.push_back(std::make_unique<SearchUnit>(("search" + std::to_string(k)).c_str(), ctx));
+    SearchUnit& s = *search.back();
+    s.rays_in(search_fifo);
+    s.occupied_out(intersect_fifo);
+    s.feedback_out(feedback_search);
+    s.shade_out(shade_fifo);
+    s.ends_out(ends_fifo);
+  }
+
+  intersection.rays_in(intersect_fifo);
+  intersection.hits_out(shade_fifo);
+  intersection.feedback_out(feedback_intersect);
+  intersection.ends_out(ends_fifo);
+  if (c.timing == Timing::Clocked) {
+    clocked_mac = std::make_unique<ClockedMac>("mac", MacTiming(c), c.precision, ctx.cycle);
+    clocked_mac->clk(*clock);
+    intersection.use_clocked_mac(clocked_mac.get());
+  }
+
+  shading.rays_in(shade_fifo);
+  shading.spawn_out(spawn_fifo);
+  shading.ends_out(ends_fifo);
+}
+
+template <class T>
+std::vector<MeteredFifo<T>*> Pe::fifos_of() {
+  if constexpr (std::is_same_v<T, RayEnd>)
+    return {&ends_fifo};
+  else
+    return {&search_fifo, &intersect_fifo, &shade_fifo, &feedback_search, &feedback_intersect, &spawn_fifo};
+}
+
+std::vector<std::pair<std::string, const FifoStats*>> Pe::fifo_stats() {
+  std::vector<std::pair<std::string, const FifoStats*>> out;
+  for (auto* f : fifos_of<MachineRay>()) out.emplace_back(f->basename(), &f->stats());
+  out.emplace_back(intersection.root_fifo().basename(), &intersection.root_fifo().stats());
+  for (auto* f : fifos_of<RayEnd>()) out.emplace_back(f->basename(), &f->stats());
+  return out;
+}
+
+std::string Pe::occupancy_report() {
+  std::ostringstream s;
+  s << name() << ": " << front.waiting() << " rays waiting in the front buffer, " << front.in_flight()
+    << " past it;";
+  for (auto* f : fifos_of<MachineRay>()) s << " " << f->basename() << " " << f->occupancy() << "/" << f->stats().depth;
+  s << " to_root " << intersection.root_fifo().occupancy() << "/" << ctx.config.root_fifo_depth;
+  for (auto* f : fifos_of<RayEnd>()) s << " " << f->basename() << " " << f->occupancy() << "/" << f->stats().depth;
+  return s.str();
+}
+
+void Pe::trace(sc_core::sc_trace_file* tf) {
+  const std::string p = name();
+  for (auto* f : fifos_of<MachineRay>()) f->trace(tf, p + "." + f->basename() + ".occupancy", &ctx.window);
+  ends_fifo.trace(tf, p + ".ends_fifo.occupancy", &ctx.window);
+  front.trace(tf, p + ".front_buffer");
+  for (auto& s : search) s->trace(tf, std::string(s->name()));
+  intersection.trace(tf, p + ".intersection");
+  shading.trace(tf, p + ".shading");
+  if (clocked_mac) {
+    clocked_mac->trace(tf, p + ".intersection.mac_unit", &ctx.window);
+  }
+}
+
+}  // namespace rtm

@@ -1,0 +1,53 @@
+// A processing element: local memory and the three-stage macro-pipeline of paper Fig. 1.
+//
+//   front buffer ─► search units (K) ─┬─► intersection (MAC ► root/sort) ─┬─► shading
+//        ▲  ▲  ▲                      │ empty voxel                      │ no hit   │ spawned rays
+//        │  │  └──────────────────────┘                                  │          │
+//        │  └────────────────────────────────────────────────────────────┘          │
+//        └──────────────────────────────────────────────────────────────────────────┘
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <systemc>
+
+#include "machine/front_buffer.h"
+#include "machine/intersection_stage.h"
+#include "machine/local_memory.h"
+#include "machine/search_unit.h"
+#include "machine/shading_stage.h"
+
+namespace rtm {
+
+class Pe : public sc_core::sc_module {
+ public:
+  PeContext ctx;
+  LocalMemory memory;
+
+  // The channels between the blocks.
+  MeteredFifo<MachineRay> search_fifo, intersect_fifo, shade_fifo;
+  MeteredFifo<MachineRay> feedback_search, feedback_intersect, spawn_fifo;
+  MeteredFifo<RayEnd> ends_fifo;
+
+  FrontBuffer front;
+  std::vector<std::unique_ptr<SearchUnit>> search;
+  std::unique_ptr<ClockedMac> clocked_mac;  ///< only in clocked timing
+  IntersectionStage intersection;
+  ShadingStage shading;
+
+  /// `pixels`: how many pixels of the screen this PE renders.
+  Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, size_t pixels, sc_core::sc_clock* clock);
+
+  bool finished() const { return front.finished(); }
+  /// Every FIFO, for statistics and deadlock reports.
+  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats();
+  std::string occupancy_report();
+  void trace(sc_core::sc_trace_file* tf);
+
+ private:
+  template <class T>
+  std::vector<MeteredFifo<T>*> fifos_of();
+};
+
+}  // namespace rtm

@@ -1,0 +1,84 @@
+// What the modules of one PE share: the configuration, the scene image in local memory, the
+// counters they fill in, and the waveform window.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <systemc>
+
+#include "machine/config.h"
+#include "machine/trace_window.h"
+#include "render/reference.h"
+#include "render/trace.h"
+
+namespace rtm {
+
+/// The scene data the host sends every PE (paper §3.1: primitives, voxel data, lights).
+struct SceneImage {
+  const Scene* scene = nullptr;
+  const Grid* grid = nullptr;
+  SceneMemory<float> mem32;
+  SceneMemory<double> mem64;
+  uint64_t bytes = 0;  ///< the size the transfer is timed by
+
+  SceneImage(const Scene& s, const Grid& g, Precision p);
+};
+
+/// Busy cycles and items of one unit.
+struct UnitStats {
+  uint64_t busy_cycles = 0;
+  uint64_t items = 0;
+};
+
+struct PeCounters {
+  TraceCounts counts;
+  uint64_t mac_products = 0;
+  uint64_t spills = 0;
+  UnitStats front, search, mac, root, shade;  ///< search: summed over the replicated units
+  sc_core::sc_time finish = sc_core::SC_ZERO_TIME;
+};
+
+/// Busy flag and the id of the ray a unit works on, as traced variables. Outside the waveform
+/// window they are left alone, so the VCD file records nothing there.
+class UnitProbe {
+ public:
+  void begin(uint32_t ray_id) {
+    if (!window_ || !window_->now()) return;
+    busy_ = true;
+    ray_id_ = ray_id;
+  }
+  void end() {
+    if (window_ && window_->now()) busy_ = false;
+  }
+  void trace(sc_core::sc_trace_file* tf, const std::string& prefix, const TraceWindow* w) {
+    window_ = w;
+    sc_core::sc_trace(tf, busy_, prefix + ".busy");
+    sc_core::sc_trace(tf, ray_id_, prefix + ".ray_id");
+  }
+
+ private:
+  const TraceWindow* window_ = nullptr;
+  bool busy_ = false;
+  uint32_t ray_id_ = 0;
+};
+
+struct PeContext {
+  int pe = 0;
+  MachineConfig config;
+  sc_core::sc_time cycle;  ///< the PE clock period
+  std::shared_ptr<const SceneImage> image;  ///< set when the scene transfer lands in local memory
+  PeCounters counters;
+  TraceWindow window;
+  uint32_t next_ray_id = 0;
+
+  sc_core::sc_time cycles(uint64_t n) const { return cycle * double(n); }
+  /// Waits until the next PE clock boundary (work arriving from the host is not aligned).
+  void align() const {
+    const sc_dt::uint64 now = sc_core::sc_time_stamp().value(), c = cycle.value();
+    if (const sc_dt::uint64 r = now % c) sc_core::wait(sc_core::sc_time::from_value(c - r));
+  }
+};
+
+}  // namespace rtm

@@ -1,0 +1,33 @@
+// Image files through OpenImageIO, written atomically; image comparison.
+#pragma once
+
+#include <string>
+
+#include "render/reference.h"
+
+namespace rtm {
+
+/// .png: 8-bit, each channel clamped to [0, 1] then rounded to the nearest of 256 levels.
+/// .exr: 32-bit float, linear, unclamped. Written to a temporary file and renamed, so a failed
+/// write never leaves a partial image. Throws std::runtime_error naming the file.
+void write_image(const std::string& path, const Image& img);
+/// One-channel float EXR: per pixel the primitive number the primary ray hit, -1 for background.
+void write_id_map(const std::string& path, const Image& img);
+/// Reads an RGB image (any format OpenImageIO reads; alpha dropped, grey replicated).
+Image read_image(const std::string& path);
+/// Reads a one-channel ID map written by write_id_map.
+Image read_id_map(const std::string& path);
+
+/// Error of `img` against `ref` over all pixels and RGB channels (computed by OpenImageIO).
+struct ImageError {
+  double rmse = 0;
+  double psnr_db = 0;  ///< 20 log10(1 / rmse); infinite for identical images
+  double max_abs = 0;
+  uint64_t pixels_over_1_255 = 0;  ///< pixels with some channel off by more than 1/255
+};
+ImageError compare_images(const Image& img, const Image& ref);
+
+/// Writes text to path through a temporary file and a rename.
+void write_text_atomically(const std::string& path, const std::string& text);
+
+}  // namespace rtm

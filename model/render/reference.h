@@ -1,0 +1,47 @@
+// The golden reference renderer: the paper's algorithm, untimed, in double precision.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geom/grid.h"
+#include "render/ray.h"
+#include "scene/scene.h"
+
+namespace rtm {
+
+/// Counters every renderer of the algorithm reports (the reference and the machine alike).
+struct TraceCounts {
+  std::array<uint64_t, kRayKinds> rays{};  ///< by RayKind
+  uint64_t voxel_steps = 0;                ///< voxels visited, over all rays
+  uint64_t intersection_tests = 0;         ///< ray/primitive tests (one MAC schedule each)
+  uint64_t clip_tests = 0;                 ///< half-space evaluations
+
+  void add(const TraceCounts& o);
+  uint64_t total_rays() const { return rays[0] + rays[1] + rays[2] + rays[3]; }
+};
+
+/// A rendered frame: linear RGB and the primitive each primary ray hit (-1: background).
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Vec3> rgb;
+  std::vector<int32_t> ids;
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), rgb(size_t(w) * size_t(h), Vec3(0)), ids(size_t(w) * size_t(h), -1) {}
+};
+
+struct ReferenceResult {
+  Image image;
+  TraceCounts counts;
+  double wall_seconds = 0;
+};
+
+/// Identifies the build of the reference renderer (for caches of its images).
+const char* reference_build_id();
+
+/// Renders the whole frame. threads <= 0: all hardware threads.
+ReferenceResult render_reference(const Scene& s, const Grid& g, int threads);
+
+}  // namespace rtm

@@ -1,0 +1,41 @@
+// The shading stage's arithmetic (paper §6), shared by the reference renderer and the machine.
+//
+// Brightness added to the ray's pixel:
+//   a hit by a primary or branch ray: contribution × ka × ambient light × surface colour
+//     (primary rays have contribution 1, so this is "the ambient component" for them);
+//   a shadow ray that reaches its light: the brightness it was spawned with,
+//     contribution × kd × (N·L) × light colour × surface colour;
+//   a primary or branch ray that leaves the object space: contribution × background.
+// Rays spawned from a hit (into the front buffer):
+//   one shadow ray per light in front of the surface (N·L > 0) when kd > 0, contribution × kd;
+//   the reflected ray, contribution × ks, and the transmitted ray, contribution × kt, each
+//   dropped when its contribution is at or below the threshold or the depth limit is reached.
+#pragma once
+
+#include <vector>
+
+#include "render/ray.h"
+#include "scene/scene.h"
+
+namespace rtm {
+
+struct ShadeOut {
+  Vec3 brightness{0, 0, 0};
+  std::vector<Ray> rays;  ///< spawned rays, shadow rays first (in light order), then reflected, transmitted
+};
+
+/// Distance a spawned ray's origin is moved off the surface, so it does not find its own surface
+/// again through rounding in t: relative to the hit point's magnitude.
+double spawn_offset(const Scene& s, const Vec3& p);
+
+/// The unit surface normal at p facing against the incoming direction d. Where the gradient
+/// vanishes (a cone's apex) or is not finite, falls back to −d.
+Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* entering);
+
+/// Everything the shading stage does for one ray that hit `prim` at parameter t.
+void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out);
+
+/// Brightness of a primary or branch ray that found nothing.
+inline Vec3 miss_brightness(const Scene& s, const Ray& ray) { return ray.contribution * s.background; }
+
+}  // namespace rtm

@@ -1,0 +1,39 @@
+// What the user asked for on the command line, as plain data.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rtm {
+
+struct RenderOptions {
+  std::string scene;           ///< empty: the built-in default scene
+  bool reference = false;      ///< the untimed reference renderer instead of the machine
+  std::string size;            ///< "WxH", empty: the scene's own
+  std::string out;             ///< image path; empty: out/<scene>.png
+  std::string stats;           ///< stats JSON path; empty: beside the image
+  std::string id_map;          ///< optional ID map (.exr)
+  std::string grid;            ///< "auto", "N" or "NxNyNz"; empty: the scene's own
+  std::optional<double> threshold;
+  std::optional<int> max_depth;
+  int threads = 0;             ///< reference renderer threads; 0: all cores
+  bool quiet = false;
+
+  // The machine
+  std::string config_file;           ///< machine configuration (YAML key: value)
+  std::vector<std::string> sets;     ///< key=value overrides, applied after the file
+  std::optional<int> pes;
+  std::string timing, precision, partition;
+  std::optional<int> search_units;
+  std::string vcd;                   ///< waveform file
+  std::string vcd_window;            ///< "FROM:TO" in PE cycles (either side may be empty)
+  std::string vcd_pes;               ///< comma-separated PE numbers; default 0
+};
+
+/// Runs `rtm render`; returns the process exit code.
+int run_render(const RenderOptions& opt);
+/// Runs `rtm config`: prints every machine configuration key with its value and meaning.
+int run_config(const std::string& config_file, const std::vector<std::string>& sets);
+
+}  // namespace rtm
