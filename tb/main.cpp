@@ -27,6 +27,9 @@ int sc_main(int argc, char* argv[]) {
       ->check(CLI::Range(0.0, 1.0));
   render->add_option("--max-depth", r.max_depth, "Maximum ray generation, primary = 1 (overrides the scene)")
       ->check(CLI::Range(1, 255));
+  render->add_option("--spawn-offset", r.spawn_offset,
+                     "Spawned rays start this far off the surface, relative to max(1, |hit point|) (overrides the scene)")
+      ->check(CLI::Range(0.0, 1.0));
   render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");

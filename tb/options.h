@@ -17,6 +17,7 @@ struct RenderOptions {
   std::string grid;            ///< "auto", "N" or "NxNyNz"; empty: the scene's own
   std::optional<double> threshold;
   std::optional<int> max_depth;
+  std::optional<double> spawn_offset;
   int threads = 0;             ///< reference renderer threads; 0: all cores
   bool quiet = false;
 

@@ -203,6 +203,7 @@ int run_render(const RenderOptions& opt) {
     if (!opt.grid.empty()) scene.grid.resolution = parse_grid(opt.grid);
     if (opt.threshold) scene.threshold = *opt.threshold;
     if (opt.max_depth) scene.max_depth = *opt.max_depth;
+    if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
     const MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);

@@ -29,7 +29,7 @@ Interval square(Interval a) {
 /// Voxels are grown by this fraction of their size when registering primitives, so surfaces on
 /// a voxel face, and hits computed in float32 a little off the true surface, still find their
 /// primitive listed.
-constexpr double kVoxelPad = 1e-5;
+constexpr double kVoxelPad = 1e-3;
 
 }  // namespace
 

@@ -44,11 +44,12 @@ Roots<Real> solve_quadratic(Real a, Real b, Real c) {
 }
 
 /// Clip test in the machine's precision: is V + t U inside every half-space?
+/// The clips must be in the frame the latches are in (world, or the primitive's re-centred frame).
 template <class Real>
-bool inside_clips(const Primitive& p, const Latches<Real>& l, Real t) {
-  if (p.clips.empty()) return true;
+bool inside_clips(const std::vector<HalfSpace>& clips, const Latches<Real>& l, Real t) {
+  if (clips.empty()) return true;
   const Real x = l[kVx] + t * l[kUx], y = l[kVy] + t * l[kUy], z = l[kVz] + t * l[kUz];
-  for (const HalfSpace& h : p.clips) {
+  for (const HalfSpace& h : clips) {
     const Real s = static_cast<Real>(h.n.x) * x + static_cast<Real>(h.n.y) * y + static_cast<Real>(h.n.z) * z +
                    static_cast<Real>(h.d);
     if (s > 0) return false;
@@ -66,15 +67,15 @@ struct PrimitiveHit {
 /// nearest first, skipping clipped ones), reported only if it lies in the window [t_lo, t_hi]
 /// (the current voxel): a hit outside the voxel is found again when the ray gets there.
 template <class Real>
-PrimitiveHit first_hit_in_window(const Primitive& p, const Roots<Real>& roots, const Latches<Real>& l,
-                                 double t_min, double t_lo, double t_hi) {
+PrimitiveHit first_hit_in_window(const std::vector<HalfSpace>& clips, const Roots<Real>& roots,
+                                 const Latches<Real>& l, double t_min, double t_lo, double t_hi) {
   PrimitiveHit out;
   const Real ts[2] = {roots.t0, roots.t1};
   for (int i = 0; i < roots.n; ++i) {
     const Real t = ts[i];
     if (!(static_cast<double>(t) > t_min)) continue;
-    out.clip_tests += static_cast<int>(p.clips.size());
-    if (!inside_clips(p, l, t)) continue;
+    out.clip_tests += static_cast<int>(clips.size());
+    if (!inside_clips(clips, l, t)) continue;
     const double td = static_cast<double>(t);
     if (td >= t_lo && td <= t_hi) {
       out.hit = true;
@@ -85,12 +86,18 @@ PrimitiveHit first_hit_in_window(const Primitive& p, const Roots<Real>& roots, c
   return out;
 }
 
-/// Full intersection of one ray with one primitive, as used by the reference renderer.
+template <class Real>
+PrimitiveHit first_hit_in_window(const Primitive& p, const Roots<Real>& roots, const Latches<Real>& l,
+                                 double t_min, double t_lo, double t_hi) {
+  return first_hit_in_window(p.clips, roots, l, t_min, t_lo, t_hi);
+}
+
+/// Full intersection of one ray with one primitive in world coordinates.
 template <class Real>
 PrimitiveHit intersect(const Primitive& p, const CoefRam<Real>& ram, const Latches<Real>& l, double t_min,
                        double t_lo, double t_hi) {
   const Abg<Real> abg = form_abg(l, ram);
-  return first_hit_in_window(p, solve_quadratic(abg.a, abg.b, abg.g), l, t_min, t_lo, t_hi);
+  return first_hit_in_window(p.clips, solve_quadratic(abg.a, abg.b, abg.g), l, t_min, t_lo, t_hi);
 }
 
 }  // namespace rtm

@@ -19,6 +19,10 @@ struct Quadric {
   double value(const Vec3& p) const;
   /// ∇Q; the outward normal for closed surfaces written with Q > 0 outside.
   Vec3 gradient(const Vec3& p) const;
+  /// The same surface in coordinates x' = x − c: the quadratic part is unchanged, the linear part
+  /// becomes ∇Q(c) and the constant Q(c). Re-centring on a primitive avoids the cancellation in J
+  /// (|c|² − r² for a sphere) that ruins float32 far from the origin.
+  Quadric translated(const Vec3& c) const;
 };
 
 /// The closed half-space n·p + d <= 0 (the side a clipped surface keeps).
@@ -27,6 +31,8 @@ struct HalfSpace {
   double d = 0;
 
   double eval(const Vec3& p) const { return dot(n, p) + d; }
+  /// The same half-space in coordinates x' = x − c.
+  HalfSpace translated(const Vec3& c) const { return {n, d + dot(n, c)}; }
 };
 
 /// What a primitive was made from: kept so exporters can write the native shape.

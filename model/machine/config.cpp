@@ -109,6 +109,8 @@ const std::vector<ConfigKey>& config_keys() {
       enum_key("timing", "MAC model: fast (cycle-exact by formula) or clocked (a process on a clock)", &M::timing,
                {Timing::Fast, Timing::Clocked}),
       enum_key("precision", "MAC, root unit and clip arithmetic", &M::precision, {Precision::Fp32, Precision::Fp64}),
+      bool_key("recentre", "coefficients relative to each primitive's centre, ray origin re-centred per test (false: world coefficients, as in the paper)",
+               &M::recentre),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns),
       int_key("search_units", "replicated 3DDDA units per PE", &M::search_units),
       int_key("dda_step_cycles", "cycles for one 3DDDA step", &M::dda_step_cycles),

@@ -21,6 +21,7 @@ struct MachineConfig {
   // Fidelity
   Timing timing = Timing::Fast;
   Precision precision = Precision::Fp32;  ///< MAC, root unit and clip arithmetic
+  bool recentre = true;                   ///< coefficients relative to each primitive's centre (false: world coefficients, as in the paper)
 
   // PE clock and units (cycles)
   double clock_ns = 10;                   ///< PE clock period

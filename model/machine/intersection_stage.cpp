@@ -29,10 +29,12 @@ namespace {
 template <class Real>
 MacJob make_job(const SceneMemory<Real>& mem, const MachineRay& r, int64_t voxel) {
   MacJob job;
-  const Latches<Real> l = load_latches<Real>(r.ray.dir, r.ray.origin);
-  for (int i = 0; i < 7; ++i) job.latches[size_t(i)] = double(l[size_t(i)]);
   const Grid& g = *mem.grid;
   for (const uint32_t *it = g.begin(voxel), *end = it + g.count(voxel); it != end; ++it) {
+    const Latches<Real> l = mem.latches(r.ray, *it);
+    Latches<double> ld{};
+    for (int i = 0; i < 7; ++i) ld[size_t(i)] = double(l[size_t(i)]);
+    job.latches.push_back(ld);
     CoefRam<double> ram{};
     for (int w = 0; w < kRamWords; ++w) ram[size_t(w)] = double(mem.rams[*it][size_t(w)]);
     job.rams.push_back(ram);

@@ -37,14 +37,15 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time&) {
 
 namespace rtm {
 
-SceneImage::SceneImage(const Scene& s, const Grid& g, Precision p) : scene(&s), grid(&g), mem32(s, g), mem64(s, g) {
+SceneImage::SceneImage(const Scene& s, const Grid& g, Precision p, bool recentre)
+    : scene(&s), grid(&g), mem32(s, g, recentre), mem64(s, g, recentre) {
   // The bytes a PE's local memory holds, in the machine's word size: per primitive its 13
-  // coefficient RAM words, 4 words per clip half-space, 6 for its bounds and one for its
+  // coefficient RAM words, 3 for its centre, 4 words per clip half-space, 6 for its bounds and one for its
   // material; the voxel data (one offset per voxel plus one id per reference); per light 6
   // words, per material 8.
   const uint64_t word = p == Precision::Fp32 ? 4 : 8;
   uint64_t words = 0;
-  for (const Primitive& prim : s.primitives) words += kRamWords + 4 * prim.clips.size() + 6 + 1;
+  for (const Primitive& prim : s.primitives) words += kRamWords + 3 + 4 * prim.clips.size() + 6 + 1;
   words += 6 * s.lights.size() + 8 * s.materials.size();
   bytes = words * word + 4 * (g.start.size() + g.items.size());
 }

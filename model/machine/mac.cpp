@@ -67,7 +67,7 @@ void ClockedMac::clocked() {
       mul1.pop_back();
       if (m1.valid) {
         const MacOp& op = kMacSchedule[size_t(m1.k)];
-        m1.value = round_to(p, job.latches[op.x] * job.latches[op.y]);
+        m1.value = round_to(p, job.latches[size_t(m1.prim)][op.x] * job.latches[size_t(m1.prim)][op.y]);
       }
       mul2.push_front(m1);
       // Issue the next product when the schedule says so.
@@ -85,8 +85,8 @@ void ClockedMac::clocked() {
         m1_valid.write(in.valid);
         if (in.valid) {
           const MacOp& op = kMacSchedule[size_t(in.k)];
-          m1_a.write(job.latches[op.x]);
-          m1_b.write(job.latches[op.y]);
+          m1_a.write(job.latches[size_t(in.prim)][op.x]);
+          m1_b.write(job.latches[size_t(in.prim)][op.y]);
         }
         if (m1.valid) m1_out.write(m1.value), m2_coef.write(job.rams[size_t(m1.prim)][kMacSchedule[size_t(m1.k)].w]);
         m2_valid.write(m1.valid);

@@ -49,7 +49,7 @@ inline double round_to(Precision p, double x) { return p == Precision::Fp32 ? do
 /// A MAC job in the clocked unit's terms: latches and one RAM image per primitive, already
 /// rounded to the machine precision.
 struct MacJob {
-  Latches<double> latches{};
+  std::vector<Latches<double>> latches;  ///< per primitive (the origin is re-centred on each)
   std::vector<CoefRam<double>> rams;
   uint32_t ray_id = 0;
 };

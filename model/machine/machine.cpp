@@ -33,7 +33,7 @@ class Machine : public sc_core::sc_module {
       raw.push_back(pes.back().get());
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
-    host = std::make_unique<Host>("host", c, s, g, std::make_shared<SceneImage>(s, g, c.precision), std::move(parts), raw);
+    host = std::make_unique<Host>("host", c, s, g, std::make_shared<SceneImage>(s, g, c.precision, c.recentre), std::move(parts), raw);
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
     if (progress_) SC_THREAD(show_progress);
   }

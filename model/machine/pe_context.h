@@ -23,7 +23,7 @@ struct SceneImage {
   SceneMemory<double> mem64;
   uint64_t bytes = 0;  ///< the size the transfer is timed by
 
-  SceneImage(const Scene& s, const Grid& g, Precision p);
+  SceneImage(const Scene& s, const Grid& g, Precision p, bool recentre);
 };
 
 /// Busy cycles and items of one unit.

@@ -17,8 +17,18 @@ Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* en
   return in ? n : -n;
 }
 
+double refine_hit(const Quadric& q, const Ray& ray, double t) {
+  const Vec3 p = ray.origin + t * ray.dir;
+  const double slope = dot(q.gradient(p), ray.dir);
+  if (!(std::abs(slope) > 0)) return t;
+  const double step = q.value(p) / slope;
+  const double limit = 1e-3 * std::max(1.0, std::abs(t));
+  return std::isfinite(step) && std::abs(step) <= limit ? t - step : t;
+}
+
 void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out) {
   const Material& m = s.materials[size_t(prim.material)];
+  if (s.refine_hits) t = refine_hit(prim.q, ray, t);
   const Vec3 p = ray.origin + t * ray.dir;
   bool entering = true;
   const Vec3 n = facing_normal(prim, p, ray.dir, &entering);

@@ -32,6 +32,10 @@ double spawn_offset(const Scene& s, const Vec3& p);
 /// vanishes (a cone's apex) or is not finite, falls back to −d.
 Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* entering);
 
+/// One Newton step on Q(o + t d) = 0 from the intersection stage's t, in double precision;
+/// the step is limited so a near-tangent ray cannot be thrown far along itself.
+double refine_hit(const Quadric& q, const Ray& ray, double t);
+
 /// Everything the shading stage does for one ray that hit `prim` at parameter t.
 void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out);
 

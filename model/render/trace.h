@@ -14,15 +14,44 @@
 namespace rtm {
 
 /// Scene data as a PE's local memory holds it: primitives, their coefficient RAM images, voxels.
+///
+/// With `recentre`, each primitive's coefficients and clips are stored relative to its own
+/// centre c (its box centre, rounded to Real so the machine can subtract it exactly as stored),
+/// and the ray origin latch is loaded with V − c: t is unchanged, and the constant term no
+/// longer cancels far from the origin. Without it, coefficients are in world coordinates as in
+/// the paper.
 template <class Real>
 struct SceneMemory {
   const Scene* scene = nullptr;
   const Grid* grid = nullptr;
-  std::vector<CoefRam<Real>> rams;  ///< one coefficient RAM image per primitive
+  std::vector<CoefRam<Real>> rams;            ///< one coefficient RAM image per primitive
+  std::vector<Vec3> centres;                  ///< each primitive's frame origin (zero: world frame)
+  std::vector<std::vector<HalfSpace>> clips;  ///< each primitive's clips, in its frame
 
-  SceneMemory(const Scene& s, const Grid& g) : scene(&s), grid(&g) {
+  SceneMemory(const Scene& s, const Grid& g, bool recentre = true) : scene(&s), grid(&g) {
     rams.reserve(s.primitives.size());
-    for (const Primitive& p : s.primitives) rams.push_back(load_ram<Real>(p.q));
+    for (const Primitive& p : s.primitives) {
+      Vec3 c{0, 0, 0};
+      if (recentre) {
+        const Vec3 mid = 0.5 * (p.bounds.lo + p.bounds.hi);
+        c = Vec3(double(Real(mid.x)), double(Real(mid.y)), double(Real(mid.z)));
+      }
+      centres.push_back(c);
+      rams.push_back(load_ram<Real>(recentre ? p.q.translated(c) : p.q));
+      std::vector<HalfSpace> local;
+      for (const HalfSpace& h : p.clips) local.push_back(recentre ? h.translated(c) : h);
+      clips.push_back(std::move(local));
+    }
+  }
+
+  /// The U/V latches for testing primitive `prim`: V in the primitive's frame.
+  Latches<Real> latches(const Ray& r, uint32_t prim) const {
+    Latches<Real> l = load_latches<Real>(r.dir, r.origin);
+    const Vec3& c = centres[prim];
+    l[kVx] = l[kVx] - Real(c.x);
+    l[kVy] = l[kVy] - Real(c.y);
+    l[kVz] = l[kVz] - Real(c.z);
+    return l;
   }
 };
 
@@ -41,10 +70,9 @@ inline double window_end(const Ray& r, const DdaState& s) { return std::min(s.t_
 template <class Real>
 void form_voxel_abg(const SceneMemory<Real>& mem, const Ray& ray, int64_t voxel, std::vector<Abg<Real>>& out) {
   const Grid& g = *mem.grid;
-  const Latches<Real> latches = load_latches<Real>(ray.dir, ray.origin);
   out.clear();
   for (const uint32_t *it = g.begin(voxel), *end = it + g.count(voxel); it != end; ++it)
-    out.push_back(form_abg(latches, mem.rams[*it]));
+    out.push_back(form_abg(mem.latches(ray, *it), mem.rams[*it]));
 }
 
 /// The root unit and the sort for one voxel: roots of each primitive's α t² + β t + γ, clip
@@ -56,14 +84,13 @@ VoxelHit resolve_voxel(const SceneMemory<Real>& mem, const Ray& ray, const DdaSt
                        const Abg<Real>* abg, std::vector<uint32_t>* clips_per_prim = nullptr) {
   VoxelHit best;
   const Grid& g = *mem.grid;
-  const Latches<Real> latches = load_latches<Real>(ray.dir, ray.origin);
   const double t_hi = window_end(ray, s);
   const uint32_t* ids = g.begin(voxel);
   if (clips_per_prim) clips_per_prim->clear();
   for (uint32_t i = 0, n = g.count(voxel); i < n; ++i) {
     const Abg<Real>& c = abg[i];
-    const PrimitiveHit h =
-        first_hit_in_window(mem.scene->primitives[ids[i]], solve_quadratic(c.a, c.b, c.g), latches, 0.0, s.t_enter, t_hi);
+    const PrimitiveHit h = first_hit_in_window(mem.clips[ids[i]], solve_quadratic(c.a, c.b, c.g),
+                                               mem.latches(ray, ids[i]), 0.0, s.t_enter, t_hi);
     ++best.tests;
     best.clip_tests += uint32_t(h.clip_tests);
     if (clips_per_prim) clips_per_prim->push_back(uint32_t(h.clip_tests));
