@@ -51,6 +51,9 @@ inline int Dda::exit_axis(const DdaState& s) {
 
 inline DdaState Dda::start(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max) {
   DdaState s;
+  // A non-finite origin or direction has no walk (std::max / std::min below would silently drop
+  // a NaN, and an infinite origin makes o + t d NaN).
+  if (!all_finite(o) || !all_finite(d)) return s;
   double t0 = t_min, t1 = t_max;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0) {

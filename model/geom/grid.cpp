@@ -37,7 +37,11 @@ Aabb Grid::voxel_box(int x, int y, int z) const {
   return Aabb{{plane(0, x), plane(1, y), plane(2, z)}, {plane(0, x + 1), plane(1, y + 1), plane(2, z + 1)}};
 }
 
-bool quadric_may_vanish(const Quadric& q, const Aabb& b) {
+namespace {
+
+/// Naive interval form in world coordinates: each term bounded on its own. Tight near the origin,
+/// but far from it the terms (x² and −2cx·x for a sphere) cancel and the bound grows useless.
+bool may_vanish_world(const Quadric& q, const Aabb& b) {
   const Interval x{b.lo.x, b.hi.x}, y{b.lo.y, b.hi.y}, z{b.lo.z, b.hi.z};
   const auto& c = q.c;
   Interval v = scale(c[kA], square(x)) + scale(c[kB], square(y)) + scale(c[kC], square(z)) +
@@ -50,6 +54,54 @@ bool quadric_may_vanish(const Quadric& q, const Aabb& b) {
   return v.lo <= slack && v.hi >= -slack;
 }
 
+/// Exact range of a u² + g u over |u| <= h.
+Interval axis_range(double a, double g, double h) {
+  const double f0 = (a * h - g) * h, f1 = (a * h + g) * h;  // at u = −h, u = +h
+  Interval r{std::min(f0, f1), std::max(f0, f1)};
+  if (a != 0) {
+    const double u = -g / (2 * a);
+    if (std::abs(u) < h) {
+      const double fv = -g * g / (4 * a);
+      r.lo = std::min(r.lo, fv);
+      r.hi = std::max(r.hi, fv);
+    }
+  }
+  return r;
+}
+
+/// Centred form about the box centre m: Q(m + u) = Q(m) + Σ (A_ii u_i² + ∂_iQ(m) u_i) + cross
+/// terms, exact for a quadric. The per-axis parts are bounded exactly and the cross terms by
+/// ±|D| h_x h_y etc., so the bound is as tight far from the origin as near it (exact for spheres).
+bool may_vanish_centred(const Quadric& q, const Aabb& b) {
+  const auto& c = q.c;
+  const Vec3 m = (b.lo + b.hi) * 0.5;
+  const Vec3 h = glm::max(b.hi - m, m - b.lo);
+  const Vec3 g = q.gradient(m);
+  const double q0 = q.value(m);
+  const double cross_bound = std::abs(c[kD]) * h.x * h.y + std::abs(c[kE]) * h.y * h.z + std::abs(c[kF]) * h.z * h.x;
+  Interval v{q0 - cross_bound, q0 + cross_bound};
+  v = v + axis_range(c[kA], g.x, h.x) + axis_range(c[kB], g.y, h.y) + axis_range(c[kC], g.z, h.z);
+  // Rounding: relative to the magnitude of every term summed into Q(m), ∇Q(m) and the bounds.
+  const Vec3 am = glm::abs(m);
+  const double q_terms = std::abs(c[kA]) * am.x * am.x + std::abs(c[kB]) * am.y * am.y + std::abs(c[kC]) * am.z * am.z +
+                         std::abs(c[kD]) * am.x * am.y + std::abs(c[kE]) * am.y * am.z + std::abs(c[kF]) * am.z * am.x +
+                         std::abs(c[kG]) * am.x + std::abs(c[kH]) * am.y + std::abs(c[kI]) * am.z + std::abs(c[kJ]);
+  const Vec3 g_terms{2 * std::abs(c[kA]) * am.x + std::abs(c[kD]) * am.y + std::abs(c[kF]) * am.z + std::abs(c[kG]),
+                     2 * std::abs(c[kB]) * am.y + std::abs(c[kD]) * am.x + std::abs(c[kE]) * am.z + std::abs(c[kH]),
+                     2 * std::abs(c[kC]) * am.z + std::abs(c[kE]) * am.y + std::abs(c[kF]) * am.x + std::abs(c[kI])};
+  const double quad_terms = std::abs(c[kA]) * h.x * h.x + std::abs(c[kB]) * h.y * h.y + std::abs(c[kC]) * h.z * h.z;
+  const double mag = q_terms + dot(g_terms, h + am) + quad_terms + cross_bound;
+  const double slack = 1e-12 * mag;
+  return v.lo <= slack && v.hi >= -slack;
+}
+
+}  // namespace
+
+bool quadric_may_vanish(const Quadric& q, const Aabb& b) {
+  // Both forms enclose Q's range over the box; a zero must lie in each.
+  return may_vanish_centred(q, b) && may_vanish_world(q, b);
+}
+
 bool box_touches_halfspace(const Aabb& b, const HalfSpace& h) {
   // The box corner minimising n·p.
   const Vec3 p{h.n.x >= 0 ? b.lo.x : b.hi.x, h.n.y >= 0 ? b.lo.y : b.hi.y, h.n.z >= 0 ? b.lo.z : b.hi.z};
@@ -57,15 +109,32 @@ bool box_touches_halfspace(const Aabb& b, const HalfSpace& h) {
 }
 
 std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const GridOptions& opt) {
+  if (!(std::isfinite(opt.voxels_per_primitive) && opt.voxels_per_primitive > 0))
+    throw std::invalid_argument("voxels_per_primitive must be a finite positive number");
   const Vec3 e = box.extent();
-  const double longest = std::max({e.x, e.y, e.z});
-  // Flat scenes would give zero volume: treat each axis as at least a small slice of the longest.
-  const Vec3 safe = glm::max(e, Vec3(longest * 1e-3));
-  const double volume = safe.x * safe.y * safe.z;
-  const double per_unit = std::cbrt(opt.voxels_per_primitive * double(std::max<size_t>(primitives, 1)) / volume);
-  std::array<int, 3> n{};
+  const double target = opt.voxels_per_primitive * double(std::max<size_t>(primitives, 1));
+  const int max_axis = std::max(1, opt.max_auto_axis);
+  // Cubic voxels of edge 1/per_unit, per_unit = (target / volume)^(1/k) over the k axes that get
+  // more than one voxel. An axis thinner than one such voxel (a flat or nearly flat scene) gets
+  // exactly one, and the budget is spent on the others: recompute until no more axes drop out.
+  bool active[3];
+  for (int a = 0; a < 3; ++a) active[a] = std::isfinite(e[a]) && e[a] > 0;
+  double per_unit = 0;
+  for (;;) {
+    double volume = 1;
+    int k = 0;
+    for (int a = 0; a < 3; ++a)
+      if (active[a]) volume *= e[a], ++k;
+    if (k == 0) break;
+    per_unit = std::pow(target / volume, 1.0 / k);
+    bool dropped = false;
+    for (int a = 0; a < 3; ++a)
+      if (active[a] && e[a] * per_unit < 1) active[a] = false, dropped = true;
+    if (!dropped) break;
+  }
+  std::array<int, 3> n{1, 1, 1};
   for (int a = 0; a < 3; ++a)
-    n[a] = std::clamp(int(std::lround(e[a] * per_unit)), 1, std::max(1, opt.max_auto_axis));
+    if (active[a]) n[a] = std::clamp(int(std::lround(std::min(e[a] * per_unit, double(max_axis)))), 1, max_axis);
   return n;
 }
 

@@ -37,6 +37,9 @@ struct Grid {
 
 /// Automatic resolution: voxels of equal size in every direction, about voxels_per_primitive
 /// voxels per primitive (Cleary & Wyvill / Woo's cube-root rule), clamped to [1, max_auto_axis].
+/// An axis thinner than one such voxel (a flat scene) gets one voxel and the budget goes to the
+/// other axes (square-root rule in 2D). Throws std::invalid_argument unless voxels_per_primitive
+/// is finite and positive.
 std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const GridOptions& opt);
 
 /// Conservative voxelisation: a primitive is listed in every voxel its clipped surface may touch.
@@ -44,7 +47,9 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
 /// so is a voxel over which interval arithmetic proves the quadric has no zero.
 Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt);
 
-/// Interval bound check used by the voxeliser: can Q be zero somewhere in the box?
+/// Interval bound check used by the voxeliser: can Q be zero somewhere in the box? Conservative
+/// (never false where Q has a zero); evaluated centred on the box, so it stays tight far from the
+/// origin (exact range for spheres), not only near it.
 bool quadric_may_vanish(const Quadric& q, const Aabb& box);
 /// Can the box hold a point with n·p + d <= 0?
 bool box_touches_halfspace(const Aabb& box, const HalfSpace& h);

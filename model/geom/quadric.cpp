@@ -81,6 +81,27 @@ Aabb revolution_box(const Frame& f, double z0, double r0, double z1, double r1) 
   return b;
 }
 
+/// Box of x² + y² = k z, 0 <= z <= h, in frame f. Along world axis i the circle at height z
+/// reaches o_i + a z ± sqrt(k z) s (a = ez_i, s = sqrt(1 − a²)); with w = sqrt(z) that is a
+/// parabola in w whose extreme can lie between the vertex and the rim (a tilted, shallow bowl
+/// bulges past its rim), so the box of the vertex and the rim disc alone does not hold it.
+Aabb paraboloid_box(const Frame& f, double k, double h) {
+  const double wmax = std::sqrt(h);
+  // max of a w² + b w over [0, wmax], for b >= 0.
+  const auto reach = [wmax](double a, double b) {
+    double m = std::max(0.0, (a * wmax + b) * wmax);
+    if (a < 0 && -b / (2 * a) < wmax) m = std::max(m, -b * b / (4 * a));
+    return m;
+  };
+  Aabb box;
+  for (int i = 0; i < 3; ++i) {
+    const double a = f.ez[i], b = std::sqrt(k) * std::sqrt(std::max(0.0, 1 - a * a));
+    box.lo[i] = f.origin[i] - reach(-a, b);
+    box.hi[i] = f.origin[i] + reach(a, b);
+  }
+  return box;
+}
+
 Primitive finish(Primitive p) {
   validate(p);
   return p;
@@ -112,6 +133,16 @@ double Quadric::value(const Vec3& p) const {
 Vec3 Quadric::gradient(const Vec3& p) const {
   return {2 * c[kA] * p.x + c[kD] * p.y + c[kF] * p.z + c[kG], 2 * c[kB] * p.y + c[kD] * p.x + c[kE] * p.z + c[kH],
           2 * c[kC] * p.z + c[kE] * p.y + c[kF] * p.x + c[kI]};
+}
+
+Quadric Quadric::translated(const Vec3& p) const {
+  Quadric q = *this;
+  const Vec3 g = gradient(p);
+  q.c[kG] = g.x;
+  q.c[kH] = g.y;
+  q.c[kI] = g.z;
+  q.c[kJ] = value(p);
+  return q;
 }
 
 Frame Frame::along(const Vec3& origin, const Vec3& axis) {
@@ -202,7 +233,7 @@ Primitive make_paraboloid(const Frame& f, double k, double height) {
   p.kind = ShapeKind::Paraboloid;
   p.q = to_world(f, s);
   clip_z(p, f, 0, height);
-  p.bounds = revolution_box(f, 0, 0, height, std::sqrt(k * height));
+  p.bounds = paraboloid_box(f, k, height);
   p.p0 = f.origin;
   p.r0 = k;
   p.r1 = height;
@@ -265,16 +296,20 @@ void require_box(const Aabb& box, const char* what) {
 Primitive make_plane(const Vec3& n, double d, const Aabb& box) {
   require_finite(n, "plane normal");
   require(std::isfinite(d), "plane offset is not finite");
-  require(length(n) > 0, "plane normal is zero");
+  require(max_abs(n) > 0, "plane normal is zero");
   require_box(box, "plane");
-  const double len = length(n);
+  // Only n's direction matters: scale it to max |component| = 1 first, so length() can neither
+  // underflow (tiny n) nor overflow (huge n).
+  const double m = max_abs(n);
+  const Vec3 unit = normalize(n / m);
+  const double off = d / m / length(n / m);
   Primitive p;
   p.kind = ShapeKind::Plane;
-  p.q.c = {0, 0, 0, 0, 0, 0, n.x / len, n.y / len, n.z / len, d / len};
+  p.q.c = {0, 0, 0, 0, 0, 0, unit.x, unit.y, unit.z, off};
   add_box_clips(p, box);
   p.bounds = box;
-  p.p0 = n / len;
-  p.r0 = d / len;
+  p.p0 = unit;
+  p.r0 = off;
   return finish(p);
 }
 
@@ -343,7 +378,7 @@ void validate(const Primitive& p) {
   require(any, "quadric is degenerate: A..I are all zero, so it has no surface");
   for (const HalfSpace& h : p.clips) {
     require(all_finite(h.n) && std::isfinite(h.d), "clip half-space is not finite");
-    require(length(h.n) > 0, "clip half-space has a zero normal");
+    require(max_abs(h.n) > 0, "clip half-space has a zero normal");
   }
   require(all_finite(p.bounds.lo) && all_finite(p.bounds.hi) && !p.bounds.empty(),
           "primitive has no finite bound");

@@ -98,6 +98,7 @@ const char* to_string(Partition p) {
 }
 const char* to_string(Timing t) { return t == Timing::Fast ? "fast" : "clocked"; }
 const char* to_string(Precision p) { return p == Precision::Fp32 ? "fp32" : "fp64"; }
+const char* to_string(FlowControl f) { return f == FlowControl::Credits ? "credits" : "none"; }
 
 const std::vector<ConfigKey>& config_keys() {
   using M = MachineConfig;
@@ -134,6 +135,8 @@ const std::vector<ConfigKey>& config_keys() {
       int_key("root_fifo_depth", "FIFO depth, MAC -> root unit", &M::root_fifo_depth),
       int_key("shade_fifo_depth", "FIFO depth, search/intersection -> shading", &M::shade_fifo_depth),
       int_key("feedback_fifo_depth", "FIFO depth of each path back into the front buffer", &M::feedback_fifo_depth),
+      enum_key("flow_control", "credits (deadlock-free) or none (the paper's unregulated loop, which can deadlock)",
+               &M::flow_control, {FlowControl::Credits, FlowControl::None}),
       int_key("loop_credits", "rays allowed past the front buffer at once (0: largest safe value)", &M::loop_credits),
       double_key("host_clock_ns", "host clock period, ns", &M::host_clock_ns),
       int_key("host_voxel_cycles", "host cycles per primitive reference registered in a voxel", &M::host_voxel_cycles),

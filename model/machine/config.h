@@ -11,6 +11,7 @@ namespace rtm {
 enum class Partition { Scanlines, Blocks, Strips };
 enum class Timing { Fast, Clocked };
 enum class Precision { Fp32, Fp64 };
+enum class FlowControl { Credits, None };
 
 struct MachineConfig {
   // Multiprocessor
@@ -48,6 +49,10 @@ struct MachineConfig {
   int shade_fifo_depth = 16;              ///< search and intersection -> shading
   int feedback_fifo_depth = 8;            ///< each path back into the front buffer
   int loop_credits = 0;                   ///< rays allowed past the front buffer at once; 0 = the largest safe value
+  /// credits: the deadlock-free flow control of FrontBuffer; none: the front buffer hands out
+  /// rays whenever the search FIFO has room, as the paper describes, and the loop can deadlock
+  /// (the simulator then reports it).
+  FlowControl flow_control = FlowControl::Credits;
 
   // Host and interconnect
   double host_clock_ns = 10;
@@ -84,5 +89,6 @@ std::string describe_config(const MachineConfig& c);
 const char* to_string(Partition p);
 const char* to_string(Timing t);
 const char* to_string(Precision p);
+const char* to_string(FlowControl f);
 
 }  // namespace rtm

@@ -1,12 +1,16 @@
 #include "machine/front_buffer.h"
 
+#include <climits>
+
 namespace rtm {
 
 FrontBuffer::FrontBuffer(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
     : sc_module(name),
       ctx_(ctx),
       mem_(mem),
-      credits_(ctx.config.loop_credits > 0 ? ctx.config.loop_credits : ctx.config.safe_credits()) {
+      credits_(ctx.config.flow_control == FlowControl::None ? INT_MAX
+               : ctx.config.loop_credits > 0                  ? ctx.config.loop_credits
+                                                              : ctx.config.safe_credits()) {
   SC_THREAD(run);
 }
 
@@ -32,7 +36,7 @@ void FrontBuffer::dispatch(MachineRay r, bool from_spill) {
   ctx_.counters.front.busy_cycles += cycles;
   ++ctx_.counters.front.items;
   sc_core::wait(ctx_.cycles(cycles));
-  rays_out->write(r);  // never blocks: in_flight <= credits <= the FIFO's depth
+  rays_out->write(r);  // with credits, never blocks: in_flight <= credits <= the FIFO's depth
   probe_.end();
 }
 

@@ -40,10 +40,16 @@ void Host::transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* 
   if (ext) t.set_extension(ext);
   sc_time delay = timed_bytes ? link_time(timed_bytes) : sc_core::SC_ZERO_TIME;
   times.link_busy += delay;
+  busy_until = sc_core::sc_time_stamp() + delay;
   (*links[size_t(pe)])->b_transport(t, delay);
   if (ext) t.clear_extension(ext);
   if (t.is_response_error()) SC_REPORT_FATAL("rtm/host", ("transfer to PE " + std::to_string(pe) + " failed: " + t.get_response_string()).c_str());
   sc_core::wait(delay);
+}
+
+void Host::host_wait(sc_time t) {
+  busy_until = sc_core::sc_time_stamp() + t;
+  sc_core::wait(t);
 }
 
 void Host::run() {
@@ -52,7 +58,7 @@ void Host::run() {
 
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
   // host is charged per primitive reference it registers).
-  sc_core::wait(host_cycle * double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()));
+  host_wait(host_cycle * double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()));
   times.voxels = sc_core::sc_time_stamp();
 
   const PrimaryRays camera(scene_.camera);
@@ -81,7 +87,7 @@ void Host::run() {
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
   if (config_.ray_block == 0) {
     // The paper's flow: all pre-processing first, then every PE's data in turn.
-    sc_core::wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * pixels));
+    host_wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * pixels));
     times.rays = sc_core::sc_time_stamp();
     if (config_.broadcast) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {
@@ -98,7 +104,7 @@ void Host::run() {
         std::vector<Ray> rays = rays_of(pe, from, size_t(config_.ray_block));
         if (rays.empty()) continue;
         any = true;
-        sc_core::wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * rays.size()));
+        host_wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * rays.size()));
         send_rays(pe, rays);
       }
       if (!any) break;
@@ -127,6 +133,7 @@ void Host::run() {
   }
   times.gathered = sc_core::sc_time_stamp();
   done = true;
+  sc_core::sc_stop();  // in clocked timing the clock would run on forever
 }
 
 }  // namespace rtm

@@ -32,12 +32,14 @@ class Host : public sc_core::sc_module {
   HostTimes times;
   Image image;  ///< the gathered frame
   bool done = false;
+  sc_core::sc_time busy_until = sc_core::SC_ZERO_TIME;  ///< the host's current work ends then (for stall detection)
 
  private:
   void run();
   void transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, uint64_t timed_bytes,
                 SceneImageExtension* ext = nullptr);
   sc_core::sc_time link_time(uint64_t bytes) const;
+  void host_wait(sc_core::sc_time t);
 
   MachineConfig config_;
   const Scene& scene_;

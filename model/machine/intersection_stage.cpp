@@ -1,6 +1,6 @@
 #include "machine/intersection_stage.h"
 
-#include "machine/search_unit.h"
+#include "machine/routing.h"
 
 namespace rtm {
 
@@ -50,7 +50,10 @@ void check_clocked(const std::vector<Abg<Real>>& fast, const std::vector<std::ar
   bool same = fast.size() == clocked.size() && fast_cycles == clocked_cycles;
   for (size_t i = 0; same && i < fast.size(); ++i)
     same = double(fast[i].a) == clocked[i][0] && double(fast[i].b) == clocked[i][1] && double(fast[i].g) == clocked[i][2];
-  if (!same) SC_REPORT_FATAL("rtm/pe/mac", "clocked MAC disagrees with the fast MAC model");
+  if (!same)
+    SC_REPORT_FATAL("rtm/pe/mac", ("clocked MAC disagrees with the fast MAC model: " + std::to_string(clocked_cycles) +
+                                   " cycles against " + std::to_string(fast_cycles))
+                                      .c_str());
 }
 
 }  // namespace
@@ -107,23 +110,11 @@ void IntersectionStage::root_thread() {
     ++ctx_.counters.root.items;
     sc_core::wait(ctx_.cycles(cycles));
 
-    // Route by ray type and outcome (§5.1.2).
-    const bool shadow = r.ray.kind == RayKind::Shadow;
-    if (h.hit) {
-      if (shadow) {
-        ends_out->write(RayEnd{r.id});  // the light is blocked
-      } else {
-        r.arrival = MachineRay::Arrival::Hit;
-        r.t_hit = h.t;
-        r.prim = h.prim;
-        hits_out->write(r);
-      }
-    } else if (!r.last) {
-      feedback_out->write(r);
-    } else if (route_exit(*img.scene, r) == ExitRoute::Shade) {
-      hits_out->write(r);
-    } else {
-      ends_out->write(RayEnd{r.id});
+    switch (intersection_route(*img.scene, r, h)) {
+      case Route::Shade: hits_out->write(r); break;
+      case Route::Feedback: feedback_out->write(r); break;
+      case Route::End: ends_out->write(RayEnd{r.id}); break;
+      case Route::Intersect: break;  // not a route out of this stage
     }
     root_probe_.end();
   }

@@ -35,37 +35,56 @@ class Machine : public sc_core::sc_module {
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
     host = std::make_unique<Host>("host", c, s, g, std::make_shared<SceneImage>(s, g, c.precision, c.recentre), std::move(parts), raw);
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
-    if (progress_) SC_THREAD(show_progress);
+    // The clock keeps a clocked simulation alive even when the loop has stalled: watch for it.
+    if (progress_ || c.timing == Timing::Clocked) SC_THREAD(monitor);
   }
 
  private:
-  /// Wakes every few thousand cycles; redraws at most twice a second of wall time.
-  void show_progress() {
+  /// Every few thousand cycles: redraw the progress line (at most twice a second of wall time),
+  /// and stop the simulation if nothing has moved for a long while (a deadlock the clock would
+  /// otherwise hide).
+  void monitor() {
     const auto start = std::chrono::steady_clock::now();
-    auto last = start;
+    auto last_draw = start;
     const sc_time step = sc_time(config_.clock_ns, sc_core::SC_NS) * 4096.0;
+    uint64_t last_work = ~0ull;
+    int idle = 0;
     while (!host->done) {
       sc_core::wait(step);
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last < std::chrono::milliseconds(500) || now - start < std::chrono::seconds(1)) continue;
-      last = now;
-      uint64_t primaries = 0, rays = 0;
+      uint64_t primaries = 0, rays = 0, work = 0;
       for (auto& pe : pes) {
-        primaries += pe->ctx.counters.counts.rays[0];
-        rays += pe->ctx.counters.counts.total_rays();
+        const PeCounters& k = pe->ctx.counters;
+        primaries += k.counts.rays[0];
+        rays += k.counts.total_rays();
+        work += k.front.items + k.search.items + k.mac.items + k.root.items + k.shade.items;
       }
+      const bool host_busy = sc_core::sc_time_stamp() < host->busy_until;
+      idle = (work == last_work && !host_busy) ? idle + 1 : 0;
+      last_work = work;
+      if (idle >= 8) {
+        stalled = true;
+        sc_core::sc_stop();
+        return;
+      }
+      if (!progress_) continue;
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_draw < std::chrono::milliseconds(500) || now - start < std::chrono::seconds(1)) continue;
+      last_draw = now;
       std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles   ", (unsigned long long)rays,
                    100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
                    sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS));
       std::fflush(stderr);
-      drew_ = true;
+      drew = true;
     }
-    if (drew_) std::fprintf(stderr, "\r%80s\r", "");
   }
 
+ public:
+  bool stalled = false;  ///< the monitor stopped a simulation in which nothing moved
+  bool drew = false;     ///< a progress line is on the terminal
+
+ private:
   MachineConfig config_;
   bool progress_;
-  bool drew_ = false;
   uint64_t total_pixels_ = 0;
 };
 
@@ -93,6 +112,8 @@ std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, 
 
 MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt) {
   c.validate();
+  // The machine stops itself (sc_stop) when the frame is gathered: that is not news.
+  sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
   Machine top("machine", s, g, c, opt.progress && isatty(2));
 
@@ -114,6 +135,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   }
 
   sc_core::sc_start();
+  if (top.drew) std::fprintf(stderr, "\r%80s\r", "");
 
   MachineResult r;
   r.end = sc_core::sc_time_stamp();
@@ -124,7 +146,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
       r.deadlock_report += pe->occupancy_report() + "\n";
     }
   }
-  if (!top.host->done) r.deadlock = true;
+  if (!top.host->done || top.stalled) r.deadlock = true;
   r.image = top.host->image;
   for (auto& pe : top.pes) {
     const PeCounters& k = pe->ctx.counters;

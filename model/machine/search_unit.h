@@ -28,10 +28,4 @@ class SearchUnit : public sc_core::sc_module {
   UnitProbe probe_;
 };
 
-/// Where a ray goes when its walk ends without a hit (search §4.2.3, intersection §5.1.2):
-/// a shadow ray has reached its light; a primary or branch ray ends, adding the background
-/// through the shading stage only when there is a background to add.
-enum class ExitRoute { Shade, End };
-ExitRoute route_exit(const Scene& s, MachineRay& r);
-
 }  // namespace rtm

@@ -51,6 +51,11 @@ struct Scene {
   std::vector<SourceLocation> origins;  ///< one per primitive
   double threshold = 0;   ///< branch rays with contribution <= threshold are dropped
   int max_depth = 5;      ///< primary rays are depth 1
+  /// Spawned rays start this far off the surface, relative to max(1, |hit point|∞).
+  double spawn_offset = 1e-5;
+  /// The shading stage refines the hit point with one Newton step on the double-precision
+  /// quadric before shading, so a float32 t does not leave the point inside its own surface.
+  bool refine_hits = true;
   GridOptions grid;
 };
 

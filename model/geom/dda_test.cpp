@@ -1,0 +1,392 @@
+// 3DDDA: visit sequences against an independent reference walk.
+//
+// The reference does not step: it collects every parameter where the ray crosses a voxel plane,
+// sorts them, and names the voxel of each segment by counting the planes crossed so far. Its
+// segments of positive length must be exactly the DDA's visits of positive length, in order,
+// with the same windows; zero-length visits (edges and corners) are allowed between them.
+#include "geom/dda.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace rtm {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+
+Vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<double> n;
+  for (;;) {
+    const Vec3 v{n(rng), n(rng), n(rng)};
+    if (length(v) > 1e-3) return normalize(v);
+  }
+}
+
+/// A grid with no voxel lists (the DDA needs only the geometry).
+Grid make_grid(const Vec3& lo, const Vec3& cell, std::array<int, 3> n) {
+  Grid g;
+  g.n = n;
+  g.cell = cell;
+  g.box = Aabb{lo, {lo.x + n[0] * cell.x, lo.y + n[1] * cell.y, lo.z + n[2] * cell.z}};
+  return g;
+}
+
+struct Visit {
+  std::array<int, 3> cell;
+  double t0, t1;
+  bool last;  ///< is_last() before advancing
+};
+
+std::vector<Visit> walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max,
+                        size_t limit = 1 << 20) {
+  std::vector<Visit> out;
+  for (DdaState s = Dda::start(g, o, d, t_min, t_max); !s.done; Dda::advance(g, o, d, t_max, s)) {
+    out.push_back({s.cell, s.t_enter, s.t_exit, Dda::is_last(g, d, t_max, s)});
+    if (out.size() > limit) break;  // a runaway walk fails the count checks instead of hanging
+  }
+  return out;
+}
+
+/// Entry and exit of the box by slabs, within [t_min, t_max]; false if the ray misses.
+bool clip_to_box(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max, double& t0, double& t1) {
+  t0 = t_min;
+  t1 = t_max;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0) {
+      if (o[a] < g.box.lo[a] || o[a] > g.box.hi[a]) return false;
+      continue;
+    }
+    double ta = (g.box.lo[a] - o[a]) / d[a], tb = (g.box.hi[a] - o[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+/// The reference: segments of positive length (longer than min_len) with their voxels.
+std::vector<Visit> reference_walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max,
+                                  double min_len) {
+  double t0, t1;
+  if (!clip_to_box(g, o, d, t_min, t_max, t0, t1)) return {};
+  std::vector<double> cross[3];
+  std::vector<double> bp = {t0, t1};
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0) continue;
+    for (int j = 1; j < g.n[a]; ++j) {
+      const double t = (g.plane(a, j) - o[a]) / d[a];
+      cross[a].push_back(t);
+      if (t > t0 && t < t1) bp.push_back(t);
+    }
+  }
+  std::sort(bp.begin(), bp.end());
+  std::vector<Visit> out;
+  for (size_t k = 0; k + 1 < bp.size(); ++k) {
+    if (!(bp[k + 1] - bp[k] > min_len)) continue;
+    Visit v{{0, 0, 0}, bp[k], bp[k + 1], false};
+    const double mid = bp[k] + (bp[k + 1] - bp[k]) / 2;
+    for (int a = 0; a < 3; ++a) {
+      if (d[a] == 0) {
+        v.cell[a] = std::clamp(int(std::floor((o[a] - g.box.lo[a]) / g.cell[a])), 0, g.n[a] - 1);
+        continue;
+      }
+      // Planes crossed before the middle of the segment.
+      const int crossed = int(std::count_if(cross[a].begin(), cross[a].end(), [&](double t) { return t < mid; }));
+      v.cell[a] = d[a] > 0 ? crossed : g.n[a] - 1 - crossed;
+    }
+    out.push_back(v);
+  }
+  if (!out.empty()) out.back().last = true;
+  return out;
+}
+
+/// Structural checks on any walk, then the comparison with the reference.
+void check_walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max, const char* what = "") {
+  SCOPED_TRACE(::testing::Message() << what << " o = (" << o.x << ", " << o.y << ", " << o.z << ") d = (" << d.x << ", "
+                                    << d.y << ", " << d.z << ") t in [" << t_min << ", " << t_max << "]");
+  const std::vector<Visit> w = walk(g, o, d, t_min, t_max);
+  double t0, t1;
+  const bool hits = clip_to_box(g, o, d, t_min, t_max, t0, t1);
+  if (!hits) {
+    ASSERT_TRUE(w.empty()) << "a ray missing the grid visited " << w.size() << " voxels";
+    return;
+  }
+  ASSERT_FALSE(w.empty()) << "a ray meeting the grid visited nothing";
+  ASSERT_LE(w.size(), size_t(g.n[0] + g.n[1] + g.n[2]));
+  EXPECT_EQ(w.front().t0, t0) << "the walk does not start where the ray enters";
+  for (size_t i = 0; i < w.size(); ++i) {
+    const Visit& v = w[i];
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_GE(v.cell[a], 0);
+      ASSERT_LT(v.cell[a], g.n[a]);
+    }
+    ASSERT_LE(v.t0, v.t1) << "visit " << i;
+    ASSERT_LE(v.t0, t_max) << "visit " << i << " starts past t_max";
+    ASSERT_EQ(v.last, i + 1 == w.size()) << "is_last() wrong at visit " << i << " of " << w.size();
+    if (i == 0) continue;
+    const Visit& u = w[i - 1];
+    ASSERT_EQ(u.t1, v.t0) << "windows not contiguous at visit " << i;
+    // 6-connected, one step on one axis, in the direction of travel, never on a zero axis.
+    int steps = 0;
+    for (int a = 0; a < 3; ++a) {
+      const int dc = v.cell[a] - u.cell[a];
+      if (dc == 0) continue;
+      ++steps;
+      ASSERT_EQ(std::abs(dc), 1);
+      ASSERT_NE(d[a], 0.0);
+      ASSERT_EQ(dc > 0, d[a] > 0) << "stepped against the ray on axis " << a;
+    }
+    ASSERT_EQ(steps, 1) << "visit " << i;
+  }
+  // The walk covers the ray up to where it leaves the grid or reaches t_max.
+  const double scale = std::max({std::abs(t0), std::abs(t1), 1.0});
+  if (std::isfinite(t1)) {
+    ASSERT_GE(w.back().t1, t1 - 1e-9 * scale);
+  }
+
+  // Positive-length visits against the reference.
+  const double min_len = 1e-9 * std::max({std::abs(t0), std::isfinite(t1) ? std::abs(t1) : 0.0, 1e-300});
+  std::vector<Visit> got;
+  for (const Visit& v : w)
+    if (std::min(v.t1, t1) - v.t0 > min_len) got.push_back(v);
+  const std::vector<Visit> ref = reference_walk(g, o, d, t_min, t_max, min_len);
+  ASSERT_EQ(got.size(), ref.size()) << "positive-length visits differ in number";
+  for (size_t i = 0; i < ref.size(); ++i) {
+    ASSERT_EQ(got[i].cell, ref[i].cell) << "visit " << i << ": (" << got[i].cell[0] << ", " << got[i].cell[1] << ", "
+                                        << got[i].cell[2] << ") vs reference (" << ref[i].cell[0] << ", "
+                                        << ref[i].cell[1] << ", " << ref[i].cell[2] << ")";
+    ASSERT_NEAR(got[i].t0, ref[i].t0, 1e-12 * scale) << "visit " << i;
+    ASSERT_NEAR(std::min(got[i].t1, t1), ref[i].t1, 1e-12 * scale) << "visit " << i;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TEST(DdaWalk, AxisParallelBothWaysWithSignedZeros) {
+  const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {8, 8, 8});
+  for (double zero : {0.0, -0.0}) {
+    // +x: (0..7, 2, 5), windows [1 + i, 2 + i].
+    std::vector<Visit> w = walk(g, {-1, 2.5, 5.5}, {1, zero, -zero}, 0, kInf);
+    ASSERT_EQ(w.size(), 8u);
+    for (int i = 0; i < 8; ++i) {
+      EXPECT_EQ(w[size_t(i)].cell, (std::array<int, 3>{i, 2, 5}));
+      EXPECT_EQ(w[size_t(i)].t0, 1 + i);
+      EXPECT_EQ(w[size_t(i)].t1, 2 + i);
+      EXPECT_EQ(w[size_t(i)].last, i == 7);
+    }
+    // −y: (3, 7..0, 6).
+    w = walk(g, {3.5, 9.5, 6.5}, {-zero, -1, zero}, 0, kInf);
+    ASSERT_EQ(w.size(), 8u);
+    for (int i = 0; i < 8; ++i) {
+      EXPECT_EQ(w[size_t(i)].cell, (std::array<int, 3>{3, 7 - i, 6}));
+      EXPECT_EQ(w[size_t(i)].t0, 1.5 + i);
+    }
+    // ±z.
+    for (double dir : {1.0, -1.0}) {
+      check_walk(g, {4.25, 0.75, dir > 0 ? -3.0 : 11.0}, {zero, zero, dir}, 0, kInf, "z");
+      EXPECT_EQ(walk(g, {4.25, 0.75, dir > 0 ? -3.0 : 11.0}, {zero, zero, dir}, 0, kInf).size(), 8u);
+    }
+    check_walk(g, {-1, 2.5, 5.5}, {1, zero, -zero}, 0, kInf, "+x");
+    check_walk(g, {9, 2.5, 5.5}, {-1, -zero, zero}, 0, kInf, "-x");
+    check_walk(g, {3.5, 9.5, 6.5}, {-zero, -1, zero}, 0, kInf, "-y");
+  }
+}
+
+TEST(DdaWalk, DiagonalThroughCorners) {
+  // d = (1,1,1) through voxel corners: the positive-length voxels are (i,i,i); at each corner the
+  // lowest axis steps first, giving two zero-length voxels (i+1,i,i), (i+1,i+1,i).
+  const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {8, 8, 8});
+  for (int sign : {1, -1}) {
+    const Vec3 o = sign > 0 ? Vec3(-0.5) : Vec3(8.5), d = Vec3(double(sign));
+    const std::vector<Visit> w = walk(g, o, d, 0, kInf);
+    ASSERT_EQ(w.size(), 8u + 2 * 7u);
+    int positive = 0;
+    for (size_t i = 0; i < w.size(); ++i) {
+      const int k = int(i) / 3;
+      const int c = sign > 0 ? k : 7 - k;
+      const int s = sign > 0 ? 1 : -1;
+      std::array<int, 3> expect{c, c, c};
+      if (i % 3 == 1) expect = {c + s, c, c};
+      if (i % 3 == 2) expect = {c + s, c + s, c};
+      EXPECT_EQ(w[i].cell, expect) << i;
+      if (i % 3 == 0) {
+        ++positive;
+        EXPECT_EQ(w[i].t0, 0.5 + k);
+        EXPECT_EQ(w[i].t1, 1.5 + k);
+      } else {
+        EXPECT_EQ(w[i].t0, w[i].t1) << "corner voxels have zero length";
+      }
+    }
+    EXPECT_EQ(positive, 8);
+    check_walk(g, o, d, 0, kInf, "diagonal");
+  }
+}
+
+TEST(DdaWalk, GrazingEdgesAndFaces) {
+  const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {8, 8, 8});
+  // Through voxel edges in the xy plane: (i,i,3) with one zero-length (i+1,i,3) at each edge.
+  std::vector<Visit> w = walk(g, {-0.5, -0.5, 3.5}, {1, 1, 0}, 0, kInf);
+  ASSERT_EQ(w.size(), 15u);
+  for (size_t i = 0; i < w.size(); ++i) {
+    const int k = int(i) / 2;
+    EXPECT_EQ(w[i].cell, (i % 2 ? std::array<int, 3>{k + 1, k, 3} : std::array<int, 3>{k, k, 3}));
+  }
+  check_walk(g, {-0.5, -0.5, 3.5}, {1, 1, 0}, 0, kInf, "edge");
+  check_walk(g, {8.5, -0.5, 3.5}, {-1, 1, -0.0}, 0, kInf, "edge, mirrored");
+  // Along an interior face y = 4: one row of voxels, all on the same side.
+  w = walk(g, {-1, 4, 2.5}, {1, 0, 0}, 0, kInf);
+  ASSERT_EQ(w.size(), 8u);
+  for (const Visit& v : w) {
+    EXPECT_EQ(v.cell[1], w[0].cell[1]);
+    EXPECT_TRUE(v.cell[1] == 3 || v.cell[1] == 4);
+  }
+  // Along the grid's outer face y = 8 (touching the grid): the boundary row.
+  w = walk(g, {-1, 8, 2.5}, {1, 0, 0}, 0, kInf);
+  ASSERT_EQ(w.size(), 8u);
+  EXPECT_EQ(w[0].cell[1], 7);
+  // Just outside it: nothing.
+  EXPECT_TRUE(walk(g, {-1, std::nextafter(8.0, 9.0), 2.5}, {1, 0, 0}, 0, kInf).empty());
+  // Through the grid's corner (8,8,8) from outside, touching only that point.
+  w = walk(g, {9, 9, 7}, {-1, -1, 1}, 0, kInf);
+  ASSERT_LE(w.size(), 1u);
+  for (const Visit& v : w) EXPECT_EQ(v.t0, v.t1);
+}
+
+TEST(DdaWalk, StartsInsideOutsideOnTheBoundaryAndMisses) {
+  const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {8, 8, 8});
+  // Inside: the first voxel holds the origin, from t = 0.
+  std::vector<Visit> w = walk(g, {3.3, 4.7, 1.2}, normalize(Vec3{0.3, -0.5, 0.8}), 0, kInf);
+  ASSERT_FALSE(w.empty());
+  EXPECT_EQ(w[0].cell, (std::array<int, 3>{3, 4, 1}));
+  EXPECT_EQ(w[0].t0, 0);
+  check_walk(g, {3.3, 4.7, 1.2}, normalize(Vec3{0.3, -0.5, 0.8}), 0, kInf, "inside");
+  // On the boundary, pointing in: from t = 0 across the grid.
+  w = walk(g, {0, 3.5, 3.5}, {1, 0, 0}, 0, kInf);
+  ASSERT_EQ(w.size(), 8u);
+  EXPECT_EQ(w[0].t0, 0);
+  w = walk(g, {8, 3.5, 3.5}, {-1, 0, 0}, 0, kInf);
+  ASSERT_EQ(w.size(), 8u);
+  EXPECT_EQ(w[0].cell[0], 7);
+  // On the boundary, pointing out: at most the touching point, with zero length.
+  w = walk(g, {8, 3.5, 3.5}, {1, 0, 0}, 0, kInf);
+  ASSERT_LE(w.size(), 1u);
+  for (const Visit& v : w) EXPECT_EQ(v.t0, v.t1);
+  EXPECT_TRUE(walk(g, {std::nextafter(8.0, 9.0), 3.5, 3.5}, {1, 0, 0}, 0, kInf).empty());
+  // Outside and missing, or pointing away.
+  EXPECT_TRUE(walk(g, {-1, 9, 3}, {1, 0, 0}, 0, kInf).empty());
+  EXPECT_TRUE(walk(g, {-1, -1, -1}, normalize(Vec3{-1, 0.2, 0.3}), 0, kInf).empty());
+  EXPECT_TRUE(walk(g, {-1, 4, 4}, {-1, 0, 0}, 0, kInf).empty());
+  EXPECT_TRUE(walk(g, {-2, 7, 4}, normalize(Vec3{1, 1, 0}), 0, kInf).empty());  // passes the corner
+  EXPECT_TRUE(walk(g, {4, 4, 4}, {1, 0, 0}, 10, kInf).empty());                 // t_min past the exit
+  for (const Vec3& o : {Vec3{-1, 9, 3}, Vec3{-1, -1, -1}, Vec3{-2, 7, 4}}) check_walk(g, o, {1, 0, 0}, 0, kInf, "miss");
+}
+
+TEST(DdaWalk, TminAndShadowTmax) {
+  const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {8, 8, 8});
+  // A shadow ray to a light at t = 2.4 from x = 0.5: voxels 0, 1, 2 and no further.
+  std::vector<Visit> w = walk(g, {0.5, 0.5, 0.5}, {1, 0, 0}, 0, 2.4);
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_EQ(w.back().cell[0], 2);
+  EXPECT_TRUE(w.back().last);
+  EXPECT_LE(w.back().t0, 2.4);
+  EXPECT_GE(w.back().t1, 2.4);
+  // t_max before the grid: nothing.
+  EXPECT_TRUE(walk(g, {-5, 4, 4}, {1, 0, 0}, 0, 3).empty());
+  // t_min: the walk starts at the voxel of o + t_min d.
+  w = walk(g, {-5, 4.5, 4.5}, {1, 0, 0}, 7.25, kInf);
+  ASSERT_EQ(w.size(), 6u);
+  EXPECT_EQ(w[0].cell[0], 2);
+  EXPECT_EQ(w[0].t0, 7.25);
+  std::mt19937 rng(50);
+  for (int i = 0; i < 500; ++i) {
+    const Vec3 o{uniform(rng, -4, 12), uniform(rng, -4, 12), uniform(rng, -4, 12)};
+    const Vec3 d = random_unit(rng);
+    const double t_min = uniform(rng, 0, 3), t_max = t_min + uniform(rng, 0, 10);
+    check_walk(g, o, d, t_min, t_max, "window");
+  }
+}
+
+TEST(DdaWalk, LongWalksTerminateWithTheRightCount) {
+  // 4096 voxels on x, cell 3.7/4096 (not a power of two): planes from the index do not drift.
+  const Grid g = make_grid({-1.3, 0, 0}, {3.7 / 4096, 1, 1}, {4096, 1, 1});
+  for (double dir : {1.0, -1.0}) {
+    const Vec3 o{dir > 0 ? -2.0 : 3.0, 0.5, 0.5};
+    const std::vector<Visit> w = walk(g, o, {dir, 0, 0}, 0, kInf);
+    ASSERT_EQ(w.size(), 4096u);
+    for (size_t i = 0; i < w.size(); ++i) ASSERT_EQ(w[i].cell[0], dir > 0 ? int(i) : 4095 - int(i));
+    check_walk(g, o, {dir, 0, 0}, 0, kInf, "long x");
+    // Slightly tilted, staying in the slab.
+    check_walk(g, o, normalize(Vec3{dir, 1e-5, -1e-5}), 0, kInf, "long x, tilted");
+    EXPECT_EQ(walk(g, o, normalize(Vec3{dir, 1e-5, -1e-5}), 0, kInf).size(), 4096u);
+  }
+  // A long 3D walk.
+  const Grid big = make_grid({0, 0, 0}, {1.0 / 512, 1.0 / 512, 1.0 / 512}, {512, 512, 512});
+  std::mt19937 rng(51);
+  for (int i = 0; i < 20; ++i) {
+    const Vec3 d = random_unit(rng);
+    const Vec3 o = Vec3(0.5) - 2.0 * d;
+    check_walk(big, o, d, 0, kInf, "long 3D");
+    EXPECT_GT(walk(big, o, d, 0, kInf).size(), 512u);
+  }
+}
+
+TEST(DdaWalk, RandomRaysAgainstReference) {
+  std::mt19937 rng(52);
+  for (int i = 0; i < 4000; ++i) {
+    const std::array<int, 3> n{1 + int(rng() % 24), 1 + int(rng() % 24), 1 + int(rng() % 24)};
+    const Vec3 lo{uniform(rng, -100, 100), uniform(rng, -100, 100), uniform(rng, -100, 100)};
+    const double unit = std::pow(10.0, uniform(rng, -2, 1));
+    const Vec3 cell{unit * uniform(rng, 0.3, 3), unit * uniform(rng, 0.3, 3), unit * uniform(rng, 0.3, 3)};
+    const Grid g = make_grid(lo, cell, n);
+    const Vec3 e = g.box.extent();
+    Vec3 o;
+    switch (i % 3) {
+      case 0:  // inside
+        o = g.box.lo + Vec3(uniform(rng, 0, 1), uniform(rng, 0, 1), uniform(rng, 0, 1)) * e;
+        break;
+      case 1:  // outside, near
+        o = g.box.lo + Vec3(uniform(rng, -1, 2), uniform(rng, -1, 2), uniform(rng, -1, 2)) * e;
+        break;
+      default: {  // on a face
+        o = g.box.lo + Vec3(uniform(rng, 0, 1), uniform(rng, 0, 1), uniform(rng, 0, 1)) * e;
+        const int a = int(rng() % 3);
+        o[a] = rng() % 2 ? g.box.lo[a] : g.box.hi[a];
+      }
+    }
+    Vec3 d = random_unit(rng);
+    if (rng() % 4 == 0) d = normalize(g.box.lo + 0.5 * e - o);  // aimed at the centre
+    if (rng() % 4 == 0) d[int(rng() % 3)] = rng() % 2 ? 0.0 : -0.0;
+    if (rng() % 8 == 0) d[int(rng() % 3)] = rng() % 2 ? 0.0 : -0.0;
+    if (d == Vec3{0, 0, 0}) continue;
+    d *= std::pow(10.0, uniform(rng, -2, 2));  // directions need not be unit
+    double t_min = 0, t_max = kInf;
+    if (rng() % 5 == 0) t_min = uniform(rng, 0, 1) * length(e) / length(d);
+    if (rng() % 5 == 0) t_max = t_min + uniform(rng, 0, 2) * length(e) / length(d);
+    check_walk(g, o, d, t_min, t_max, "random");
+    if (::testing::Test::HasFatalFailure()) {
+      ADD_FAILURE() << "case " << i;
+      return;
+    }
+  }
+}
+
+TEST(DdaWalk, NonFiniteInputsVisitNothing) {
+  const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {8, 8, 8});
+  EXPECT_TRUE(walk(g, {kNaN, 4, 4}, {1, 0, 0}, 0, kInf).empty());
+  EXPECT_TRUE(walk(g, {4, kNaN, 4}, {1, 0, 0}, 0, kInf).empty());  // NaN on a zero-direction axis
+  EXPECT_TRUE(walk(g, {4, 4, 4}, {1, kNaN, 0}, 0, kInf).empty());
+  EXPECT_TRUE(walk(g, {-kInf, 4, 4}, {1, 0, 0}, 0, kInf).empty());
+  EXPECT_TRUE(walk(g, {4, 4, 4}, {kInf, 0, 0}, 0, kInf).empty());
+  EXPECT_TRUE(walk(g, {4, 4, 4}, {1, 0, 0}, kNaN, kInf).empty());
+  EXPECT_TRUE(walk(g, {4, 4, 4}, {1, 0, 0}, 0, kNaN).empty());
+}
+
+}  // namespace
+}  // namespace rtm
