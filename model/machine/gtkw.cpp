@@ -14,7 +14,7 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
   auto dec = [&](const std::string& s) { g << "@24\n" << s << "\n"; };
   auto real = [&](const std::string& s) { g << "@800024\n" << s << "\n"; };
   for (int pe : pes) {
-    const std::string p = "machine.pe" + std::to_string(pe) + ".";
+    const std::string p = "SystemC.machine.pe" + std::to_string(pe) + ".";  // the VCD scopes
     group("PE " + std::to_string(pe) + " front buffer");
     bit(p + "front_buffer.busy");
     dec(p + "front_buffer.ray_id[31:0]");

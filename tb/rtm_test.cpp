@@ -1,0 +1,342 @@
+// Whole-program tests: run the rtm executable and check what it writes and says.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "render/image_io.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+const std::string kScenes = std::string(RTM_SOURCE_DIR) + "/scenes/spd/";
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// A fresh folder per test, removed afterwards.
+class Tmp {
+ public:
+  Tmp() {
+    char tmpl[] = "/tmp/rtm-test-XXXXXX";
+    dir_ = mkdtemp(tmpl);
+  }
+  ~Tmp() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string operator/(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+
+ private:
+  std::string dir_;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+RunResult rtm(const std::string& args, const Tmp& tmp) {
+  const std::string out = tmp / "stdout.txt", err = tmp / "stderr.txt";
+  const std::string cmd = std::string(RTM_BINARY) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+json stats(const std::string& path) { return json::parse(slurp(path)); }
+
+/// Renders on the machine and returns its stats; the image goes to `<name>.exr`.
+json render(const Tmp& tmp, const std::string& name, const std::string& args) {
+  const RunResult r = rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --stats " + (tmp / (name + ".json")) +
+                        " --id-map " + (tmp / (name + "-id.exr")) + " -q",
+                    tmp);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return r.exit_code == 0 ? stats(tmp / (name + ".json")) : json();
+}
+
+double id_agreement(const std::string& a, const std::string& b) {
+  const rtm::Image x = rtm::read_id_map(a), y = rtm::read_id_map(b);
+  size_t same = 0;
+  for (size_t i = 0; i < x.ids.size(); ++i) same += x.ids[i] == y.ids[i];
+  return double(same) / double(x.ids.size());
+}
+
+TEST(Cli, HelpListsTheCommands) {
+  Tmp tmp;
+  const RunResult r = rtm("--help", tmp);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("render"), std::string::npos);
+  EXPECT_NE(r.out.find("config"), std::string::npos);
+}
+
+TEST(Cli, ReferenceRenderOfTheDefaultSceneWritesImageStatsAndIdMap) {
+  Tmp tmp;
+  const RunResult r = rtm("render --reference --size 40x30 --out " + (tmp / "d.png") + " --id-map " + (tmp / "id.exr"), tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(tmp / "d.png"), std::string::npos) << "the summary says where the image went";
+  const json j = stats(tmp / "d.json");
+  EXPECT_EQ(j["scene"], "default");
+  EXPECT_EQ(j["width"], 40);
+  EXPECT_EQ(j["height"], 30);
+  EXPECT_GT(j["wall_seconds"].get<double>(), 0);
+  EXPECT_EQ(j["rays"]["primary"], 1200);
+  for (const char* k : {"shadow", "reflected", "transmitted"}) EXPECT_GT(j["rays"][k].get<int>(), 0) << k;
+  EXPECT_GT(j["voxel_steps"].get<int>(), 0);
+  EXPECT_GT(j["intersection_tests"].get<int>(), 0);
+  const rtm::Image img = rtm::read_image(tmp / "d.png");
+  EXPECT_EQ(img.width, 40);
+  const rtm::Image ids = rtm::read_id_map(tmp / "id.exr");
+  int background = 0, hit = 0;
+  for (int32_t id : ids.ids) (id < 0 ? background : hit)++;
+  EXPECT_GT(background, 0);
+  EXPECT_GT(hit, 0);
+}
+
+TEST(Cli, MachineStatsHaveEveryDocumentedKey) {
+  Tmp tmp;
+  const json j = render(tmp, "m", kScenes + "balls-1.nff --size 24x24 --pes 2");
+  ASSERT_FALSE(j.is_null());
+  for (const char* k : {"scene", "width", "height", "rays", "voxel_steps", "intersection_tests", "wall_seconds", "pes",
+                        "timing", "precision", "cycles", "sim_time_ns", "mac", "per_pe", "fifo", "error", "utilisation"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  for (const char* k : {"rmse", "psnr_db", "max_abs", "pixels_over_1_255"}) EXPECT_TRUE(j["error"].contains(k)) << k;
+  EXPECT_EQ(j["per_pe"].size(), 2u);
+  for (const json& pe : j["per_pe"]) {
+    EXPECT_GT(pe["cycles"].get<uint64_t>(), 0u);
+    EXPECT_GT(pe["rays"].get<uint64_t>(), 0u);
+    EXPECT_TRUE(pe["busy_cycles"].contains("mac"));
+  }
+  EXPECT_EQ(j["mac"]["products"].get<uint64_t>(), 28 * j["intersection_tests"].get<uint64_t>());
+  EXPECT_TRUE(j["fifo"].contains("search"));
+}
+
+// The machine against the reference, several scenes and PE counts.
+struct SceneCase {
+  const char* scene;
+  int pes;
+};
+void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.scene << " on " << c.pes << " PEs"; }
+class MachineVsReference : public ::testing::TestWithParam<SceneCase> {};
+
+TEST_P(MachineVsReference, Fp64EqualsTheReference) {
+  Tmp tmp;
+  const SceneCase c = GetParam();
+  const json j = render(tmp, "m", kScenes + c.scene + " --size 32x32 --precision fp64 --pes " + std::to_string(c.pes));
+  ASSERT_FALSE(j.is_null());
+  EXPECT_LE(j["error"]["max_abs"].get<double>(), 1e-6);
+  EXPECT_TRUE(j["reference"]["rays_match"].get<bool>());
+}
+
+// The float32 tolerance (docs/machine.md, "Accuracy"): shading differs by float32 rounding of t
+// (refined in shading), so nearly every pixel agrees to well under 1/255; a pixel can differ
+// more only where a hit/miss or lit/shadowed decision sits within float32 rounding of a
+// tangency, which is rare: at most 1% of pixels, and the primary hits agree on >= 99%.
+TEST_P(MachineVsReference, Fp32WithinTheFloat32Tolerance) {
+  Tmp tmp;
+  const SceneCase c = GetParam();
+  const json j = render(tmp, "m", kScenes + c.scene + " --size 32x32 --pes " + std::to_string(c.pes));
+  ASSERT_FALSE(j.is_null());
+  EXPECT_LE(j["error"]["pixels_over_1_255"].get<double>(), 0.01 * 32 * 32);
+  EXPECT_LE(j["error"]["rmse"].get<double>(), 0.02);
+  const json ref = json::parse(rtm("render --reference " + kScenes + c.scene + " --size 32x32 --out " + (tmp / "r.exr") +
+                                       " --id-map " + (tmp / "r-id.exr") + " -q",
+                                   tmp)
+                                   .exit_code == 0
+                                   ? slurp(tmp / "r.json")
+                                   : "null");
+  ASSERT_FALSE(ref.is_null());
+  EXPECT_GE(id_agreement(tmp / "m-id.exr", tmp / "r-id.exr"), 0.99);
+}
+
+INSTANTIATE_TEST_SUITE_P(Spd, MachineVsReference,
+                         ::testing::Values(SceneCase{"balls-1.nff", 1}, SceneCase{"balls-1.nff", 3},
+                                           SceneCase{"balls-1.nff", 8}, SceneCase{"rings-1.nff", 3},
+                                           SceneCase{"tree-2.nff", 8}, SceneCase{"mount-1.nff", 1},
+                                           SceneCase{"mount-1.nff", 3}, SceneCase{"lattice-1.nff", 8},
+                                           SceneCase{"jacks-1.nff", 3}),
+                         [](const auto& info) {
+                           std::string s = info.param.scene;
+                           s = s.substr(0, s.find('.'));
+                           for (char& ch : s)
+                             if (ch == '-') ch = '_';
+                           return s + "_" + std::to_string(info.param.pes) + "pe";
+                         });
+
+TEST(Machine, ImageAndRayCountsDoNotDependOnPesOrSearchUnits) {
+  Tmp tmp;
+  const std::string scene = kScenes + "rings-1.nff --size 32x32";
+  const json base = render(tmp, "base", scene + " --pes 1 --search-units 4");
+  ASSERT_FALSE(base.is_null());
+  const rtm::Image img = rtm::read_image(tmp / "base.exr");
+  int n = 0;
+  for (const char* args : {"--pes 3 --search-units 1", "--pes 8 --search-units 7 --partition blocks",
+                           "--pes 5 --partition strips --search-units 2"}) {
+    const std::string name = "v" + std::to_string(n++);
+    const json j = render(tmp, name, scene + " " + args);
+    ASSERT_FALSE(j.is_null());
+    EXPECT_EQ(j["rays"], base["rays"]) << args;
+    EXPECT_EQ(j["voxel_steps"], base["voxel_steps"]) << args;
+    EXPECT_EQ(j["intersection_tests"], base["intersection_tests"]) << args;
+    EXPECT_EQ(rtm::read_image(tmp / (name + ".exr")).rgb, img.rgb) << args;
+  }
+}
+
+TEST(Machine, ClockedAndFastMacAgreeOnAWholeFrame) {
+  Tmp tmp;
+  for (const char* precision : {"fp32", "fp64"}) {
+    const std::string scene = kScenes + "balls-1.nff --size 24x24 --pes 2 --precision " + precision;
+    const json fast = render(tmp, std::string("fast") + precision, scene + " --timing fast");
+    const json clocked = render(tmp, std::string("clocked") + precision, scene + " --timing clocked");
+    ASSERT_FALSE(fast.is_null());
+    ASSERT_FALSE(clocked.is_null());
+    EXPECT_EQ(fast["cycles"], clocked["cycles"]) << precision;
+    EXPECT_EQ(fast["mac"], clocked["mac"]) << precision;
+    EXPECT_EQ(fast["per_pe"], clocked["per_pe"]) << precision;
+    EXPECT_EQ(rtm::read_image(tmp / (std::string("fast") + precision + ".exr")).rgb,
+              rtm::read_image(tmp / (std::string("clocked") + precision + ".exr")).rgb)
+        << precision;
+  }
+}
+
+TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
+  Tmp tmp;
+  const RunResult r = rtm("render " + kScenes + "balls-1.nff --size 12x12 --timing clocked --pes 2 --vcd " + (tmp / "w.vcd") +
+                        " --vcd-window 0:30000 --vcd-pes 0,1 --out " + (tmp / "w.png") + " -q",
+                    tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string vcd = slurp(tmp / "w.vcd");
+  ASSERT_FALSE(vcd.empty());
+  EXPECT_NE(vcd.find("$enddefinitions"), std::string::npos);
+  // Every signal the GTKWave save file names must be declared in the VCD, in its scope.
+  const std::string gtkw = slurp(tmp / "w.gtkw");
+  ASSERT_FALSE(gtkw.empty());
+  std::istringstream lines(gtkw);
+  int named = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("SystemC.machine.", 0) != 0) continue;
+    ++named;
+    std::string leaf = line.substr(line.rfind('.') + 1);
+    leaf = leaf.substr(0, leaf.find('['));
+    EXPECT_NE(vcd.find(" " + leaf + " "), std::string::npos) << line;
+  }
+  EXPECT_GT(named, 30);
+  for (const char* s : {"$scope module pe0 $end", "$scope module pe1 $end", "$scope module mac_unit $end",
+                        " m1_valid ", " acc ", " product_counter [31:0] ", " occupancy [31:0] ", " busy "})
+    EXPECT_NE(vcd.find(s), std::string::npos) << s;
+  // The waveform window bounds the file: no value changes after cycle 30000 (300000 ns); the
+  // kernel only stamps the closing time.
+  std::istringstream body(vcd.substr(vcd.find("$enddefinitions")));
+  uint64_t now = 0;
+  int changes_after = 0, changes = 0;
+  for (std::string line; std::getline(body, line);) {
+    if (line.empty() || line[0] == '$') continue;
+    if (line[0] == '#') {
+      now = std::stoull(line.substr(1));
+      continue;
+    }
+    ++changes;
+    if (now > 300000) ++changes_after;
+  }
+  EXPECT_GT(changes, 1000);
+  EXPECT_EQ(changes_after, 0);
+}
+
+TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {
+  Tmp tmp;
+  std::mt19937 rng(2026);
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  const char* scenes[] = {"balls-1.nff", "mount-1.nff", "tree-2.nff"};
+  for (int i = 0; i < 10; ++i) {
+    const int depth = pick(1, 4);
+    std::ostringstream args;
+    args << kScenes << scenes[i % 3] << " --size 16x16 --pes " << pick(1, 5) << " --search-units " << pick(1, 6)
+         << " --set search_fifo_depth=" << depth << " --set intersect_fifo_depth=" << pick(depth, 5)
+         << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
+         << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
+         << " --set loop_credits=" << pick(0, depth) << " --partition " << (i % 2 ? "blocks" : "scanlines");
+    const json j = render(tmp, "r" + std::to_string(i), args.str());
+    ASSERT_FALSE(j.is_null()) << args.str();
+    EXPECT_TRUE(j["reference"]["rays_match"].get<bool>() || j["error"]["pixels_over_1_255"].get<int>() <= 3)
+        << args.str();
+  }
+}
+
+TEST(Machine, TheUnregulatedLoopDeadlocksAndIsReported) {
+  Tmp tmp;
+  const RunResult r = rtm("render " + kScenes + "balls-1.nff --size 24x24 --set flow_control=none --set search_fifo_depth=1" +
+                        " --set intersect_fifo_depth=1 --set feedback_fifo_depth=1 --out " + (tmp / "x.png") + " -q",
+                    tmp);
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("deadlock"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("search_fifo 1/1"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "x.png"));
+  // The clocked model, whose clock would otherwise run forever, is stopped and reported too.
+  const RunResult c = rtm("render " + kScenes + "balls-1.nff --size 24x24 --timing clocked --set flow_control=none" +
+                        " --set search_fifo_depth=1 --set intersect_fifo_depth=1 --set feedback_fifo_depth=1 --out " +
+                        (tmp / "y.png") + " -q",
+                    tmp);
+  EXPECT_EQ(c.exit_code, 3);
+  EXPECT_FALSE(fs::exists(tmp / "y.png"));
+}
+
+// Bad input: a clear message, a non-zero exit, no output file.
+struct BadCase {
+  const char* name;
+  const char* file_text;  ///< written to bad.nff / bad.yaml when not null
+  const char* ext;
+  const char* args;
+  const char* message;
+};
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+class BadInput : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadInput, ClearMessageNonZeroExitNoOutput) {
+  Tmp tmp;
+  const BadCase c = GetParam();
+  std::string scene;
+  if (c.file_text) {
+    scene = tmp / (std::string("bad.") + c.ext);
+    std::ofstream(scene) << c.file_text;
+  }
+  const RunResult r = rtm("render " + scene + " " + c.args + " --out " + (tmp / "o.png") + " -q", tmp);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  EXPECT_FALSE(fs::exists(tmp / "o.json"));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BadInput,
+    ::testing::Values(
+        BadCase{"MalformedNff", "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\nf 1 0 0 1 0 1 0 1\ns 0 0 zero 1\n",
+                "nff", "", "bad.nff:9:"},
+        BadCase{"NanCoefficient",
+                "camera: {eye: [0, 0, 5], look_at: [0, 0, 0]}\nmaterials: {m: {}}\nprimitives:\n"
+                "  - {quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, .nan], box: {min: [-1, -1, -1], max: [1, 1, 1]}}, material: m}\n",
+                "yaml", "", "bad.yaml:4:"},
+        BadCase{"MissingFile", nullptr, "", "/nonexistent/scene.nff", "/nonexistent/scene.nff"},
+        BadCase{"ZeroAreaImage", nullptr, "", "--size 0x10", "--size"},
+        BadCase{"UnknownConfigKey", nullptr, "", "--set warp_drive=1", "warp_drive"},
+        BadCase{"ImpossibleCredits", nullptr, "", "--set loop_credits=99", "loop_credits"},
+        BadCase{"BadTiming", nullptr, "", "--timing slow", "timing"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace
