@@ -1,5 +1,6 @@
 #include "geom/grid.h"
 
+#include <climits>
 #include <cmath>
 #include <stdexcept>
 
@@ -138,6 +139,50 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
   return n;
 }
 
+std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt) {
+  if (prims.size() < 8) return auto_resolution(box, prims.size(), opt);
+  // The dense core: central 90% of centres per axis, grown by half the median primitive size.
+  std::vector<double> c[3], size;
+  for (const Primitive& p : prims) {
+    const Vec3 m = 0.5 * (p.bounds.lo + p.bounds.hi), e = p.bounds.extent();
+    for (int a = 0; a < 3; ++a) c[a].push_back(m[a]);
+    size.push_back(std::max({e.x, e.y, e.z}));
+  }
+  auto quantile = [](std::vector<double>& v, double q) {
+    auto it = v.begin() + std::ptrdiff_t(q * double(v.size() - 1));
+    std::nth_element(v.begin(), it, v.end());
+    return *it;
+  };
+  const double grow = 0.5 * quantile(size, 0.5);
+  Aabb core;
+  for (int a = 0; a < 3; ++a) {
+    core.lo[a] = std::max(box.lo[a], quantile(c[a], 0.05) - grow);
+    core.hi[a] = std::min(box.hi[a], quantile(c[a], 0.95) + grow);
+  }
+  size_t inside = 0;
+  for (const Primitive& p : prims) {
+    const Vec3 m = 0.5 * (p.bounds.lo + p.bounds.hi);
+    inside += m.x >= core.lo.x && m.x <= core.hi.x && m.y >= core.lo.y && m.y <= core.hi.y && m.z >= core.lo.z &&
+              m.z <= core.hi.z;
+  }
+  // Voxel edge from the core (uncapped), then the whole box at that edge, capped.
+  GridOptions uncapped = opt;
+  uncapped.max_auto_axis = INT32_MAX / 4;
+  const std::array<int, 3> nc = auto_resolution(core, std::max<size_t>(inside, 1), uncapped);
+  double per_unit = 0;
+  for (int a = 0; a < 3; ++a)
+    if (core.extent()[a] > 0 && nc[a] > 1) per_unit = std::max(per_unit, nc[a] / core.extent()[a]);
+  if (!(per_unit > 0)) return auto_resolution(box, prims.size(), opt);
+  const std::array<int, 3> whole = auto_resolution(box, prims.size(), opt);
+  std::array<int, 3> n{};
+  const int max_axis = std::max(1, opt.max_auto_axis);
+  for (int a = 0; a < 3; ++a)
+    n[a] = std::clamp(int(std::lround(std::min(box.extent()[a] * per_unit, double(max_axis)))), 1, max_axis);
+  // Never coarser than the plain rule over the whole box.
+  for (int a = 0; a < 3; ++a) n[a] = std::max(n[a], whole[a]);
+  return n;
+}
+
 Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt) {
   Grid g;
   for (const Primitive& p : prims) g.box.extend(p.bounds);
@@ -149,14 +194,15 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt) {
   g.box.hi += Vec3(pad);
 
   const bool automatic = opt.resolution == std::array<int, 3>{0, 0, 0};
-  g.n = automatic ? auto_resolution(g.box, prims.size(), opt) : opt.resolution;
+  g.n = automatic ? scene_resolution(prims, g.box, opt) : opt.resolution;
   for (int a = 0; a < 3; ++a)
     if (g.n[a] < 1) throw std::invalid_argument("grid resolution must be at least 1 voxel per axis");
   if (double(g.n[0]) * g.n[1] * g.n[2] > 1.5e9) throw std::invalid_argument("grid resolution is too large");
   g.cell = g.box.extent() / Vec3(g.n[0], g.n[1], g.n[2]);
 
-  // Lists per voxel first, then compacted into one contiguous array (the PE's voxel data).
-  std::vector<std::vector<uint32_t>> per_voxel(size_t(g.voxel_count()));
+  // (voxel, primitive) pairs in primitive order, then a counting sort by voxel into one
+  // contiguous array (the PE's voxel data); each voxel's list stays in primitive order.
+  std::vector<std::pair<int64_t, uint32_t>> refs;
   for (uint32_t id = 0; id < prims.size(); ++id) {
     const Primitive& p = prims[id];
     int lo[3], hi[3];
@@ -173,19 +219,16 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt) {
           if (!vb.overlaps(p.bounds)) continue;
           bool touches = quadric_may_vanish(p.q, vb);
           for (size_t k = 0; touches && k < p.clips.size(); ++k) touches = box_touches_halfspace(vb, p.clips[k]);
-          if (touches) per_voxel[size_t(g.index(x, y, z))].push_back(id);
+          if (touches) refs.emplace_back(g.index(x, y, z), id);
         }
   }
-  g.start.assign(per_voxel.size() + 1, 0);
-  size_t total = 0;
-  for (size_t v = 0; v < per_voxel.size(); ++v) {
-    g.start[v] = uint32_t(total);
-    total += per_voxel[v].size();
-  }
-  if (total > UINT32_MAX) throw std::invalid_argument("grid holds too many primitive references");
-  g.start.back() = uint32_t(total);
-  g.items.reserve(total);
-  for (auto& list : per_voxel) g.items.insert(g.items.end(), list.begin(), list.end());
+  if (refs.size() > UINT32_MAX) throw std::invalid_argument("grid holds too many primitive references");
+  g.start.assign(size_t(g.voxel_count()) + 1, 0);
+  for (const auto& r : refs) ++g.start[size_t(r.first) + 1];
+  for (size_t v = 1; v < g.start.size(); ++v) g.start[v] += g.start[v - 1];
+  g.items.resize(refs.size());
+  std::vector<uint32_t> fill(g.start.begin(), g.start.end() - 1);
+  for (const auto& r : refs) g.items[fill[size_t(r.first)]++] = r.second;
   return g;
 }
 

@@ -42,6 +42,13 @@ struct Grid {
 /// is finite and positive.
 std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const GridOptions& opt);
 
+/// The automatic resolution for a scene: cubic voxels sized by auto_resolution over the scene's
+/// dense core (the box spanned by the central 90% of primitive centres on each axis, grown by the
+/// median primitive size, and the primitives centred in it), then laid over the whole object
+/// space and clamped to max_auto_axis. A scene whose objects sit on a huge floor ("a teapot in
+/// a stadium": SPD balls and tree) gets voxels fitted to its objects, not to the floor.
+std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
+
 /// Conservative voxelisation: a primitive is listed in every voxel its clipped surface may touch.
 /// Tighter than its bounding box: a voxel entirely outside one clip half-space is skipped, and
 /// so is a voxel over which interval arithmetic proves the quadric has no zero.

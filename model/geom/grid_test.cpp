@@ -451,3 +451,39 @@ TEST(GridAutoResolution, FlatScenesStillAimAtTheTarget) {
 
 }  // namespace
 }  // namespace rtm
+
+namespace rtm {
+namespace {
+
+// A teapot in a stadium: 500 small spheres in a unit cube on a 100 x 100 floor. The plain rule
+// over the whole box would give voxels far larger than the spheres; the scene rule sizes them
+// by the cluster and caps the count per axis.
+TEST(GridSceneResolution, FitsVoxelsToTheClusterNotTheFloor) {
+  std::vector<Primitive> prims;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < 500; ++i) prims.push_back(make_sphere({u(rng), u(rng), u(rng)}, 0.02));
+  prims.push_back(make_polygon({{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}}));
+  Aabb box;
+  for (const Primitive& p : prims) box.extend(p.bounds);
+  GridOptions opt;
+  const std::array<int, 3> plain = auto_resolution(box, prims.size(), opt);
+  const std::array<int, 3> fitted = scene_resolution(prims, box, opt);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_GE(fitted[a], plain[a]);
+    EXPECT_LE(fitted[a], opt.max_auto_axis);
+  }
+  // The cluster (about 1 unit wide) spans several voxels, where the plain rule gives it one.
+  const double cell_x = box.extent().x / fitted[0];
+  EXPECT_LT(cell_x, 1.0);
+  EXPECT_GT(box.extent().x / plain[0], 1.0);
+  // A uniform cloud gets the plain rule.
+  std::vector<Primitive> cloud(prims.begin(), prims.end() - 1);
+  Aabb cbox;
+  for (const Primitive& p : cloud) cbox.extend(p.bounds);
+  const std::array<int, 3> a = auto_resolution(cbox, cloud.size(), opt), b = scene_resolution(cloud, cbox, opt);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(b[k], a[k], 0.25 * a[k] + 1);
+}
+
+}  // namespace
+}  // namespace rtm
