@@ -216,11 +216,27 @@ TEST(Machine, ClockedAndFastMacAgreeOnAWholeFrame) {
   }
 }
 
+/// Value changes in a VCD body, and how many of them come after time `after` (in the file's unit).
+std::pair<int, int> vcd_changes(const std::string& vcd, uint64_t after) {
+  std::istringstream body(vcd.substr(vcd.find("$enddefinitions")));
+  uint64_t now = 0;
+  int changes = 0, late = 0;
+  for (std::string line; std::getline(body, line);) {
+    if (line.empty() || line[0] == '$') continue;
+    if (line[0] == '#') {
+      now = std::stoull(line.substr(1));
+      continue;
+    }
+    ++changes;
+    if (now > after) ++late;
+  }
+  return {changes, late};
+}
+
 TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   Tmp tmp;
-  const RunResult r = rtm("render " + kScenes + "balls-1.nff --size 12x12 --timing clocked --pes 2 --vcd " + (tmp / "w.vcd") +
-                        " --vcd-window 0:30000 --vcd-pes 0,1 --out " + (tmp / "w.png") + " -q",
-                    tmp);
+  const std::string scene = "render " + kScenes + "balls-1.nff --size 12x12 --timing clocked --pes 2 --vcd-pes 0,1 -q";
+  const RunResult r = rtm(scene + " --vcd " + (tmp / "w.vcd") + " --out " + (tmp / "w.png"), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string vcd = slurp(tmp / "w.vcd");
   ASSERT_FALSE(vcd.empty());
@@ -241,22 +257,18 @@ TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   for (const char* s : {"$scope module pe0 $end", "$scope module pe1 $end", "$scope module mac_unit $end",
                         " m1_valid ", " acc ", " product_counter [31:0] ", " occupancy [31:0] ", " busy "})
     EXPECT_NE(vcd.find(s), std::string::npos) << s;
-  // The waveform window bounds the file: no value changes after cycle 30000 (300000 ns); the
-  // kernel only stamps the closing time.
-  std::istringstream body(vcd.substr(vcd.find("$enddefinitions")));
-  uint64_t now = 0;
-  int changes_after = 0, changes = 0;
-  for (std::string line; std::getline(body, line);) {
-    if (line.empty() || line[0] == '$') continue;
-    if (line[0] == '#') {
-      now = std::stoull(line.substr(1));
-      continue;
-    }
-    ++changes;
-    if (now > 300000) ++changes_after;
-  }
-  EXPECT_GT(changes, 1000);
-  EXPECT_EQ(changes_after, 0);
+  EXPECT_GT(vcd_changes(vcd, 0).first, 1000);
+
+  // A window: from when the PEs got their work, 2000 cycles (20000 ns at 10 ns); nothing is
+  // recorded after it (the kernel only stamps the closing time).
+  const uint64_t from = stats(tmp / "w.json")["host"]["transfer_done_cycle"].get<uint64_t>();
+  const RunResult w = rtm(scene + " --vcd " + (tmp / "v.vcd") + " --vcd-window " + std::to_string(from) + ":" +
+                              std::to_string(from + 2000) + " --out " + (tmp / "v.png"),
+                          tmp);
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  const auto [changes, late] = vcd_changes(slurp(tmp / "v.vcd"), (from + 2000) * 10);
+  EXPECT_GT(changes, 100);
+  EXPECT_EQ(late, 0);
 }
 
 TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {
@@ -281,18 +293,17 @@ TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {
 
 TEST(Machine, TheUnregulatedLoopDeadlocksAndIsReported) {
   Tmp tmp;
-  const RunResult r = rtm("render " + kScenes + "balls-1.nff --size 24x24 --set flow_control=none --set search_fifo_depth=1" +
-                        " --set intersect_fifo_depth=1 --set feedback_fifo_depth=1 --out " + (tmp / "x.png") + " -q",
-                    tmp);
+  const std::string tiny_fifos =
+      " --set flow_control=none --set search_fifo_depth=1 --set intersect_fifo_depth=1 --set feedback_fifo_depth=1"
+      " --set shade_fifo_depth=1 --set root_fifo_depth=1";
+  const RunResult r = rtm("render " + kScenes + "balls-1.nff --size 24x24" + tiny_fifos + " --out " + (tmp / "x.png") + " -q", tmp);
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("deadlock"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("search_fifo 1/1"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(tmp / "x.png"));
   // The clocked model, whose clock would otherwise run forever, is stopped and reported too.
-  const RunResult c = rtm("render " + kScenes + "balls-1.nff --size 24x24 --timing clocked --set flow_control=none" +
-                        " --set search_fifo_depth=1 --set intersect_fifo_depth=1 --set feedback_fifo_depth=1 --out " +
-                        (tmp / "y.png") + " -q",
-                    tmp);
+  const RunResult c =
+      rtm("render " + kScenes + "balls-1.nff --size 24x24 --timing clocked" + tiny_fifos + " --out " + (tmp / "y.png") + " -q", tmp);
   EXPECT_EQ(c.exit_code, 3);
   EXPECT_FALSE(fs::exists(tmp / "y.png"));
 }
