@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "machine/bottleneck.h"
 #include "machine/machine.h"
 #include "options.h"
 #include "reference_cache.h"
@@ -120,7 +121,7 @@ struct Utilisation {
   double front, search, mac, root, shade;
 };
 
-/// Busy fraction of each stage over the PEs' working time (search: per unit).
+/// Busy fraction of each stage over the frame (replicated units: per unit).
 Utilisation utilisation(const MachineResult& m, const MachineConfig& c) {
   Utilisation u{};
   const double cycles = double(m.cycles) * c.pes;
@@ -128,19 +129,51 @@ Utilisation utilisation(const MachineResult& m, const MachineConfig& c) {
   for (const PeCounters& p : m.per_pe) {
     u.front += double(p.front.busy_cycles);
     u.search += double(p.search.busy_cycles) / c.search_units;
-    u.mac += double(p.mac.busy_cycles);
-    u.root += double(p.root.busy_cycles);
+    u.mac += double(p.mac.busy_cycles) / c.intersection_units;
+    u.root += double(p.root.busy_cycles) / c.intersection_units;
     u.shade += double(p.shade.busy_cycles);
   }
   return {u.front / cycles, u.search / cycles, u.mac / cycles, u.root / cycles, u.shade / cycles};
 }
 
+/// Phases, unit utilisation over the PEs' working windows, and the bottleneck.
+FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
+  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
+  FrameProfile f;
+  f.total = double(m.cycles);
+  f.host_preprocess = m.host.rays / period;
+  f.transfer = (m.host.transfer - m.host.rays) / period;
+  f.gather = (m.host.gathered - m.host.pes_done) / period;
+  double window = 0, longest = 0, stall = 0;
+  for (const PeCounters& p : m.per_pe) {
+    const double w = (p.finish - p.start) / period;
+    window += w;
+    longest = std::max(longest, w);
+    stall += p.credit_stall / period;
+    f.search += double(p.search.busy_cycles) / c.search_units;
+    f.mac += double(p.mac.busy_cycles) / c.intersection_units;
+    f.root += double(p.root.busy_cycles) / c.intersection_units;
+    f.shading += double(p.shade.busy_cycles);
+    f.front_buffer += double(p.front.busy_cycles);
+  }
+  if (window > 0) {
+    for (double* u : {&f.search, &f.mac, &f.root, &f.shading, &f.front_buffer}) *u /= window;
+    f.credit_stall = stall / window;
+    f.imbalance = longest / (window / double(m.per_pe.size()));
+  }
+  return f;
+}
+
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
   auto cyc = [&](const sc_core::sc_time& t) { return uint64_t(std::llround(t / period)); };
+  const FrameProfile f = profile(m, c);
+  const double mac_bound = std::ceil(double(m.mac_products) / c.pes);
   nlohmann::json per_pe = nlohmann::json::array();
   for (const PeCounters& p : m.per_pe)
     per_pe.push_back({{"cycles", cyc(p.finish)},
+                      {"start_cycle", cyc(p.start)},
+                      {"credit_stall_cycles", cyc(p.credit_stall)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
                       {"busy_cycles",
@@ -172,6 +205,22 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
             {"link_busy_cycles", cyc(m.host.link_busy)}}},
           {"utilisation",
            {{"front_buffer", u.front}, {"search", u.search}, {"mac", u.mac}, {"root", u.root}, {"shading", u.shade}}},
+          {"pe_utilisation",
+           {{"front_buffer", f.front_buffer},
+            {"search", f.search},
+            {"mac", f.mac},
+            {"root", f.root},
+            {"shading", f.shading},
+            {"credit_stall", f.credit_stall}}},
+          {"phases",
+           {{"host_preprocess_cycles", f.host_preprocess},
+            {"transfer_cycles", f.transfer},
+            {"pe_cycles", (m.host.pes_done - m.host.transfer) / period},
+            {"gather_cycles", f.gather}}},
+          {"load_imbalance", f.imbalance},
+          {"mac_bound_cycles", mac_bound},
+          {"cycles_over_mac_bound", mac_bound > 0 ? double(m.cycles) / mac_bound : 0.0},
+          {"bottleneck", bottleneck(f)},
           {"per_pe", per_pe},
           {"fifo", fifo},
           {"config", config}};
@@ -279,6 +328,9 @@ int run_render(const RenderOptions& opt) {
       std::printf("rays per cycle: %.4f\n", double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));
       std::printf("utilisation: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading %.1f%%\n",
                   100 * u.front, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shade);
+      const FrameProfile f = profile(m, config);
+      std::printf("bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n", bottleneck(f).c_str(),
+                  double(m.cycles) / std::max(1.0, std::ceil(double(m.mac_products) / config.pes)), f.imbalance);
       std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,
                   err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255);
       std::printf("wall time: %.3f s model, %.3f s reference%s\n", m.wall_seconds, ref.wall_seconds,

@@ -99,6 +99,7 @@ const char* to_string(Partition p) {
 const char* to_string(Timing t) { return t == Timing::Fast ? "fast" : "clocked"; }
 const char* to_string(Precision p) { return p == Precision::Fp32 ? "fp32" : "fp64"; }
 const char* to_string(FlowControl f) { return f == FlowControl::Credits ? "credits" : "none"; }
+const char* to_string(MachineConfig::RayGeneration g) { return g == MachineConfig::RayGeneration::Host ? "host" : "pe"; }
 
 const std::vector<ConfigKey>& config_keys() {
   using M = MachineConfig;
@@ -114,6 +115,7 @@ const std::vector<ConfigKey>& config_keys() {
                &M::recentre),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns),
       int_key("search_units", "replicated 3DDDA units per PE", &M::search_units),
+      int_key("intersection_units", "MAC + root/sort lanes per PE (the paper has one)", &M::intersection_units),
       int_key("dda_step_cycles", "cycles for one 3DDDA step", &M::dda_step_cycles),
       int_key("voxel_read_cycles", "cycles to read a voxel's entry from local memory", &M::voxel_read_cycles),
       int_key("mul_latency", "pipeline depth of each MAC multiplier", &M::mul_latency),
@@ -138,6 +140,9 @@ const std::vector<ConfigKey>& config_keys() {
       enum_key("flow_control", "credits (deadlock-free) or none (the paper's unregulated loop, which can deadlock)",
                &M::flow_control, {FlowControl::Credits, FlowControl::None}),
       int_key("loop_credits", "rays allowed past the front buffer at once (0: largest safe value)", &M::loop_credits),
+      enum_key("ray_generation", "who generates primary rays: host (the paper: generated and sent by the host) or pe (each PE from the camera)",
+               &M::ray_generation, {M::RayGeneration::Host, M::RayGeneration::Pe}),
+      int_key("pe_ray_cycles", "PE cycles to generate one primary ray (ray_generation = pe)", &M::pe_ray_cycles),
       double_key("host_clock_ns", "host clock period, ns", &M::host_clock_ns),
       int_key("host_voxel_cycles", "host cycles per primitive reference registered in a voxel", &M::host_voxel_cycles),
       int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles),
@@ -198,6 +203,8 @@ void MachineConfig::validate() const {
   at_least("tile", tile, 1);
   at_least("search_units", search_units, 1);
   if (search_units > 256) bad("search_units", "at most 256");
+  at_least("intersection_units", intersection_units, 1);
+  if (intersection_units > 64) bad("intersection_units", "at most 64");
   for (auto [key, v] : {std::pair<const char*, int>{"dda_step_cycles", dda_step_cycles},
                         {"voxel_read_cycles", voxel_read_cycles},
                         {"coef_load_cycles", coef_load_cycles},
@@ -208,7 +215,8 @@ void MachineConfig::validate() const {
                         {"accumulate_cycles", accumulate_cycles},
                         {"spill_cycles", spill_cycles},
                         {"host_voxel_cycles", host_voxel_cycles},
-                        {"host_ray_cycles", host_ray_cycles}})
+                        {"host_ray_cycles", host_ray_cycles},
+                        {"pe_ray_cycles", pe_ray_cycles}})
     at_least(key, v, 0);
   for (auto [key, v] : {std::pair<const char*, int>{"mul_latency", mul_latency},
                         {"add_latency", add_latency},

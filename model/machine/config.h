@@ -27,6 +27,7 @@ struct MachineConfig {
   // PE clock and units (cycles)
   double clock_ns = 10;                   ///< PE clock period
   int search_units = 4;                   ///< replicated 3DDDA units (paper Fig. 1: four)
+  int intersection_units = 1;             ///< MAC + root/sort lanes (the paper has one)
   int dda_step_cycles = 2;                ///< one 3DDDA step (compare and increment)
   int voxel_read_cycles = 2;              ///< read a voxel's occupancy/list header from local memory
   int mul_latency = 1;                    ///< each MAC multiplier's pipeline depth
@@ -55,6 +56,12 @@ struct MachineConfig {
   FlowControl flow_control = FlowControl::Credits;
 
   // Host and interconnect
+  enum class RayGeneration { Host, Pe };
+  /// host: the host generates every primary ray and sends them (the paper); pe: each PE generates
+  /// its own from the camera, pe_ray_cycles each, in its front buffer.
+  RayGeneration ray_generation = RayGeneration::Host;
+  int pe_ray_cycles = 8;
+
   double host_clock_ns = 10;
   int host_voxel_cycles = 40;             ///< per primitive reference registered in a voxel
   int host_ray_cycles = 20;               ///< per primary ray generated
@@ -90,5 +97,6 @@ const char* to_string(Partition p);
 const char* to_string(Timing t);
 const char* to_string(Precision p);
 const char* to_string(FlowControl f);
+const char* to_string(MachineConfig::RayGeneration g);
 
 }  // namespace rtm

@@ -29,10 +29,10 @@ void FrontBuffer::drain() {
   if (ctx_.window.now()) traced_waiting_ = int(queue_.size());
 }
 
-void FrontBuffer::dispatch(MachineRay r, bool from_spill) {
+void FrontBuffer::dispatch(MachineRay r, uint64_t extra_cycles) {
   ++in_flight_;
   probe_.begin(r.id);
-  const uint64_t cycles = uint64_t(ctx_.config.fb_dispatch_cycles) + (from_spill ? ctx_.config.spill_cycles : 0);
+  const uint64_t cycles = uint64_t(ctx_.config.fb_dispatch_cycles) + extra_cycles;
   ctx_.counters.front.busy_cycles += cycles;
   ++ctx_.counters.front.items;
   sc_core::wait(ctx_.cycles(cycles));
@@ -50,18 +50,20 @@ void FrontBuffer::run() {
         if (spilled) ++ctx_.counters.spills;
         MachineRay r = queue_.front();
         queue_.pop_front();
-        dispatch(r, spilled);
+        dispatch(r, spilled ? uint64_t(ctx_.config.spill_cycles) : 0);
         continue;
       }
       if (next_primary_ < mem_.rays.size()) {
         ctx_.align();
+        if (next_primary_ == 0) ctx_.counters.start = sc_core::sc_time_stamp();
         MachineRay r;
         r.ray = mem_.rays[next_primary_];
         r.slot = uint32_t(next_primary_);
         r.id = ctx_.next_ray_id++;
         ++next_primary_;
         ++ctx_.counters.counts.rays[size_t(RayKind::Primary)];
-        dispatch(r, false);
+        const bool generate = ctx_.config.ray_generation == MachineConfig::RayGeneration::Pe;
+        dispatch(r, generate ? uint64_t(ctx_.config.pe_ray_cycles) : 0);
         continue;
       }
     }
@@ -71,8 +73,11 @@ void FrontBuffer::run() {
       finished_event.notify(sc_core::SC_ZERO_TIME);
       return;
     }
+    const bool stalled = !queue_.empty() || next_primary_ < mem_.rays.size();  // only credits hold them back
+    const sc_core::sc_time since = sc_core::sc_time_stamp();
     sc_core::wait(from_search->data_written_event() | from_intersect->data_written_event() |
                   from_shade->data_written_event() | ends_in->data_written_event() | mem_.rays_arrived);
+    if (stalled) ctx_.counters.credit_stall += sc_core::sc_time_stamp() - since;
   }
 }
 

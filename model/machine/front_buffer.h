@@ -40,7 +40,8 @@ class FrontBuffer : public sc_core::sc_module {
  private:
   void run();
   void drain();
-  void dispatch(MachineRay r, bool from_spill);
+  /// Hands a ray to the search units; extra_cycles: spill-area access or ray generation.
+  void dispatch(MachineRay r, uint64_t extra_cycles);
 
   PeContext& ctx_;
   LocalMemory& mem_;

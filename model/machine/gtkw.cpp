@@ -27,25 +27,28 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
     }
     dec(p + "feedback_search.occupancy[31:0]");
     dec(p + "intersect_fifo.occupancy[31:0]");
-    group("PE " + std::to_string(pe) + " intersection");
-    bit(p + "intersection.mac.busy");
-    dec(p + "intersection.mac.ray_id[31:0]");
-    if (c.timing == Timing::Clocked) {
-      const std::string m = p + "intersection.mac_unit.";
-      bit(m + "m1_valid");
-      real(m + "m1_a");
-      real(m + "m1_b");
-      real(m + "m1_out");
-      bit(m + "m2_valid");
-      real(m + "m2_coef");
-      real(m + "m2_out");
-      bit(m + "add_valid");
-      real(m + "acc");
-      dec(m + "product_counter[31:0]");
+    for (int k = 0; k < c.intersection_units; ++k) {
+      const std::string x = p + "intersection" + std::to_string(k) + ".";
+      group("PE " + std::to_string(pe) + " intersection unit " + std::to_string(k));
+      bit(x + "mac.busy");
+      dec(x + "mac.ray_id[31:0]");
+      if (c.timing == Timing::Clocked) {
+        const std::string m = x + "mac_unit.";
+        bit(m + "m1_valid");
+        real(m + "m1_a");
+        real(m + "m1_b");
+        real(m + "m1_out");
+        bit(m + "m2_valid");
+        real(m + "m2_coef");
+        real(m + "m2_out");
+        bit(m + "add_valid");
+        real(m + "acc");
+        dec(m + "product_counter[31:0]");
+      }
+      dec(x + "to_root.occupancy[31:0]");
+      bit(x + "root.busy");
+      dec(x + "root.ray_id[31:0]");
     }
-    dec(p + "intersection.to_root.occupancy[31:0]");
-    bit(p + "intersection.root.busy");
-    dec(p + "intersection.root.ray_id[31:0]");
     dec(p + "feedback_intersect.occupancy[31:0]");
     group("PE " + std::to_string(pe) + " shading");
     dec(p + "shade_fifo.occupancy[31:0]");

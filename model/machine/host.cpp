@@ -69,10 +69,13 @@ void Host::run() {
       rays.push_back(camera.at(int(px[i] % uint32_t(scene_.camera.width)), int(px[i] / uint32_t(scene_.camera.width))));
     return rays;
   };
+  const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
   auto send_rays = [&](int pe, std::vector<Ray>& rays) {
     if (rays.empty()) return;
+    // With ray generation on the PEs only the camera and the PE's share of the screen travel;
+    // the simulator still hands over the rays the PE will generate.
     transfer(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase, reinterpret_cast<unsigned char*>(rays.data()),
-             rays.size() * sizeof(Ray), rays.size() * kRayRecordBytes);
+             rays.size() * sizeof(Ray), pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes);
   };
   auto send_scene = [&](int pe, bool timed) {
     SceneImageExtension ext;
@@ -85,9 +88,9 @@ void Host::run() {
   };
 
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
-  if (config_.ray_block == 0) {
+  if (config_.ray_block == 0 || pe_rays) {
     // The paper's flow: all pre-processing first, then every PE's data in turn.
-    host_wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * pixels));
+    if (!pe_rays) host_wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * pixels));
     times.rays = sc_core::sc_time_stamp();
     if (config_.broadcast) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {

@@ -52,6 +52,8 @@ class Host : public sc_core::sc_module {
 /// Bytes the hardware would move for one primary ray: origin and direction as six words and a
 /// pixel number.
 constexpr uint64_t kRayRecordBytes = 28;
+/// Bytes of the camera and screen-share descriptor a PE needs to generate its own primary rays.
+constexpr uint64_t kCameraRecordBytes = 64;
 /// Bytes per gathered pixel: RGB as three floats and the primitive id.
 constexpr uint64_t kPixelRecordBytes = 16;
 

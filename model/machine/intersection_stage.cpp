@@ -13,12 +13,12 @@ uint64_t back_end_cycles(const MachineConfig& c, const MacTiming& mac, const std
   return unit_free - mac.job_cycles(int(clips.size()));
 }
 
-IntersectionStage::IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, ClockedMac* clocked_mac)
-    : sc_module(name),
-      ctx_(ctx),
-      timing_(ctx.config),
-      clocked_(clocked_mac),
-      to_root_("to_root", ctx.config.root_fifo_depth, "root") {
+IntersectionStage::IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock)
+    : sc_module(name), ctx_(ctx), timing_(ctx.config), to_root_("to_root", ctx.config.root_fifo_depth, "root") {
+  if (clock) {
+    clocked_ = std::make_unique<ClockedMac>("mac_unit", timing_, ctx.config.precision, ctx.cycle);
+    clocked_->clk(*clock);
+  }
   SC_THREAD(mac_thread);
   SC_THREAD(root_thread);
 }
@@ -124,6 +124,7 @@ void IntersectionStage::trace(sc_core::sc_trace_file* tf, const std::string& pre
   mac_probe_.trace(tf, prefix + ".mac", &ctx_.window);
   root_probe_.trace(tf, prefix + ".root", &ctx_.window);
   to_root_.trace(tf, prefix + ".to_root.occupancy", &ctx_.window);
+  if (clocked_) clocked_->trace(tf, prefix + ".mac_unit", &ctx_.window);
 }
 
 }  // namespace rtm

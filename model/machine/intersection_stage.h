@@ -37,9 +37,9 @@ class IntersectionStage : public sc_core::sc_module {
   sc_core::sc_fifo_out<RayEnd> ends_out{"ends_out"};              ///< blocked shadow rays; misses with nothing to add
 
   SC_HAS_PROCESS(IntersectionStage);
-  IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, ClockedMac* clocked_mac);
-  /// Clocked timing: run every MAC job on this clock-level unit (and check it against the schedule).
-  void use_clocked_mac(ClockedMac* mac) { clocked_ = mac; }
+  /// With a clock (clocked timing), every MAC job runs on a clock-level MAC unit and is checked
+  /// against the schedule; without one, the fast model times it by formula.
+  IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock);
 
   void trace(sc_core::sc_trace_file* tf, const std::string& prefix);
   MeteredFifo<MacResult>& root_fifo() { return to_root_; }
@@ -50,7 +50,7 @@ class IntersectionStage : public sc_core::sc_module {
 
   PeContext& ctx_;
   MacTiming timing_;
-  ClockedMac* clocked_;  ///< null in fast timing
+  std::unique_ptr<ClockedMac> clocked_;  ///< null in fast timing
   MeteredFifo<MacResult> to_root_;
   UnitProbe mac_probe_, root_probe_;
 };

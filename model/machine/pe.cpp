@@ -25,7 +25,6 @@ Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, size_t p
       spawn_fifo("spawn_fifo", c.feedback_fifo_depth, "spawn"),
       ends_fifo("ends_fifo", c.feedback_fifo_depth, "ends"),
       front("front_buffer", ctx, memory),
-      intersection("intersection", ctx, nullptr),
       shading("shading", ctx, memory) {
   memory.rays_expected = pixels;
   front.from_search(feedback_search);
@@ -44,14 +43,14 @@ Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, size_t p
     s.ends_out(ends_fifo);
   }
 
-  intersection.rays_in(intersect_fifo);
-  intersection.hits_out(shade_fifo);
-  intersection.feedback_out(feedback_intersect);
-  intersection.ends_out(ends_fifo);
-  if (c.timing == Timing::Clocked) {
-    clocked_mac = std::make_unique<ClockedMac>("mac", MacTiming(c), c.precision, ctx.cycle);
-    clocked_mac->clk(*clock);
-    intersection.use_clocked_mac(clocked_mac.get());
+  for (int k = 0; k < c.intersection_units; ++k) {
+    intersection.push_back(std::make_unique<IntersectionStage>(("intersection" + std::to_string(k)).c_str(), ctx,
+                                                               c.timing == Timing::Clocked ? clock : nullptr));
+    IntersectionStage& x = *intersection.back();
+    x.rays_in(intersect_fifo);
+    x.hits_out(shade_fifo);
+    x.feedback_out(feedback_intersect);
+    x.ends_out(ends_fifo);
   }
 
   shading.rays_in(shade_fifo);
@@ -70,7 +69,7 @@ std::vector<MeteredFifo<T>*> Pe::fifos_of() {
 std::vector<std::pair<std::string, const FifoStats*>> Pe::fifo_stats() {
   std::vector<std::pair<std::string, const FifoStats*>> out;
   for (auto* f : fifos_of<MachineRay>()) out.emplace_back(f->basename(), &f->stats());
-  out.emplace_back(intersection.root_fifo().basename(), &intersection.root_fifo().stats());
+  for (auto& x : intersection) out.emplace_back(x->root_fifo().basename(), &x->root_fifo().stats());
   for (auto* f : fifos_of<RayEnd>()) out.emplace_back(f->basename(), &f->stats());
   return out;
 }
@@ -80,7 +79,7 @@ std::string Pe::occupancy_report() {
   s << name() << ": " << front.waiting() << " rays waiting in the front buffer, " << front.in_flight()
     << " past it;";
   for (auto* f : fifos_of<MachineRay>()) s << " " << f->basename() << " " << f->occupancy() << "/" << f->stats().depth;
-  s << " to_root " << intersection.root_fifo().occupancy() << "/" << ctx.config.root_fifo_depth;
+  for (auto& x : intersection) s << " to_root " << x->root_fifo().occupancy() << "/" << ctx.config.root_fifo_depth;
   for (auto* f : fifos_of<RayEnd>()) s << " " << f->basename() << " " << f->occupancy() << "/" << f->stats().depth;
   return s.str();
 }
@@ -91,11 +90,8 @@ void Pe::trace(sc_core::sc_trace_file* tf) {
   ends_fifo.trace(tf, p + ".ends_fifo.occupancy", &ctx.window);
   front.trace(tf, p + ".front_buffer");
   for (auto& s : search) s->trace(tf, std::string(s->name()));
-  intersection.trace(tf, p + ".intersection");
+  for (auto& x : intersection) x->trace(tf, std::string(x->name()));
   shading.trace(tf, p + ".shading");
-  if (clocked_mac) {
-    clocked_mac->trace(tf, p + ".intersection.mac_unit", &ctx.window);
-  }
 }
 
 }  // namespace rtm

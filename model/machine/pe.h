@@ -1,6 +1,6 @@
 // A processing element: local memory and the three-stage macro-pipeline of paper Fig. 1.
 //
-//   front buffer ─► search units (K) ─┬─► intersection (MAC ► root/sort) ─┬─► shading
+//   front buffer ─► search units (K) ─┬─► intersection units (M: MAC ► root/sort) ─┬─► shading
 //        ▲  ▲  ▲                      │ empty voxel                      │ no hit   │ spawned rays
 //        │  │  └──────────────────────┘                                  │          │
 //        │  └────────────────────────────────────────────────────────────┘          │
@@ -32,8 +32,7 @@ class Pe : public sc_core::sc_module {
 
   FrontBuffer front;
   std::vector<std::unique_ptr<SearchUnit>> search;
-  std::unique_ptr<ClockedMac> clocked_mac;  ///< only in clocked timing
-  IntersectionStage intersection;
+  std::vector<std::unique_ptr<IntersectionStage>> intersection;  ///< the paper has one; more is an option
   ShadingStage shading;
 
   /// `pixels`: how many pixels of the screen this PE renders.

@@ -37,7 +37,9 @@ struct PeCounters {
   uint64_t mac_products = 0;
   uint64_t spills = 0;
   UnitStats front, search, mac, root, shade;  ///< search: summed over the replicated units
-  sc_core::sc_time finish = sc_core::SC_ZERO_TIME;
+  sc_core::sc_time start = sc_core::SC_ZERO_TIME;         ///< the first primary ray handed out
+  sc_core::sc_time finish = sc_core::SC_ZERO_TIME;        ///< the last ray ended
+  sc_core::sc_time credit_stall = sc_core::SC_ZERO_TIME;  ///< rays waiting but no credit to send them
 };
 
 /// Busy flag and the id of the ray a unit works on, as traced variables. Outside the waveform
