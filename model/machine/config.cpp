@@ -99,6 +99,9 @@ const char* to_string(Partition p) {
 const char* to_string(Timing t) { return t == Timing::Fast ? "fast" : "clocked"; }
 const char* to_string(Precision p) { return p == Precision::Fp32 ? "fp32" : "fp64"; }
 const char* to_string(FlowControl f) { return f == FlowControl::Credits ? "credits" : "none"; }
+const char* to_string(MachineConfig::SearchWalk w) {
+  return w == MachineConfig::SearchWalk::PerVoxel ? "per_voxel" : "until_occupied";
+}
 const char* to_string(MachineConfig::RayGeneration g) { return g == MachineConfig::RayGeneration::Host ? "host" : "pe"; }
 
 const std::vector<ConfigKey>& config_keys() {
@@ -115,6 +118,8 @@ const std::vector<ConfigKey>& config_keys() {
                &M::recentre),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns),
       int_key("search_units", "replicated 3DDDA units per PE", &M::search_units),
+      enum_key("search_walk", "per_voxel (an empty voxel sends the ray back to the front buffer, as in the paper) or until_occupied (the search unit steps on by itself)",
+               &M::search_walk, {M::SearchWalk::PerVoxel, M::SearchWalk::UntilOccupied}),
       int_key("intersection_units", "MAC + root/sort lanes per PE (the paper has one)", &M::intersection_units),
       int_key("dda_step_cycles", "cycles for one 3DDDA step", &M::dda_step_cycles),
       int_key("voxel_read_cycles", "cycles to read a voxel's entry from local memory", &M::voxel_read_cycles),

@@ -27,6 +27,10 @@ struct MachineConfig {
   // PE clock and units (cycles)
   double clock_ns = 10;                   ///< PE clock period
   int search_units = 4;                   ///< replicated 3DDDA units (paper Fig. 1: four)
+  /// per_voxel: a ray in an empty voxel goes back to the front buffer (the paper, §4.2);
+  /// until_occupied: the search unit keeps stepping until an occupied voxel or the walk's end.
+  enum class SearchWalk { PerVoxel, UntilOccupied };
+  SearchWalk search_walk = SearchWalk::PerVoxel;
   int intersection_units = 1;             ///< MAC + root/sort lanes (the paper has one)
   int dda_step_cycles = 2;                ///< one 3DDDA step (compare and increment)
   int voxel_read_cycles = 2;              ///< read a voxel's occupancy/list header from local memory
@@ -98,5 +102,6 @@ const char* to_string(Timing t);
 const char* to_string(Precision p);
 const char* to_string(FlowControl f);
 const char* to_string(MachineConfig::RayGeneration g);
+const char* to_string(MachineConfig::SearchWalk w);
 
 }  // namespace rtm

@@ -41,6 +41,9 @@ void FrontBuffer::dispatch(MachineRay r, uint64_t extra_cycles) {
 }
 
 void FrontBuffer::run() {
+  // Built once: constructing an event list on every wait costs allocations on the hottest path.
+  inputs_ = from_search->data_written_event() | from_intersect->data_written_event() |
+            from_shade->data_written_event() | ends_in->data_written_event() | mem_.rays_arrived;
   for (;;) {
     drain();
     if (in_flight_ < credits_) {
@@ -75,8 +78,7 @@ void FrontBuffer::run() {
     }
     const bool stalled = !queue_.empty() || next_primary_ < mem_.rays.size();  // only credits hold them back
     const sc_core::sc_time since = sc_core::sc_time_stamp();
-    sc_core::wait(from_search->data_written_event() | from_intersect->data_written_event() |
-                  from_shade->data_written_event() | ends_in->data_written_event() | mem_.rays_arrived);
+    sc_core::wait(inputs_);
     if (stalled) ctx_.counters.credit_stall += sc_core::sc_time_stamp() - since;
   }
 }

@@ -52,6 +52,7 @@ class FrontBuffer : public sc_core::sc_module {
   bool finished_ = false;
   UnitProbe probe_;
   int traced_waiting_ = 0;
+  sc_core::sc_event_or_list inputs_;  ///< any input FIFO written, or primary rays arrived
 };
 
 }  // namespace rtm

@@ -63,6 +63,7 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
   /// Closes the time integral at the end of simulation.
   const FifoStats& stats() {
     change(0);
+    stats_.occupancy_time = double(area_) * sc_core::sc_get_time_resolution().to_seconds();
     return stats_;
   }
   /// Traces the occupancy; only changes inside the waveform window reach the file.
@@ -73,8 +74,8 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
 
  private:
   void change(int delta) {
-    const double now = sc_core::sc_time_stamp().to_seconds();
-    stats_.occupancy_time += occupancy_ * (now - last_change_);
+    const sc_dt::uint64 now = sc_core::sc_time_stamp().value();
+    area_ += sc_dt::uint64(occupancy_) * (now - last_change_);
     last_change_ = now;
     occupancy_ += delta;
     if (occupancy_ > stats_.peak) stats_.peak = occupancy_;
@@ -85,7 +86,8 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
   int occupancy_ = 0;
   int traced_ = 0;
   const TraceWindow* window_ = nullptr;
-  double last_change_ = 0;
+  sc_dt::uint64 last_change_ = 0;  ///< in time-resolution units
+  sc_dt::uint64 area_ = 0;         ///< ∫ occupancy dt, in time-resolution units
 };
 
 }  // namespace rtm

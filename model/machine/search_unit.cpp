@@ -12,11 +12,17 @@ void SearchUnit::run() {
     MachineRay r = rays_in->read();
     probe_.begin(r.id);
     const Grid& g = *ctx_.image->grid;
-    const bool examined = search_pass(g, r);
-    const Route route = search_route(*ctx_.image->scene, g, r, examined);
-    // Reading the voxel entry only happens when there is a voxel to examine.
-    const uint64_t cycles = uint64_t(c.dda_step_cycles) + (examined ? uint64_t(c.voxel_read_cycles) : 0);
-    if (examined) ++ctx_.counters.counts.voxel_steps;
+    const bool walk_on = c.search_walk == MachineConfig::SearchWalk::UntilOccupied;
+    uint64_t cycles = 0;
+    Route route;
+    for (;;) {
+      const bool examined = search_pass(g, r);
+      route = search_route(*ctx_.image->scene, g, r, examined);
+      // Reading the voxel entry only happens when there is a voxel to examine.
+      cycles += uint64_t(c.dda_step_cycles) + (examined ? uint64_t(c.voxel_read_cycles) : 0);
+      if (examined) ++ctx_.counters.counts.voxel_steps;
+      if (!(walk_on && route == Route::Feedback)) break;
+    }
     ctx_.counters.search.busy_cycles += cycles;
     ++ctx_.counters.search.items;
     sc_core::wait(ctx_.cycles(cycles));
