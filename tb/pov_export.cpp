@@ -1,0 +1,191 @@
+// `rtm pov`: a scene as POV-Ray 3.7 SDL. How each of our semantics maps onto POV-Ray's, and
+// where it cannot, is in docs/validation-povray.md; the comments here say why each choice.
+#include "pov_export.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <iostream>
+#include <regex>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+
+#include "render/image_io.h"
+#include "scene/scene.h"
+
+namespace rtm {
+namespace {
+
+/// Shortest decimal that reads back as the same double: the exported geometry is exact, so
+/// silhouettes in POV-Ray land where ours do.
+std::string num(double x) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+std::string vec(const Vec3& v) { return "<" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ">"; }
+
+/// The clip half-spaces n·p + d <= 0 as POV planes. POV normalises a plane's normal and keeps
+/// `plane { n, dist }`'s inside at n̂·p < dist, so the distance is −d / |n|.
+void write_clips(std::ostream& o, const std::vector<HalfSpace>& clips) {
+  if (clips.empty()) return;
+  o << "  clipped_by { intersection {\n";
+  for (const HalfSpace& h : clips) {
+    const double len = length(h.n);
+    o << "    plane { " << vec(h.n / len) << ", " << num(-h.d / len) << " }\n";
+  }
+  o << "  } }\n";
+}
+
+void write_shape(std::ostream& o, const Primitive& p) {
+  switch (p.kind) {
+    case ShapeKind::Sphere:
+      o << "sphere { " << vec(p.p0) << ", " << num(p.r0) << "\n";
+      return;
+    case ShapeKind::Cylinder:
+    case ShapeKind::Cone:
+      // NFF `c` has no caps; POV's cone with equal radii is its cylinder.
+      o << "cone { " << vec(p.p0) << ", " << num(p.r0) << ", " << vec(p.p1) << ", " << num(p.r1) << " open\n";
+      return;
+    case ShapeKind::Polygon: {
+      o << "polygon { " << p.vertices.size() + 1;  // POV wants the outline closed
+      for (const Vec3& v : p.vertices) o << ", " << vec(v);
+      o << ", " << vec(p.vertices.front()) << "\n";
+      return;
+    }
+    default: {
+      // Everything else as the clipped quadric the machine itself intersects. POV orders the
+      // cross terms xy, xz, yz; the paper's are D xy, E yz, F zx.
+      const auto& c = p.q.c;
+      o << "quadric { <" << num(c[kA]) << ", " << num(c[kB]) << ", " << num(c[kC]) << ">, <" << num(c[kD]) << ", "
+        << num(c[kF]) << ", " << num(c[kE]) << ">, <" << num(c[kG]) << ", " << num(c[kH]) << ", " << num(c[kI])
+        << ">, " << num(c[kJ]) << "\n";
+      write_clips(o, p.clips);
+      // A little larger than the bound, so POV's bounding box cannot shave the surface.
+      const Vec3 pad = 1e-6 * (p.bounds.extent() + Vec3(1));
+      o << "  bounded_by { box { " << vec(p.bounds.lo - pad) << ", " << vec(p.bounds.hi + pad) << " } }\n";
+      return;
+    }
+  }
+}
+
+/// POV-Ray scales a transparent surface's ambient and diffuse by its opacity 1 − transmit; ours
+/// are independent of kt, so they are divided by it here (kt must stay below 1 for that).
+constexpr double kMaxTransmit = 0.999;
+
+void write_material(std::ostream& o, size_t i, const Material& m) {
+  const double kt = std::min(m.transmission, kMaxTransmit);
+  const double opacity = 1 - kt;
+  o << "#declare M" << i << " = material {  // " << m.name << "\n"
+    << "  texture {\n"
+    << "    pigment { rgbt <" << num(m.color.x) << ", " << num(m.color.y) << ", " << num(m.color.z) << ", " << num(kt)
+    << "> }\n"
+    << "    finish { ambient " << num(m.ambient / opacity) << " diffuse " << num(m.diffuse / opacity)
+    << " reflection " << num(m.specular) << " brilliance 1 specular 0 phong 0 }\n"
+    << "  }\n"
+    << "  interior { ior " << num(m.ior) << " }\n"
+    << "}\n";
+}
+
+/// Ours: a transparent surface blocks shadow rays completely; POV's lets `transmit` through. An
+/// opaque twin seen only by shadow rays restores our shadows. It must lie strictly inside: POV
+/// moves a shadow ray to each transparent surface it crosses and then ignores hits closer than
+/// its SMALL_TOLERANCE (1e-3), so a coincident twin is skipped whenever the glass wins the tie.
+/// Only spheres get one (the only transparent shape in the SPD scenes); the gap leaves a sliver
+/// of filtered light at the shadow's rim.
+constexpr double kTwinGap = 2e-3;
+
+void write_shadow_twin(std::ostream& o, const Primitive& p) {
+  const double r = p.r0 - std::max(kTwinGap, 1e-3 * p.r0);
+  if (p.kind != ShapeKind::Sphere || r <= 0) return;
+  o << "sphere { " << vec(p.p0) << ", " << num(r) << " pigment { rgb 0 } no_image no_reflection }\n";
+}
+
+}  // namespace
+
+std::string to_pov(const Scene& s, bool id) {
+  std::ostringstream o;
+  const Camera& cam = s.camera;
+  o << "// " << s.name << ", exported by `rtm pov" << (id ? " --id" : "") << "`.\n"
+    << "// Render: povray +I<this> +O<out>.png +W" << cam.width << " +H" << cam.height
+    << " -D -A +FN File_Gamma=1.0\n"
+    << "#version 3.7;\n";
+
+  // Global settings: our ray tree (depth, threshold) and ambient light.
+  const Vec3 ambient = id ? Vec3(1) : s.ambient_light;
+  o << "global_settings { assumed_gamma 1.0 max_trace_level " << (id ? 1 : s.max_depth) << " adc_bailout "
+    << num(s.threshold) << " ambient_light rgb " << vec(ambient) << " }\n";
+
+  // Camera: the exact vectors of render/camera.cpp. POV shoots direction + u·right + v·up with u,
+  // v in [-0.5, 0.5] at pixel centres, which is our ray for any handedness, so no look_at (which
+  // would re-derive right for POV's left-handed system and mirror the image).
+  const Vec3 forward = normalize(cam.look_at - cam.eye);
+  const Vec3 right = normalize(cross(forward, cam.up));
+  const Vec3 up = cross(right, forward);
+  const double half_w = std::tan(cam.fov_deg * M_PI / 360.0);
+  const double half_h = half_w * double(cam.height) / double(cam.width);
+  o << "camera { perspective\n"
+    << "  location " << vec(cam.eye) << "\n"
+    << "  direction " << vec(forward) << "\n"
+    << "  right " << vec(2 * half_w * right) << "\n"
+    << "  up " << vec(2 * half_h * up) << "\n"
+    << "}  // horizontal angle " << num(cam.fov_deg) << " degrees\n";
+
+  o << "background { rgb " << vec(id ? Vec3(0) : s.background) << " }\n";
+  if (!id) {
+    for (const Light& l : s.lights) o << "light_source { " << vec(l.position) << " rgb " << vec(l.color) << " }\n";
+    for (size_t i = 0; i < s.materials.size(); ++i) write_material(o, i, s.materials[i]);
+  }
+
+  for (size_t i = 0; i < s.primitives.size(); ++i) {
+    const Primitive& p = s.primitives[i];
+    o << "// " << i << ": " << shape_name(p.kind) << "\n";
+    write_shape(o, p);
+    if (id) {
+      // Number + 1 in 24 bits, so black stays the background.
+      const uint32_t k = uint32_t(i + 1);
+      o << "  pigment { rgb <" << (k >> 16 & 255) << ", " << (k >> 8 & 255) << ", " << (k & 255)
+        << "> / 255 } finish { ambient 1 diffuse 0 reflection 0 specular 0 phong 0 }\n}\n";
+      continue;
+    }
+    o << "  material { M" << p.material << " }\n}\n";
+    if (s.materials[size_t(p.material)].transmission > 0) write_shadow_twin(o, p);
+  }
+  return o.str();
+}
+
+CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
+  CLI::App* pov = app.add_subcommand("pov", "Export a scene to POV-Ray 3.7 SDL (for validation against POV-Ray)");
+  pov->add_option("scene", opt.scene, "Scene file: .nff or .yaml (the built-in default scene if omitted)");
+  pov->add_option("--size", opt.size, "Image size WxH (keeps the scene's horizontal field of view)");
+  pov->add_flag("--id", opt.id, "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
+  pov->add_option("--out", opt.out, "The .pov file to write")->required();
+  return pov;
+}
+
+int run_pov(const PovOptions& opt) {
+  try {
+    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene);
+    if (!opt.size.empty()) {
+      std::smatch m;
+      if (!std::regex_match(opt.size, m, std::regex(R"((\d{1,6})x(\d{1,6}))"))) {
+        std::cerr << "rtm: --size: expected WxH, e.g. 320x240, got '" << opt.size << "'\n";
+        return 2;
+      }
+      set_resolution(scene, std::stoi(m[1]), std::stoi(m[2]));
+    }
+    if (opt.id && scene.primitives.size() >= (1u << 24) - 1) {
+      std::cerr << "rtm: --id: more primitives than 24 bits can number\n";
+      return 2;
+    }
+    write_text_atomically(opt.out, to_pov(scene, opt.id));
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "rtm: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace rtm
