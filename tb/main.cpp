@@ -5,6 +5,7 @@
 #include <systemc>
 
 #include "options.h"
+#include "pov_export.h"
 
 int sc_main(int argc, char* argv[]) {
   // Model errors become exceptions the command reports (with a non-zero exit), not aborts.
@@ -30,6 +31,8 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--spawn-offset", r.spawn_offset,
                      "Spawned rays start this far off the surface, relative to max(1, |hit point|) (overrides the scene)")
       ->check(CLI::Range(0.0, 1.0));
+  render->add_option("--spawn-policy", r.spawn_policy,
+                     "How --spawn-offset is applied: relative (x max(1, |hit point|)) or bound (x an error bound of the hit point; docs/numerics.md)");
   render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
@@ -39,6 +42,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--precision", r.precision, "MAC arithmetic: fp32 (default) or fp64");
   render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks or strips");
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE")->check(CLI::Range(1, 256));
+  render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
   render->add_option("--vcd-window", r.vcd_window, "Waveform window FROM:TO in PE cycles (either may be empty)");
   render->add_option("--vcd-pes", r.vcd_pes, "PEs to trace, comma-separated (default 0)");
@@ -49,6 +53,9 @@ int sc_main(int argc, char* argv[]) {
   config->add_option("--config", config_file, "Start from this configuration file");
   config->add_option("--set", sets, "Override KEY=VALUE (repeatable)");
 
+  rtm::PovOptions pov_opt;
+  CLI::App* pov = rtm::add_pov_command(app, pov_opt);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -56,5 +63,6 @@ int sc_main(int argc, char* argv[]) {
   }
   if (render->parsed()) return rtm::run_render(r);
   if (config->parsed()) return rtm::run_config(config_file, sets);
+  if (pov->parsed()) return rtm::run_pov(pov_opt);
   return 2;
 }

@@ -18,6 +18,7 @@ struct RenderOptions {
   std::optional<double> threshold;
   std::optional<int> max_depth;
   std::optional<double> spawn_offset;
+  std::string spawn_policy;    ///< relative or bound; empty: the scene's own
   int threads = 0;             ///< reference renderer threads; 0: all cores
   bool quiet = false;
 
@@ -25,7 +26,7 @@ struct RenderOptions {
   std::string config_file;           ///< machine configuration (YAML key: value)
   std::vector<std::string> sets;     ///< key=value overrides, applied after the file
   std::optional<int> pes;
-  std::string timing, precision, partition;
+  std::string timing, precision, partition, mac_schedule;
   std::optional<int> search_units;
   std::string vcd;                   ///< waveform file
   std::string vcd_window;            ///< "FROM:TO" in PE cycles (either side may be empty)

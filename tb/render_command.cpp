@@ -75,6 +75,7 @@ MachineConfig machine_config(const RenderOptions& opt) {
   if (!opt.timing.empty()) set("timing", opt.timing, "--timing");
   if (!opt.precision.empty()) set("precision", opt.precision, "--precision");
   if (!opt.partition.empty()) set("partition", opt.partition, "--partition");
+  if (!opt.mac_schedule.empty()) set("mac_schedule", opt.mac_schedule, "--mac-schedule");
   if (opt.search_units) set("search_units", std::to_string(*opt.search_units), "--search-units");
   try {
     c.validate();
@@ -221,6 +222,22 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
           {"mac_bound_cycles", mac_bound},
           {"cycles_over_mac_bound", mac_bound > 0 ? double(m.cycles) / mac_bound : 0.0},
           {"bottleneck", bottleneck(f)},
+          {"left_out",
+           {{"units", m.left_out_units},
+            {"mac_schedule", to_string(c.mac_schedule)},
+            {"mac_products_saved", m.mac_products_saved},
+            {"mac_cycles_saved", m.mac_cycles_saved},
+            {"scene_needs",
+             {{"shadow_rays", m.needs.shadow_rays},
+              {"reflected_rays", m.needs.reflected_rays},
+              {"transmitted_rays", m.needs.transmitted_rays},
+              {"background", m.needs.background},
+              {"deepest_generation", m.needs.deepest_generation},
+              {"clipped_primitives", m.needs.clipped_primitives},
+              {"mac_products_per_test_full", kMacProducts},
+              {"mac_products_per_test_sparse",
+               m.needs.clipped.empty() ? 0.0 : double(m.needs.products_sparse) / double(m.needs.clipped.size())},
+              {"grid", m.needs.grid}}}}},
           {"per_pe", per_pe},
           {"fifo", fifo},
           {"config", config}};
@@ -253,6 +270,13 @@ int run_render(const RenderOptions& opt) {
     if (opt.threshold) scene.threshold = *opt.threshold;
     if (opt.max_depth) scene.max_depth = *opt.max_depth;
     if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;
+    if (!opt.spawn_policy.empty()) {
+      try {
+        scene.spawn_policy = parse_spawn_policy(opt.spawn_policy);
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--spawn-policy: ") + e.what());
+      }
+    }
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
     const MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
@@ -271,6 +295,7 @@ int run_render(const RenderOptions& opt) {
     j["height"] = scene.camera.height;
     j["primitives"] = scene.primitives.size();
     j["grid"] = {{"resolution", grid.n}, {"references", grid.items.size()}, {"build_seconds", grid_seconds}};
+    j["spawn"] = {{"offset", scene.spawn_offset}, {"policy", to_string(scene.spawn_policy)}};
 
     if (opt.reference) {
       const ReferenceResult r = render_reference(scene, grid, opt.threads);
@@ -306,7 +331,7 @@ int run_render(const RenderOptions& opt) {
     if (!opt.id_map.empty()) write_id_map(opt.id_map, m.image);
     if (!opt.vcd.empty()) {
       const std::string gtkw = std::filesystem::path(opt.vcd).replace_extension(".gtkw").string();
-      write_gtkw(gtkw, opt.vcd, config, mopt.vcd_pes);
+      write_gtkw(gtkw, opt.vcd, config, m.units, mopt.vcd_pes);
     }
     j.update(counts_json(m.counts));
     j["renderer"] = "machine";

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <vector>
@@ -386,6 +387,199 @@ TEST(DdaWalk, NonFiniteInputsVisitNothing) {
   EXPECT_TRUE(walk(g, {4, 4, 4}, {kInf, 0, 0}, 0, kInf).empty());
   EXPECT_TRUE(walk(g, {4, 4, 4}, {1, 0, 0}, kNaN, kInf).empty());
   EXPECT_TRUE(walk(g, {4, 4, 4}, {1, 0, 0}, 0, kNaN).empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Against an exact rational walk (docs/numerics.md, case 10)
+//
+// Every coordinate is an integer number of units u = 2⁻⁸ and every direction component a small
+// integer, so each crossing time (plane − o)/d is a ratio of integers: the reference compares
+// them exactly (__int128 cross-multiplication), applies the DDA's rules (ties step the lowest axis
+// first, zero-length voxels included, stop when the index leaves the grid) and must produce the
+// DDA's visits one for one: same voxels, and windows equal to the correctly rounded exact times.
+// With these magnitudes two different crossing times differ by far more than an ulp, so nothing
+// may differ at all, however long the walk (4096 voxels per axis) and wherever the grid sits.
+
+constexpr double kUnit = 1.0 / 256;
+
+struct ExactRay {
+  std::array<int64_t, 3> lo, cell, o;  ///< grid corner, voxel edge, origin: in units
+  std::array<int64_t, 3> d;            ///< direction components (integers)
+  std::array<bool, 3> neg_zero{false, false, false};  ///< a zero component written as −0.0
+  std::array<int, 3> n;
+};
+
+struct Rat {
+  __int128 num = 0, den = 1;  ///< den > 0; den == 0: +infinity
+};
+bool rat_less(const Rat& a, const Rat& b) {
+  if (b.den == 0) return a.den != 0;
+  if (a.den == 0) return false;
+  return a.num * b.den < b.num * a.den;
+}
+const Rat& rat_max(const Rat& a, const Rat& b) { return rat_less(a, b) ? b : a; }
+/// The time as the DDA computes it: (plane − o) in world units, divided by d, rounded once.
+double rat_double(const Rat& r) { return r.den == 0 ? kInf : (double(int64_t(r.num)) * kUnit) / double(int64_t(r.den)); }
+
+Rat crossing_exact(const ExactRay& e, int a, int64_t boundary) {
+  if (e.d[a] == 0) return {0, 0};
+  const __int128 num = __int128(e.lo[a]) + __int128(boundary) * e.cell[a] - e.o[a];
+  return e.d[a] > 0 ? Rat{num, e.d[a]} : Rat{-num, -e.d[a]};
+}
+
+__int128 floor_div(__int128 a, __int128 b) {  // b > 0
+  __int128 q = a / b;
+  if (a % b != 0 && a < 0) --q;
+  return q;
+}
+
+std::vector<Visit> exact_walk(const ExactRay& e) {
+  std::vector<Visit> out;
+  // Entry and exit of the box by slabs, from t = 0.
+  Rat t0{0, 1}, t1{0, 0};
+  for (int a = 0; a < 3; ++a) {
+    const int64_t hi = e.lo[a] + e.n[a] * e.cell[a];
+    if (e.d[a] == 0) {
+      if (e.o[a] < e.lo[a] || e.o[a] > hi) return out;
+      continue;
+    }
+    Rat ta = crossing_exact(e, a, 0), tb = crossing_exact(e, a, e.n[a]);
+    if (rat_less(tb, ta)) std::swap(ta, tb);
+    t0 = rat_max(t0, ta);
+    if (rat_less(tb, t1)) t1 = tb;
+  }
+  if (rat_less(t1, t0)) return out;
+  std::array<int, 3> cell{};
+  for (int a = 0; a < 3; ++a) {
+    // Position o + t0 d in units, as a fraction over t0.den: floor((p − lo) / cell).
+    const __int128 p_num = __int128(e.o[a]) * t0.den + t0.num * e.d[a] - __int128(e.lo[a]) * t0.den;
+    const __int128 c = floor_div(p_num, __int128(e.cell[a]) * t0.den);
+    cell[a] = int(std::clamp<__int128>(c, 0, e.n[a] - 1));
+  }
+  std::array<Rat, 3> next;
+  auto crossing_of = [&](int a) { return crossing_exact(e, a, e.d[a] > 0 ? cell[a] + 1 : cell[a]); };
+  auto exit_axis = [&] {
+    int a = 0;
+    if (rat_less(next[1], next[a])) a = 1;
+    if (rat_less(next[2], next[a])) a = 2;
+    return a;
+  };
+  for (int a = 0; a < 3; ++a) next[size_t(a)] = crossing_of(a);
+  Rat enter = t0, exit = rat_max(t0, next[size_t(exit_axis())]);
+  for (;;) {
+    const int a = exit_axis();
+    const bool infinite = next[size_t(a)].den == 0;
+    const int step = cell[a] + (e.d[a] > 0 ? 1 : -1);
+    out.push_back({cell, rat_double(enter), rat_double(exit), infinite || step < 0 || step >= e.n[a]});
+    if (out.back().last) return out;
+    cell[a] = step;
+    enter = exit;
+    next[size_t(a)] = crossing_of(a);
+    exit = rat_max(enter, next[size_t(exit_axis())]);
+  }
+}
+
+Grid exact_grid(const ExactRay& e) {
+  return make_grid({e.lo[0] * kUnit, e.lo[1] * kUnit, e.lo[2] * kUnit},
+                   {e.cell[0] * kUnit, e.cell[1] * kUnit, e.cell[2] * kUnit}, e.n);
+}
+
+void check_exact(const ExactRay& e, const char* what) {
+  const Grid g = exact_grid(e);
+  Vec3 o, d;
+  for (int a = 0; a < 3; ++a) {
+    o[a] = double(e.o[a]) * kUnit;
+    d[a] = e.d[a] == 0 && e.neg_zero[size_t(a)] ? -0.0 : double(e.d[a]);
+  }
+  SCOPED_TRACE(::testing::Message() << what << " o = (" << o.x << ", " << o.y << ", " << o.z << ") d = (" << d.x
+                                    << ", " << d.y << ", " << d.z << ")");
+  const std::vector<Visit> got = walk(g, o, d, 0, kInf);
+  const std::vector<Visit> ref = exact_walk(e);
+  ASSERT_LE(got.size(), size_t(e.n[0] + e.n[1] + e.n[2])) << "a walk is at most nx + ny + nz voxels";
+  ASSERT_EQ(got.size(), ref.size());
+  for (size_t i = 0; i < ref.size(); ++i) {
+    ASSERT_EQ(got[i].cell, ref[i].cell) << "visit " << i;
+    ASSERT_EQ(got[i].t0, ref[i].t0) << "visit " << i;
+    ASSERT_EQ(got[i].t1, ref[i].t1) << "visit " << i;
+    ASSERT_EQ(got[i].last, ref[i].last) << "visit " << i;
+  }
+}
+
+TEST(DdaExact, LongWalksOn4096CubedMatchTheRationalWalkVisitForVisit) {
+  std::mt19937 rng(60);
+  const std::array<int, 3> n{4096, 4096, 4096};
+  int visits = 0;
+  for (int i = 0; i < 120; ++i) {
+    ExactRay e;
+    e.n = n;
+    for (int a = 0; a < 3; ++a) {
+      e.cell[size_t(a)] = 1 + int64_t(rng() % 5);  // not powers of two: 1 … 5 units
+      // The grid's corner at the origin, 1e3, 1e4 or 1e5 away (all exact in units).
+      e.lo[size_t(a)] = int64_t(std::array<double, 4>{0, 1e3, -1e4, 1e5}[size_t(i % 4)] / kUnit) + int64_t(rng() % 64);
+      e.d[size_t(a)] = int64_t(rng() % 4097) - 2048;
+    }
+    if (i % 5 == 0) e.d = {1, 1, 1};                       // through voxel corners
+    if (i % 5 == 1) e.d[size_t(rng() % 3)] = 0;            // in a plane of the grid
+    if (i % 7 == 2) e.d = {0, 0, (rng() & 1) ? 1 : -1};    // axis-parallel
+    if (e.d == std::array<int64_t, 3>{0, 0, 0}) e.d = {1, 0, 0};
+    for (int a = 0; a < 3; ++a) e.neg_zero[size_t(a)] = rng() & 1;
+    for (int a = 0; a < 3; ++a) {
+      const int64_t size = e.n[a] * e.cell[size_t(a)];
+      switch (i % 3) {
+        case 0:  // inside, on voxel planes as often as not
+          e.o[size_t(a)] = e.lo[size_t(a)] + int64_t(rng() % uint64_t(size + 1)) / ((rng() & 1) ? e.cell[size_t(a)] : 1) *
+                                                  ((rng() & 1) ? e.cell[size_t(a)] : 1);
+          break;
+        case 1:  // on the boundary of the grid
+          e.o[size_t(a)] = e.lo[size_t(a)] + ((rng() & 1) ? 0 : size);
+          break;
+        default:  // outside, up to a grid away
+          e.o[size_t(a)] = e.lo[size_t(a)] - size + int64_t(rng() % uint64_t(3 * size));
+      }
+    }
+    check_exact(e, "random");
+    if (::testing::Test::HasFatalFailure()) return;
+    visits += int(exact_walk(e).size());
+  }
+  EXPECT_GT(visits, 120 * 1000) << "the walks are long";
+}
+
+TEST(DdaExact, CornerEdgeAndBoundaryCasesMatchTheRationalWalk) {
+  const std::array<int, 3> n{4096, 4096, 4096};
+  ExactRay e;
+  e.n = n;
+  e.cell = {4, 4, 4};
+  e.lo = {int64_t(1e5 / kUnit), int64_t(-1e4 / kUnit), 0};
+  const int64_t size = 4096 * 4;
+  // Along a grid edge (the line where two planes of voxel faces meet), both ways, with ±0.0.
+  for (int64_t dir : {1, -1})
+    for (bool nz : {false, true}) {
+      e.o = {e.lo[0] + 8, e.lo[1] + 12, dir > 0 ? e.lo[2] - 3 : e.lo[2] + size + 3};
+      e.d = {0, 0, dir};
+      e.neg_zero = {nz, !nz, nz};
+      check_exact(e, "along an edge");
+      EXPECT_EQ(exact_walk(e).size(), 4096u);
+    }
+  // Exactly through every corner of the main diagonal, from outside, from the corner itself and
+  // from the far corner backwards.
+  for (int64_t start : {-5, 0})
+    for (int64_t dir : {1, -1}) {
+      const int64_t s = dir > 0 ? start : size - start;
+      e.o = {e.lo[0] + s, e.lo[1] + s, e.lo[2] + s};
+      e.d = {dir, dir, dir};
+      check_exact(e, "diagonal");
+      EXPECT_EQ(exact_walk(e).size(), 3u * 4096 - 2);  // 4096 voxels and two zero-length ones per corner
+    }
+  // Starting on each face of the grid, pointing in and pointing out.
+  for (int a = 0; a < 3; ++a)
+    for (int64_t side : {0, 1})
+      for (int64_t dir : {1, -1}) {
+        e.o = {e.lo[0] + 4 * 1000 + 1, e.lo[1] + 4 * 2000 + 2, e.lo[2] + 4 * 3000 + 3};
+        e.o[size_t(a)] = e.lo[size_t(a)] + side * size;
+        e.d = {3, -7, 11};
+        e.d[size_t(a)] = dir * 5;
+        check_exact(e, "on a face");
+      }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "geom/mac_schedule.h"
 
@@ -15,12 +16,31 @@ struct Roots {
   Real t0 = 0, t1 = 0;
 };
 
+/// How the root unit forms the discriminant Δ = b² − 4ac (docs/numerics.md).
+enum class Discriminant : uint8_t {
+  Plain,  ///< b·b − (4a)·c, each product rounded: cancels near a double root (the paper-like unit)
+  Fma,    ///< difference of products with fused multiply-adds (Kahan): Δ to about one ulp
+};
+
+/// b² − 4ac. Fma: w = (4a)·c rounded, e = w − (4a)·c exactly (an FMA), Δ = fma(b, b, −w) + e,
+/// accurate to about 1.5 ulp of Δ whatever the cancellation (4a is exact). Needs a true fused
+/// multiply-add (std::fma), never contraction by the compiler (the build disables it).
+template <class Real>
+Real discriminant(Real a, Real b, Real c, Discriminant mode) {
+  if (mode == Discriminant::Plain) return b * b - 4 * a * c;
+  const Real a4 = 4 * a;
+  const Real w = a4 * c;
+  const Real e = std::fma(-a4, c, w);
+  const Real f = std::fma(b, b, -w);
+  return f + e;
+}
+
 /// Roots of a t² + b t + c = 0 in the numerically stable form: the root of larger magnitude
 /// from q = −(b + sign(b)√Δ)/2 avoids cancelling b against √Δ, the other comes from c / q.
 /// a == 0 is the linear case (planes; rays along a cylinder's axis). A tangent ray (Δ == 0)
 /// gives a double root, never NaN, for finite inputs.
 template <class Real>
-Roots<Real> solve_quadratic(Real a, Real b, Real c) {
+Roots<Real> solve_quadratic(Real a, Real b, Real c, Discriminant mode = Discriminant::Plain) {
   Roots<Real> r;
   if (a == 0) {
     if (b == 0) return r;
@@ -28,7 +48,7 @@ Roots<Real> solve_quadratic(Real a, Real b, Real c) {
     r.t0 = r.t1 = -c / b;
     return r;
   }
-  const Real disc = b * b - 4 * a * c;
+  const Real disc = discriminant(a, b, c, mode);
   if (!(disc >= 0)) return r;  // also rejects NaN
   const Real q = -(b + std::copysign(std::sqrt(disc), b)) / 2;
   if (q == 0) {  // b == 0 and disc == 0, hence c == 0: a double root at zero

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "geom/quadric.h"
 
@@ -87,6 +88,29 @@ template <class Real>
 Abg<Real> form_abg(const Latches<Real>& l, const CoefRam<Real>& ram) {
   Real acc[3] = {0, 0, 0};
   for (const MacOp& op : kMacSchedule) acc[op.sum] += mac_product(op, l, ram);
+  return {acc[kAlpha], acc[kBeta], acc[kGamma]};
+}
+
+/// A per-primitive schedule: indices into kMacSchedule, in schedule order.
+using MacOps = std::vector<uint8_t>;
+
+/// The sparse schedule of one RAM image: the products whose coefficient word is non-zero. A
+/// skipped product is ±0, and adding ±0 to an accumulator that starts at +0 never changes it
+/// (x + ±0 = x for x ≠ 0, +0 + ±0 = +0 when rounding to nearest), so the sums are bit-identical
+/// to the full schedule's for finite operands.
+template <class Real>
+MacOps sparse_ops(const CoefRam<Real>& ram) {
+  MacOps ops;
+  for (size_t k = 0; k < kMacSchedule.size(); ++k)
+    if (ram[kMacSchedule[k].w] != 0) ops.push_back(uint8_t(k));
+  return ops;
+}
+
+/// α, β, γ from the products `ops` lists only.
+template <class Real>
+Abg<Real> form_abg(const Latches<Real>& l, const CoefRam<Real>& ram, const MacOps& ops) {
+  Real acc[3] = {0, 0, 0};
+  for (uint8_t k : ops) acc[kMacSchedule[k].sum] += mac_product(kMacSchedule[k], l, ram);
   return {acc[kAlpha], acc[kBeta], acc[kGamma]};
 }
 

@@ -1,5 +1,6 @@
 #include "geom/quadric.h"
 
+#include <limits>
 #include <stdexcept>
 
 namespace rtm {
@@ -48,6 +49,17 @@ Quadric to_world(const Frame& f, const Sym4& local) {
       w[r][c] = sum;
     }
   return from_sym(w);
+}
+
+/// Sets both forms of a quadric written in frame f's local coordinates: the world one and the
+/// one about the frame's origin (same axes, no translation, so no cancellation).
+void set_quadric(Primitive& p, const Frame& f, const Sym4& local) {
+  p.q = to_world(f, local);
+  Frame at_zero = f;
+  at_zero.origin = Vec3{0, 0, 0};
+  p.local = to_world(at_zero, local);
+  p.origin = f.origin;
+  p.has_local = true;
 }
 
 /// Box of a disc of radius r centred at c with unit normal a.
@@ -159,9 +171,13 @@ Frame Frame::along(const Vec3& origin, const Vec3& axis) {
 Primitive make_sphere(const Vec3& centre, double radius) {
   require_finite(centre, "sphere centre");
   require_positive(radius, "sphere radius");
+  require(radius * radius >= std::numeric_limits<double>::min(), "sphere radius is too small: its square underflows");
   Primitive p;
   p.kind = ShapeKind::Sphere;
   p.q.c = {1, 1, 1, 0, 0, 0, -2 * centre.x, -2 * centre.y, -2 * centre.z, dot(centre, centre) - radius * radius};
+  p.local.c = {1, 1, 1, 0, 0, 0, 0, 0, 0, -radius * radius};
+  p.origin = centre;
+  p.has_local = true;
   p.bounds = Aabb{centre - Vec3(radius), centre + Vec3(radius)};
   p.p0 = centre;
   p.r0 = radius;
@@ -180,7 +196,7 @@ Primitive make_ellipsoid(const Frame& f, const Vec3& radii) {
   s[3][3] = -1;
   Primitive p;
   p.kind = ShapeKind::Ellipsoid;
-  p.q = to_world(f, s);
+  set_quadric(p, f, s);
   // Exact box of a rotated ellipsoid: half-extent along world axis i is |(R diag(r))_i|.
   const Vec3 half{length(Vec3{f.ex.x * radii.x, f.ey.x * radii.y, f.ez.x * radii.z}),
                   length(Vec3{f.ex.y * radii.x, f.ey.y * radii.y, f.ez.y * radii.z}),
@@ -211,7 +227,7 @@ Primitive make_cone(const Vec3& base, double base_radius, const Vec3& apex, doub
   s[3][3] = -r0 * r0;
   Primitive p;
   p.kind = r0 == r1 ? ShapeKind::Cylinder : ShapeKind::Cone;
-  p.q = to_world(f, s);
+  set_quadric(p, f, s);
   clip_z(p, f, 0, h);
   p.bounds = revolution_box(f, 0, r0, h, r1);
   p.p0 = base;
@@ -231,7 +247,7 @@ Primitive make_paraboloid(const Frame& f, double k, double height) {
   s[2][3] = s[3][2] = -k / 2;
   Primitive p;
   p.kind = ShapeKind::Paraboloid;
-  p.q = to_world(f, s);
+  set_quadric(p, f, s);
   clip_z(p, f, 0, height);
   p.bounds = paraboloid_box(f, k, height);
   p.p0 = f.origin;
@@ -251,7 +267,7 @@ Primitive hyperboloid(const Frame& f, double a, double c, double half_height, do
   const double rmax = a * std::sqrt(half_height * half_height / (c * c) - constant);
   Primitive p;
   p.kind = kind;
-  p.q = to_world(f, s);
+  set_quadric(p, f, s);
   clip_z(p, f, -half_height, half_height);
   p.bounds = revolution_box(f, -half_height, rmax, half_height, rmax);
   p.p0 = f.origin;
@@ -342,6 +358,9 @@ Primitive make_polygon(const std::vector<Vec3>& in) {
   Primitive p;
   p.kind = ShapeKind::Polygon;
   p.q.c = {0, 0, 0, 0, 0, 0, n.x, n.y, n.z, d};
+  p.local.c = {0, 0, 0, 0, 0, 0, n.x, n.y, n.z, 0};  // about the first vertex
+  p.origin = v[0];
+  p.has_local = true;
   for (size_t i = 0; i < v.size(); ++i) {
     const Vec3& a = v[i];
     const Vec3 e = v[(i + 1) % v.size()] - a;
@@ -370,6 +389,11 @@ Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, 
 }
 
 void validate(const Primitive& p) {
+  // The bounds first: a shape too far out overflows its coefficients, and this says why.
+  require(all_finite(p.bounds.lo) && all_finite(p.bounds.hi) && !p.bounds.empty(),
+          "primitive has no finite bound");
+  require(max_abs(p.bounds.lo) <= kMaxCoordinate && max_abs(p.bounds.hi) <= kMaxCoordinate,
+          "primitive lies too far from the origin: coordinates must be within +-1e150 so squared distances stay finite");
   bool any = false;
   for (int i = 0; i < 10; ++i) {
     require(std::isfinite(p.q.c[i]), std::string("quadric coefficient ") + "ABCDEFGHIJ"[i] + " is not finite");
@@ -380,8 +404,11 @@ void validate(const Primitive& p) {
     require(all_finite(h.n) && std::isfinite(h.d), "clip half-space is not finite");
     require(max_abs(h.n) > 0, "clip half-space has a zero normal");
   }
-  require(all_finite(p.bounds.lo) && all_finite(p.bounds.hi) && !p.bounds.empty(),
-          "primitive has no finite bound");
+  if (p.has_local) {
+    for (int i = 0; i < 10; ++i)
+      require(std::isfinite(p.local.c[i]), std::string("local quadric coefficient ") + "ABCDEFGHIJ"[i] + " is not finite");
+    require(all_finite(p.origin), "primitive origin is not finite");
+  }
 }
 
 }  // namespace rtm

@@ -40,8 +40,19 @@ enum class ShapeKind { Sphere, Ellipsoid, Cylinder, Cone, Plane, Paraboloid, Hyp
 const char* shape_name(ShapeKind k);
 
 /// A quadric surface kept only where every clip half-space holds, inside a finite box.
+/// Coordinates beyond this magnitude are rejected: squared distances must stay finite in double.
+constexpr double kMaxCoordinate = 1e150;
+
 struct Primitive {
-  Quadric q;
+  Quadric q;  ///< world coefficients
+  /// The same quadric in coordinates x' = x − origin, built by the constructor from the shape's
+  /// parameters (has_local). Far from the world origin the world constant term J cancels
+  /// (|c|² − r² for a sphere loses r² once r² < 2⁻⁵² |c|²); this form does not, and re-centring,
+  /// refinement and normals start from it. Without it (raw quadrics, hand-made primitives) they
+  /// start from q.
+  Quadric local;
+  Vec3 origin{0, 0, 0};
+  bool has_local = false;
   std::vector<HalfSpace> clips;
   Aabb bounds;  ///< finite; the surface lies inside it
   ShapeKind kind = ShapeKind::Raw;
@@ -51,6 +62,12 @@ struct Primitive {
   Vec3 p0{}, p1{};              ///< centre / base centre; apex centre
   double r0 = 0, r1 = 0;        ///< radius / base radius; apex radius
   std::vector<Vec3> vertices;   ///< polygon corners
+
+  /// The quadric in coordinates x' = x − c (from the local form when there is one).
+  Quadric about(const Vec3& c) const { return has_local ? local.translated(c - origin) : q.translated(c); }
+  /// Q(p) and ∇Q(p) at a world point, from the local form when there is one.
+  double value_at(const Vec3& p) const { return has_local ? local.value(p - origin) : q.value(p); }
+  Vec3 gradient_at(const Vec3& p) const { return has_local ? local.gradient(p - origin) : q.gradient(p); }
 
   bool inside_clips(const Vec3& p) const {
     for (const HalfSpace& h : clips)

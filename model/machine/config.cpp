@@ -99,6 +99,12 @@ const char* to_string(Partition p) {
 const char* to_string(Timing t) { return t == Timing::Fast ? "fast" : "clocked"; }
 const char* to_string(Precision p) { return p == Precision::Fp32 ? "fp32" : "fp64"; }
 const char* to_string(FlowControl f) { return f == FlowControl::Credits ? "credits" : "none"; }
+const char* to_string(Discriminant d) { return d == Discriminant::Plain ? "plain" : "fma"; }
+const char* to_string(CoefScaling s) { return s == CoefScaling::None ? "none" : "pow2"; }
+const char* to_string(OriginLatch o) {
+  return o == OriginLatch::Machine ? "machine" : o == OriginLatch::Wide ? "wide" : "advance";
+}
+const char* to_string(MachineConfig::MacSchedule m) { return m == MachineConfig::MacSchedule::Full ? "full" : "sparse"; }
 const char* to_string(MachineConfig::SearchWalk w) {
   return w == MachineConfig::SearchWalk::PerVoxel ? "per_voxel" : "until_occupied";
 }
@@ -114,8 +120,17 @@ const std::vector<ConfigKey>& config_keys() {
       enum_key("timing", "MAC model: fast (cycle-exact by formula) or clocked (a process on a clock)", &M::timing,
                {Timing::Fast, Timing::Clocked}),
       enum_key("precision", "MAC, root unit and clip arithmetic", &M::precision, {Precision::Fp32, Precision::Fp64}),
+      enum_key("mac_schedule", "full (the paper's 6 + 12 + 10 products per test) or sparse (skip products whose coefficient is zero; same sums)",
+               &M::mac_schedule, {M::MacSchedule::Full, M::MacSchedule::Sparse}),
+      bool_key("leave_out", "leave out units, FIFOs and paths the scene cannot use (they are not elaborated)", &M::leave_out),
       bool_key("recentre", "coefficients relative to each primitive's centre, ray origin re-centred per test (false: world coefficients, as in the paper)",
                &M::recentre),
+      enum_key("discriminant", "root unit's b^2 - 4ac: plain (two rounded products) or fma (difference of products with FMAs; fma_discriminant_cycles more latency)",
+               &M::discriminant, {Discriminant::Plain, Discriminant::Fma}),
+      enum_key("coef_scaling", "coefficient RAM image: none (the quadric's own coefficients) or pow2 (scaled by a power of two so the largest is in [1, 2): exact, keeps float32 in range)",
+               &M::coef_scaling, {CoefScaling::None, CoefScaling::Pow2}),
+      enum_key("origin_latch", "ray origin into the V latches: machine (rounded to the MAC precision, then re-centred), wide (re-centred in fp64, then rounded) or advance (wide, from the voxel's entry point)",
+               &M::origin_latch, {OriginLatch::Machine, OriginLatch::Wide, OriginLatch::Advance}),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns),
       int_key("search_units", "replicated 3DDDA units per PE", &M::search_units),
       enum_key("search_walk", "per_voxel (an empty voxel sends the ray back to the front buffer, as in the paper) or until_occupied (the search unit steps on by itself)",
@@ -127,6 +142,8 @@ const std::vector<ConfigKey>& config_keys() {
       int_key("add_latency", "MAC adder latency (dependent accumulation issues one product per add_latency)", &M::add_latency),
       int_key("coef_load_cycles", "cycles to load a primitive's coefficients into the MAC RAM", &M::coef_load_cycles),
       int_key("root_latency", "root unit latency (pipelined)", &M::root_latency),
+      int_key("fma_discriminant_cycles", "extra root unit latency with discriminant = fma", &M::fma_discriminant_cycles),
+      int_key("advance_cycles", "extra root unit latency with origin_latch = advance", &M::advance_cycles),
       int_key("clip_cycles", "cycles per clip half-space test", &M::clip_cycles),
       int_key("sort_cycles", "cycles per primitive result merged by the sort unit", &M::sort_cycles),
       int_key("shade_cycles", "shading cycles per ray", &M::shade_cycles),
@@ -221,7 +238,9 @@ void MachineConfig::validate() const {
                         {"spill_cycles", spill_cycles},
                         {"host_voxel_cycles", host_voxel_cycles},
                         {"host_ray_cycles", host_ray_cycles},
-                        {"pe_ray_cycles", pe_ray_cycles}})
+                        {"pe_ray_cycles", pe_ray_cycles},
+                        {"fma_discriminant_cycles", fma_discriminant_cycles},
+                        {"advance_cycles", advance_cycles}})
     at_least(key, v, 0);
   for (auto [key, v] : {std::pair<const char*, int>{"mul_latency", mul_latency},
                         {"add_latency", add_latency},

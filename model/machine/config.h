@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "geom/numerics.h"
+
 namespace rtm {
 
 enum class Partition { Scanlines, Blocks, Strips };
@@ -22,7 +24,23 @@ struct MachineConfig {
   // Fidelity
   Timing timing = Timing::Fast;
   Precision precision = Precision::Fp32;  ///< MAC, root unit and clip arithmetic
+  enum class MacSchedule { Full, Sparse };
+  /// full: the paper's 6 + 12 + 10 products for every test; sparse: each primitive's products
+  /// with a zero coefficient word are skipped (same sums, fewer cycles).
+  MacSchedule mac_schedule = MacSchedule::Sparse;
+  /// Units, FIFOs and paths the scene cannot use are not elaborated (render/scene_needs.h).
+  bool leave_out = true;
   bool recentre = true;                   ///< coefficients relative to each primitive's centre (false: world coefficients, as in the paper)
+  /// Root unit's discriminant: plain b·b − 4a·c, or fma (difference of products with fused
+  /// multiply-adds, fma_discriminant_cycles more root latency). docs/numerics.md.
+  Discriminant discriminant = MacNumerics{}.discriminant;
+  /// Coefficient RAM image: none (the quadric's coefficients, the paper) or pow2 (scaled by a
+  /// power of two so the largest is in [1, 2): same bits in range, no float32 overflow).
+  CoefScaling coef_scaling = MacNumerics{}.coef_scaling;
+  /// V latches: machine (V rounded, then minus the centre: the paper's latch), wide (V − centre in
+  /// fp64, then rounded: the default) or advance (wide, from the voxel's entry point;
+  /// advance_cycles more root latency).
+  OriginLatch origin_latch = MacNumerics{}.origin;
 
   // PE clock and units (cycles)
   double clock_ns = 10;                   ///< PE clock period
@@ -38,6 +56,8 @@ struct MachineConfig {
   int add_latency = 1;                    ///< MAC adder latency; dependent accumulation issues one product per add_latency
   int coef_load_cycles = 4;               ///< load a primitive's 13 coefficient words into the MAC RAM (overlapped with the previous primitive)
   int root_latency = 12;                  ///< root unit: discriminant, square root, two divisions (pipelined)
+  int fma_discriminant_cycles = 2;        ///< extra root-unit latency of discriminant = fma (the dependent FMA stage)
+  int advance_cycles = 1;                 ///< extra root-unit latency of origin_latch = advance (adding t_enter to the roots)
   int clip_cycles = 4;                    ///< one clip half-space test (3 products and an add)
   int sort_cycles = 1;                    ///< per primitive result merged into the nearest-hit register
   int shade_cycles = 16;                  ///< normal, ambient term and frame-buffer update for one ray
@@ -74,6 +94,13 @@ struct MachineConfig {
   bool broadcast = false;                 ///< one transfer of the scene reaches every PE (else one per PE)
   int ray_block = 0;                      ///< primary rays per transfer; 0 = all of a PE's rays at once
 
+  /// Root-unit latency including the discriminant option's extra stage.
+  int root_cycles() const {
+    return root_latency + (discriminant == Discriminant::Fma ? fma_discriminant_cycles : 0) +
+           (origin_latch == OriginLatch::Advance ? advance_cycles : 0);
+  }
+  /// The MAC and root unit's numerical options, as SceneMemory takes them.
+  MacNumerics numerics() const { return {discriminant, coef_scaling, origin_latch}; }
   /// The safe number of loop credits: no FIFO past the front buffer can then ever be full.
   int safe_credits() const;
   /// Throws std::invalid_argument naming the offending key and why.
@@ -103,5 +130,9 @@ const char* to_string(Precision p);
 const char* to_string(FlowControl f);
 const char* to_string(MachineConfig::RayGeneration g);
 const char* to_string(MachineConfig::SearchWalk w);
+const char* to_string(MachineConfig::MacSchedule m);
+const char* to_string(Discriminant d);
+const char* to_string(CoefScaling s);
+const char* to_string(OriginLatch o);
 
 }  // namespace rtm

@@ -25,7 +25,8 @@ void FrontBuffer::drain() {
     }
   }
   // Spawned rays are new: their parent's credit came back through ends_in.
-  while (from_shade->nb_read(r)) queue_.push_back(r);
+  if (from_shade.size())
+    while (from_shade->nb_read(r)) queue_.push_back(r);
   if (ctx_.window.now()) traced_waiting_ = int(queue_.size());
 }
 
@@ -43,7 +44,8 @@ void FrontBuffer::dispatch(MachineRay r, uint64_t extra_cycles) {
 void FrontBuffer::run() {
   // Built once: constructing an event list on every wait costs allocations on the hottest path.
   inputs_ = from_search->data_written_event() | from_intersect->data_written_event() |
-            from_shade->data_written_event() | ends_in->data_written_event() | mem_.rays_arrived;
+            ends_in->data_written_event() | mem_.rays_arrived;
+  if (from_shade.size()) inputs_ |= from_shade->data_written_event();
   for (;;) {
     drain();
     if (in_flight_ < credits_) {

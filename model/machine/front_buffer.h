@@ -23,7 +23,8 @@ class FrontBuffer : public sc_core::sc_module {
  public:
   sc_core::sc_fifo_in<MachineRay> from_search{"from_search"};       ///< empty voxel: walk on
   sc_core::sc_fifo_in<MachineRay> from_intersect{"from_intersect"}; ///< no hit in the voxel: walk on
-  sc_core::sc_fifo_in<MachineRay> from_shade{"from_shade"};         ///< spawned shadow and branch rays
+  /// Spawned shadow and branch rays; left unbound when the scene spawns none.
+  sc_core::sc_port<sc_core::sc_fifo_in_if<MachineRay>, 1, sc_core::SC_ZERO_OR_MORE_BOUND> from_shade{"from_shade"};
   sc_core::sc_fifo_in<RayEnd> ends_in{"ends_in"};                   ///< rays that left the loop
   sc_core::sc_fifo_out<MachineRay> rays_out{"rays_out"};            ///< to the search units
 

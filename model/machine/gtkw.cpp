@@ -6,7 +6,7 @@
 namespace rtm {
 
 void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const MachineConfig& c,
-                const std::vector<int>& pes) {
+                const PeUnits& units, const std::vector<int>& pes) {
   std::ostringstream g;
   g << "[dumpfile] \"" << vcd_path << "\"\n[timestart] 0\n";
   auto group = [&](const std::string& title) { g << "@200\n-" << title << "\n"; };
@@ -54,7 +54,11 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
     dec(p + "shade_fifo.occupancy[31:0]");
     bit(p + "shading.busy");
     dec(p + "shading.ray_id[31:0]");
-    dec(p + "spawn_fifo.occupancy[31:0]");
+    for (auto [kept, unit] : {std::pair<bool, const char*>{c.leave_out ? units.shadow_rays : true, "shadow_rays"},
+                              {c.leave_out ? units.reflection : true, "reflection"},
+                              {c.leave_out ? units.refraction : true, "refraction"}})
+      if (kept) bit(p + "shading." + unit + ".busy");
+    if (!c.leave_out || units.spawn_path) dec(p + "spawn_fifo.occupancy[31:0]");
     dec(p + "ends_fifo.occupancy[31:0]");
   }
   write_text_atomically(gtkw_path, g.str());

@@ -4,13 +4,13 @@
 
 namespace rtm {
 
-uint64_t back_end_cycles(const MachineConfig& c, const MacTiming& mac, const std::vector<uint32_t>& clips) {
+uint64_t back_end_cycles(const MachineConfig& c, const MacTiming::Job& mac, const std::vector<uint32_t>& clips) {
   uint64_t unit_free = 0;
   for (size_t p = 0; p < clips.size(); ++p) {
-    const uint64_t ready = mac.done(int(p)) + 1 + uint64_t(c.root_latency);
+    const uint64_t ready = mac.done(int(p)) + 1 + uint64_t(c.root_cycles());
     unit_free = std::max(unit_free, ready) + clips[p] * uint64_t(c.clip_cycles) + uint64_t(c.sort_cycles);
   }
-  return unit_free - mac.job_cycles(int(clips.size()));
+  return unit_free - mac.cycles();
 }
 
 IntersectionStage::IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock)
@@ -31,13 +31,14 @@ MacJob make_job(const SceneMemory<Real>& mem, const MachineRay& r, int64_t voxel
   MacJob job;
   const Grid& g = *mem.grid;
   for (const uint32_t *it = g.begin(voxel), *end = it + g.count(voxel); it != end; ++it) {
-    const Latches<Real> l = mem.latches(r.ray, *it);
+    const Latches<Real> l = mem.latches(r.ray, *it, r.examined.t_enter);
     Latches<double> ld{};
     for (int i = 0; i < 7; ++i) ld[size_t(i)] = double(l[size_t(i)]);
     job.latches.push_back(ld);
     CoefRam<double> ram{};
     for (int w = 0; w < kRamWords; ++w) ram[size_t(w)] = double(mem.rams[*it][size_t(w)]);
     job.rams.push_back(ram);
+    if (!mem.ops.empty()) job.ops.push_back(mem.ops[*it]);
   }
   job.ray_id = r.id;
   return job;
@@ -70,10 +71,17 @@ void IntersectionStage::mac_thread() {
     const int n = int(img.grid->count(v));
     const bool fp32 = ctx_.config.precision == Precision::Fp32;
     if (fp32)
-      form_voxel_abg(img.mem32, m.r.ray, v, m.abg32);
+      form_voxel_abg(img.mem32, m.r.ray, v, m.abg32, s.t_enter);
     else
-      form_voxel_abg(img.mem64, m.r.ray, v, m.abg64);
-    const uint64_t cycles = timing_.job_cycles(n);
+      form_voxel_abg(img.mem64, m.r.ray, v, m.abg64, s.t_enter);
+    std::vector<int> counts;
+    int products = 0;
+    for (const uint32_t *it = img.grid->begin(v), *end = it + n; it != end; ++it) {
+      counts.push_back(fp32 ? img.mem32.products(*it) : img.mem64.products(*it));
+      products += counts.back();
+    }
+    m.plan = timing_.job(counts);
+    const uint64_t cycles = m.plan.cycles();
     if (clocked_) {
       const MacJob job = fp32 ? make_job(img.mem32, m.r, v) : make_job(img.mem64, m.r, v);
       const uint64_t ran = clocked_->run(job, sums);
@@ -84,7 +92,9 @@ void IntersectionStage::mac_thread() {
     } else {
       sc_core::wait(ctx_.cycles(cycles));
     }
-    ctx_.counters.mac_products += uint64_t(n) * kMacProducts;
+    ctx_.counters.mac_products += uint64_t(products);
+    ctx_.counters.mac_products_saved += uint64_t(n) * kMacProducts - uint64_t(products);
+    ctx_.counters.mac_cycles_saved += timing_.job_cycles(n) - cycles;
     ctx_.counters.mac.busy_cycles += cycles;
     ++ctx_.counters.mac.items;
     mac_probe_.end();
@@ -105,7 +115,7 @@ void IntersectionStage::root_thread() {
                            : resolve_voxel(img.mem64, r.ray, r.examined, v, m.abg64.data(), &clips);
     ctx_.counters.counts.intersection_tests += h.tests;
     ctx_.counters.counts.clip_tests += h.clip_tests;
-    const uint64_t cycles = back_end_cycles(ctx_.config, timing_, clips);
+    const uint64_t cycles = back_end_cycles(ctx_.config, m.plan, clips);
     ctx_.counters.root.busy_cycles += cycles;
     ++ctx_.counters.root.items;
     sc_core::wait(ctx_.cycles(cycles));

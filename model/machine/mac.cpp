@@ -30,8 +30,18 @@ void ClockedMac::clocked() {
     sc_core::wait(clk.posedge_event());
     const MacJob& job = *job_;
     const int prims = int(job.rams.size());
-    const int total = prims * kMacProducts;
-    const uint64_t end = timing_.job_cycles(prims);
+    // The products in issue order, with the cycle each issues in.
+    std::vector<int> counts;
+    for (int p = 0; p < prims; ++p) counts.push_back(job.ops.empty() ? kMacProducts : int(job.ops[size_t(p)].size()));
+    const MacTiming::Job plan = timing_.job(counts);
+    struct Issue {
+      int prim, k, j;
+    };
+    std::vector<Issue> order;
+    for (int p = 0; p < prims; ++p)
+      for (int j = 0; j < counts[size_t(p)]; ++j) order.push_back({p, job.ops.empty() ? j : job.ops[size_t(p)][size_t(j)], j});
+    const int total = int(order.size());
+    const uint64_t end = plan.cycles();
 
     // Each multiplier and the adder is a shift register as long as its latency; every edge,
     // each entry moves one place and the one leaving a unit has that unit's operation applied.
@@ -52,7 +62,7 @@ void ClockedMac::clocked() {
         sum[op.sum] = round_to(p, sum[op.sum] + out.value);
         last_acc = sum[op.sum];
         ++accumulated;
-        if (out.k == kMacProducts - 1) {
+        if (out.last) {
           (*sums_)[size_t(out.prim)] = {sum[0], sum[1], sum[2]};
           sum[0] = sum[1] = sum[2] = 0;
         }
@@ -72,10 +82,12 @@ void ClockedMac::clocked() {
       mul2.push_front(m1);
       // Issue the next product when the schedule says so.
       Stage in;
-      if (issued < total && cycle == timing_.issue(issued / kMacProducts, issued % kMacProducts)) {
+      if (issued < total && cycle == plan.issue(order[size_t(issued)].prim, order[size_t(issued)].j)) {
+        const Issue& next = order[size_t(issued)];
         in.valid = true;
-        in.prim = issued / kMacProducts;
-        in.k = issued % kMacProducts;
+        in.prim = next.prim;
+        in.k = next.k;
+        in.last = next.j == counts[size_t(next.prim)] - 1;
         ++issued;
       }
       mul1.push_front(in);

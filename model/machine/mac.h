@@ -39,6 +39,29 @@ struct MacTiming {
   uint64_t done(int p) const { return issue(p, kMacProducts - 1) + 2 * mul_latency + add_latency; }
   /// Cycles the MAC is busy with a voxel of n primitives: cycles 0 .. done(n − 1).
   uint64_t job_cycles(int n) const { return n == 0 ? 0 : done(n - 1) + 1; }
+
+  /// The same rules for a job whose primitives run counts[p] products each (sparse schedules).
+  struct Job {
+    std::vector<uint64_t> start;  ///< cycle of each primitive's first product
+    std::vector<int> counts;
+    int add_latency = 1, pipe = 3;  ///< pipe: 2 · mul_latency + add_latency
+
+    uint64_t issue(int p, int j) const { return start[size_t(p)] + uint64_t(j) * add_latency; }
+    uint64_t done(int p) const { return issue(p, counts[size_t(p)] - 1) + pipe; }
+    uint64_t cycles() const { return counts.empty() ? 0 : done(int(counts.size()) - 1) + 1; }
+  };
+  Job job(const std::vector<int>& counts) const {
+    Job j;
+    j.counts = counts;
+    j.add_latency = add_latency;
+    j.pipe = 2 * mul_latency + add_latency;
+    uint64_t at = coef_load_cycles;
+    for (int n : counts) {
+      j.start.push_back(at);
+      at += std::max<uint64_t>(uint64_t(n) * add_latency, coef_load_cycles);
+    }
+    return j;
+  }
 };
 
 /// Rounds a double to the machine's precision. Computing a float operation in double and
@@ -51,6 +74,7 @@ inline double round_to(Precision p, double x) { return p == Precision::Fp32 ? do
 struct MacJob {
   std::vector<Latches<double>> latches;  ///< per primitive (the origin is re-centred on each)
   std::vector<CoefRam<double>> rams;
+  std::vector<MacOps> ops;               ///< per primitive; empty: the full schedule for all
   uint32_t ray_id = 0;
 };
 
@@ -71,7 +95,7 @@ class ClockedMac : public sc_core::sc_module {
   ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision, sc_core::sc_time period);
 
   /// Runs one job from the next clock edge; blocks the calling thread until the last sums are
-  /// out. Returns α, β, γ per primitive and the cycles taken (the same as MacTiming::job_cycles).
+  /// out. Returns α, β, γ per primitive and the cycles taken (the same as MacTiming's count).
   uint64_t run(const MacJob& job, std::vector<std::array<double, 3>>& sums);
 
   /// Traces the pipeline registers; they change only inside the waveform window.
@@ -85,6 +109,7 @@ class ClockedMac : public sc_core::sc_module {
     bool valid = false;
     int prim = 0;
     int k = 0;          ///< index into kMacSchedule
+    bool last = false;  ///< the primitive's last product
     double value = 0;   ///< the product so far
   };
 

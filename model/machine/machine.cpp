@@ -1,6 +1,7 @@
 #include "machine/machine.h"
 
 #include "machine/partition.h"
+#include "render/scene_needs.h"
 
 #include <chrono>
 #include <cstdio>
@@ -19,6 +20,8 @@ class Machine : public sc_core::sc_module {
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
   std::vector<std::unique_ptr<Pe>> pes;
   std::unique_ptr<Host> host;
+  SceneNeeds needs;
+  PeUnits units;
 
   SC_HAS_PROCESS(Machine);
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress)
@@ -27,13 +30,22 @@ class Machine : public sc_core::sc_module {
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
     auto parts = partition_screen(s.camera.width, s.camera.height, c);
+    auto image = std::make_shared<SceneImage>(s, g, c);
+    needs = c.precision == Precision::Fp32 ? analyse_scene(s, image->mem32.rams) : analyse_scene(s, image->mem64.rams);
+    if (c.leave_out) {
+      units.shadow_rays = needs.shadow_rays;
+      units.reflection = needs.reflected_rays;
+      units.refraction = needs.transmitted_rays;
+      units.spawn_path = needs.spawns_rays();
+    }
     std::vector<Pe*> raw;
     for (int i = 0; i < c.pes; ++i) {
-      pes.push_back(std::make_unique<Pe>(("pe" + std::to_string(i)).c_str(), i, c, parts[size_t(i)].size(), clock.get()));
+      pes.push_back(std::make_unique<Pe>(("pe" + std::to_string(i)).c_str(), i, c, units, parts[size_t(i)].size(),
+                                         clock.get()));
       raw.push_back(pes.back().get());
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
-    host = std::make_unique<Host>("host", c, s, g, std::make_shared<SceneImage>(s, g, c.precision, c.recentre), std::move(parts), raw);
+    host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw);
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
     // The clock keeps a clocked simulation alive even when the loop has stalled: watch for it.
     if (progress_ || c.timing == Timing::Clocked) SC_THREAD(monitor);
@@ -158,6 +170,17 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     r.per_pe.push_back(k);
   }
   r.fifos = summarise_fifos(top.pes, r.end);
+  r.needs = top.needs;
+  r.units = top.units;
+  for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, "spawn_fifo"},
+                            {top.units.shadow_rays, "shading.shadow_rays"},
+                            {top.units.reflection, "shading.reflection"},
+                            {top.units.refraction, "shading.refraction"}})
+    if (!kept) r.left_out_units.push_back(name);
+  for (auto& pe : top.pes) {
+    r.mac_products_saved += pe->ctx.counters.mac_products_saved;
+    r.mac_cycles_saved += pe->ctx.counters.mac_cycles_saved;
+  }
   r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
   if (tf) sc_core::sc_close_vcd_trace_file(tf);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

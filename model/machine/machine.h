@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "machine/host.h"
+#include "render/scene_needs.h"
 
 namespace rtm {
 
@@ -34,6 +35,10 @@ struct MachineResult {
   sc_core::sc_time end;
   uint64_t cycles = 0;          ///< the frame's simulated time in PE cycles
   double wall_seconds = 0;
+  SceneNeeds needs;                      ///< what the scene can use (render/scene_needs.h)
+  std::vector<std::string> left_out_units;  ///< per PE, not elaborated
+  uint64_t mac_products_saved = 0, mac_cycles_saved = 0;  ///< by sparse MAC schedules
+  PeUnits units;                                          ///< what each PE elaborated
   bool deadlock = false;
   std::string deadlock_report;  ///< every FIFO's occupancy when the simulation stalled
 };
@@ -43,6 +48,6 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
 
 /// Writes a GTKWave save file for a VCD written by run_machine: signals grouped by PE and stage.
 void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const MachineConfig& c,
-                const std::vector<int>& pes);
+                const PeUnits& units, const std::vector<int>& pes);
 
 }  // namespace rtm

@@ -4,32 +4,37 @@
 
 namespace rtm {
 namespace {
-PeContext make_context(int index, const MachineConfig& c) {
+PeContext make_context(int index, const MachineConfig& c, const PeUnits& units) {
   PeContext ctx;
   ctx.pe = index;
+  ctx.units = units;
   ctx.config = c;
   ctx.cycle = sc_core::sc_time(c.clock_ns, sc_core::SC_NS);
   return ctx;
 }
 }  // namespace
 
-Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, size_t pixels, sc_core::sc_clock* clock)
+Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+       sc_core::sc_clock* clock)
     : sc_module(name),
-      ctx(make_context(index, c)),
+      ctx(make_context(index, c, units)),
       memory("memory", ctx, pixels),
       search_fifo("search_fifo", c.search_fifo_depth, "search"),
       intersect_fifo("intersect_fifo", c.intersect_fifo_depth, "intersect"),
       shade_fifo("shade_fifo", c.shade_fifo_depth, "shade"),
       feedback_search("feedback_search", c.feedback_fifo_depth, "feedback"),
       feedback_intersect("feedback_intersect", c.feedback_fifo_depth, "feedback"),
-      spawn_fifo("spawn_fifo", c.feedback_fifo_depth, "spawn"),
       ends_fifo("ends_fifo", c.feedback_fifo_depth, "ends"),
       front("front_buffer", ctx, memory),
       shading("shading", ctx, memory) {
   memory.rays_expected = pixels;
   front.from_search(feedback_search);
   front.from_intersect(feedback_intersect);
-  front.from_shade(spawn_fifo);
+  if (units.spawn_path) {
+    spawn_fifo = std::make_unique<MeteredFifo<MachineRay>>("spawn_fifo", c.feedback_fifo_depth, "spawn");
+    front.from_shade(*spawn_fifo);
+    shading.spawn_out(*spawn_fifo);
+  }
   front.ends_in(ends_fifo);
   front.rays_out(search_fifo);
 
@@ -54,7 +59,6 @@ Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, size_t p
   }
 
   shading.rays_in(shade_fifo);
-  shading.spawn_out(spawn_fifo);
   shading.ends_out(ends_fifo);
 }
 
@@ -63,7 +67,12 @@ std::vector<MeteredFifo<T>*> Pe::fifos_of() {
   if constexpr (std::is_same_v<T, RayEnd>)
     return {&ends_fifo};
   else
-    return {&search_fifo, &intersect_fifo, &shade_fifo, &feedback_search, &feedback_intersect, &spawn_fifo};
+  {
+    std::vector<MeteredFifo<MachineRay>*> f{&search_fifo, &intersect_fifo, &shade_fifo, &feedback_search,
+                                            &feedback_intersect};
+    if (spawn_fifo) f.push_back(spawn_fifo.get());
+    return f;
+  }
 }
 
 std::vector<std::pair<std::string, const FifoStats*>> Pe::fifo_stats() {

@@ -27,7 +27,8 @@ class Pe : public sc_core::sc_module {
 
   // The channels between the blocks.
   MeteredFifo<MachineRay> search_fifo, intersect_fifo, shade_fifo;
-  MeteredFifo<MachineRay> feedback_search, feedback_intersect, spawn_fifo;
+  MeteredFifo<MachineRay> feedback_search, feedback_intersect;
+  std::unique_ptr<MeteredFifo<MachineRay>> spawn_fifo;  ///< left out when the scene spawns no rays
   MeteredFifo<RayEnd> ends_fifo;
 
   FrontBuffer front;
@@ -36,7 +37,8 @@ class Pe : public sc_core::sc_module {
   ShadingStage shading;
 
   /// `pixels`: how many pixels of the screen this PE renders.
-  Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, size_t pixels, sc_core::sc_clock* clock);
+  Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+     sc_core::sc_clock* clock);
 
   bool finished() const { return front.finished(); }
   /// Every FIFO, for statistics and deadlock reports.

@@ -23,7 +23,7 @@ struct SceneImage {
   SceneMemory<double> mem64;
   uint64_t bytes = 0;  ///< the size the transfer is timed by
 
-  SceneImage(const Scene& s, const Grid& g, Precision p, bool recentre);
+  SceneImage(const Scene& s, const Grid& g, const MachineConfig& c);
 };
 
 /// Busy cycles and items of one unit.
@@ -35,6 +35,8 @@ struct UnitStats {
 struct PeCounters {
   TraceCounts counts;
   uint64_t mac_products = 0;
+  uint64_t mac_products_saved = 0;  ///< skipped by sparse schedules, against the paper's 28 per test
+  uint64_t mac_cycles_saved = 0;    ///< MAC busy cycles saved by sparse schedules
   uint64_t spills = 0;
   UnitStats front, search, mac, root, shade;  ///< search: summed over the replicated units
   sc_core::sc_time start = sc_core::SC_ZERO_TIME;         ///< the first primary ray handed out
@@ -66,8 +68,18 @@ class UnitProbe {
   uint32_t ray_id_ = 0;
 };
 
+/// Which optional units a PE elaborates (all of them unless the machine leaves out what the
+/// scene cannot use).
+struct PeUnits {
+  bool spawn_path = true;    ///< spawn FIFO from shading back to the front buffer
+  bool shadow_rays = true;   ///< shading's shadow-ray generator
+  bool reflection = true;    ///< shading's reflected-ray generator
+  bool refraction = true;    ///< shading's transmitted-ray generator
+};
+
 struct PeContext {
   int pe = 0;
+  PeUnits units;
   MachineConfig config;
   sc_core::sc_time cycle;  ///< the PE clock period
   std::shared_ptr<const SceneImage> image;  ///< set when the scene transfer lands in local memory

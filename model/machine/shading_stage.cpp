@@ -4,7 +4,16 @@ namespace rtm {
 
 ShadingStage::ShadingStage(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
     : sc_module(name), ctx_(ctx), mem_(mem) {
+  if (ctx.units.shadow_rays) units_[size_t(RayKind::Shadow)] = std::make_unique<SpawnUnit>("shadow_rays");
+  if (ctx.units.reflection) units_[size_t(RayKind::Reflected)] = std::make_unique<SpawnUnit>("reflection");
+  if (ctx.units.refraction) units_[size_t(RayKind::Transmitted)] = std::make_unique<SpawnUnit>("refraction");
   SC_THREAD(run);
+}
+
+void ShadingStage::trace(sc_core::sc_trace_file* tf, const std::string& prefix) {
+  probe_.trace(tf, prefix, &ctx_.window);
+  for (auto& u : units_)
+    if (u) u->probe.trace(tf, std::string(u->name()), &ctx_.window);
 }
 
 void ShadingStage::run() {
@@ -35,7 +44,15 @@ void ShadingStage::run() {
     }
     ctx_.counters.shade.busy_cycles += cycles;
     ++ctx_.counters.shade.items;
+    for (const Ray& child : out.rays) {
+      SpawnUnit* u = units_[size_t(child.kind)].get();
+      if (!u) SC_REPORT_FATAL("rtm/pe/shading", "a left-out ray generator was needed: the scene analysis is wrong");
+      ++u->rays;
+      u->probe.begin(r.id);
+    }
     sc_core::wait(ctx_.cycles(cycles));
+    for (auto& u : units_)
+      if (u) u->probe.end();
     ends_out->write(RayEnd{r.id});
     for (const Ray& child : out.rays) {
       MachineRay m;

@@ -2,6 +2,8 @@
 // reflected and transmitted rays back into the front buffer.
 #pragma once
 
+#include <memory>
+
 #include <systemc>
 
 #include "machine/local_memory.h"
@@ -10,15 +12,25 @@
 
 namespace rtm {
 
+/// One of shading's ray generators (shadow, reflected, transmitted): elaborated only when the
+/// scene can spawn that kind of ray; its busy flag shows in waveforms.
+class SpawnUnit : public sc_core::sc_module {
+ public:
+  explicit SpawnUnit(sc_core::sc_module_name name) : sc_module(name) {}
+  UnitProbe probe;
+  uint64_t rays = 0;
+};
+
 class ShadingStage : public sc_core::sc_module {
  public:
   sc_core::sc_fifo_in<MachineRay> rays_in{"rays_in"};       ///< hits, shadow rays that reached their light, misses
-  sc_core::sc_fifo_out<MachineRay> spawn_out{"spawn_out"};  ///< new rays, to the front buffer
+  /// New rays, to the front buffer; left unbound when the scene spawns none.
+  sc_core::sc_port<sc_core::sc_fifo_out_if<MachineRay>, 1, sc_core::SC_ZERO_OR_MORE_BOUND> spawn_out{"spawn_out"};
   sc_core::sc_fifo_out<RayEnd> ends_out{"ends_out"};        ///< every ray ends here
 
   SC_HAS_PROCESS(ShadingStage);
   ShadingStage(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem);
-  void trace(sc_core::sc_trace_file* tf, const std::string& prefix) { probe_.trace(tf, prefix, &ctx_.window); }
+  void trace(sc_core::sc_trace_file* tf, const std::string& prefix);
 
  private:
   void run();
@@ -26,6 +38,7 @@ class ShadingStage : public sc_core::sc_module {
   PeContext& ctx_;
   LocalMemory& mem_;
   UnitProbe probe_;
+  std::unique_ptr<SpawnUnit> units_[kRayKinds];  ///< by RayKind; none for primary rays
 };
 
 }  // namespace rtm

@@ -2,10 +2,31 @@
 
 namespace rtm {
 
-double spawn_offset(const Scene& s, const Vec3& p) { return s.spawn_offset * std::max(1.0, max_abs(p)); }
+double rounding_scale(const Primitive& prim, const Vec3& p) {
+  const Vec3 c = 0.5 * (prim.bounds.lo + prim.bounds.hi);
+  const Quadric q = prim.about(c);
+  const Vec3 x = p - c;
+  const auto& k = q.c;
+  const double terms = std::abs(k[kA] * x.x * x.x) + std::abs(k[kB] * x.y * x.y) + std::abs(k[kC] * x.z * x.z) +
+                       std::abs(k[kD] * x.x * x.y) + std::abs(k[kE] * x.y * x.z) + std::abs(k[kF] * x.z * x.x) +
+                       std::abs(k[kG] * x.x) + std::abs(k[kH] * x.y) + std::abs(k[kI] * x.z) + std::abs(k[kJ]);
+  const double diag = length(prim.bounds.extent());
+  const double grad = length(q.gradient(x));
+  const double local = grad > 0 && std::isfinite(terms / grad) ? std::min(terms / grad, diag) : diag;
+  return max_abs(p) + local;
+}
+
+double spawn_offset(const Scene& s, const Primitive& prim, const Vec3& p) {
+  if (s.spawn_policy == SpawnPolicy::Bound) return s.spawn_offset * rounding_scale(prim, p);
+  return s.spawn_offset * std::max(1.0, max_abs(p));
+}
 
 Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* entering) {
-  Vec3 n = prim.q.gradient(p);
+  Vec3 n = prim.gradient_at(p);
+  // Scaled first when tiny or huge, so |n|² can neither underflow nor overflow (near a cone's
+  // apex the gradient goes to zero; a subnormal |n|² would give a normal that is not unit length).
+  const double m = max_abs(n);
+  if (m > 0 && std::isfinite(m) && (m < 1e-150 || m > 1e150)) n /= m;
   const double len = length(n);
   if (!(len > 0) || !std::isfinite(len)) {
     if (entering) *entering = true;
@@ -17,22 +38,22 @@ Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* en
   return in ? n : -n;
 }
 
-double refine_hit(const Quadric& q, const Ray& ray, double t) {
+double refine_hit(const Primitive& prim, const Ray& ray, double t) {
   const Vec3 p = ray.origin + t * ray.dir;
-  const double slope = dot(q.gradient(p), ray.dir);
+  const double slope = dot(prim.gradient_at(p), ray.dir);
   if (!(std::abs(slope) > 0)) return t;
-  const double step = q.value(p) / slope;
+  const double step = prim.value_at(p) / slope;
   const double limit = 1e-3 * std::max(1.0, std::abs(t));
   return std::isfinite(step) && std::abs(step) <= limit ? t - step : t;
 }
 
 void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out) {
   const Material& m = s.materials[size_t(prim.material)];
-  if (s.refine_hits) t = refine_hit(prim.q, ray, t);
+  if (s.refine_hits) t = refine_hit(prim, ray, t);
   const Vec3 p = ray.origin + t * ray.dir;
   bool entering = true;
   const Vec3 n = facing_normal(prim, p, ray.dir, &entering);
-  const double eps = spawn_offset(s, p);
+  const double eps = spawn_offset(s, prim, p);
   const Vec3 above = p + eps * n, below = p - eps * n;
 
   out.brightness = ray.contribution * m.ambient * s.ambient_light * m.color;

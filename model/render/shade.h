@@ -24,17 +24,27 @@ struct ShadeOut {
   std::vector<Ray> rays;  ///< spawned rays, shadow rays first (in light order), then reflected, transmitted
 };
 
+/// The rounding scale of a hit point p on `prim`, as a distance: |p|∞ (where the point itself is
+/// rounded: the machine's origin latches hold world coordinates) plus Σ|terms of Q| / |∇Q| in
+/// the primitive's centred frame (how far rounding of the quadric's value moves a root), the
+/// latter at most the primitive's box diagonal (a vanishing gradient, at a cone's apex).
+double rounding_scale(const Primitive& prim, const Vec3& p);
+
 /// Distance a spawned ray's origin is moved off the surface, so it does not find its own surface
-/// again through rounding in t: relative to the hit point's magnitude.
-double spawn_offset(const Scene& s, const Vec3& p);
+/// again through rounding in t: spawn_offset × max(1, |p|∞) (SpawnPolicy::Relative), or
+/// spawn_offset × rounding_scale(prim, p) (SpawnPolicy::Bound: no floor, so tiny objects and thin
+/// shells near the origin keep their spawned rays; spawn_offset is then k × the unit roundoff of
+/// the machine precision it must cover, 1e-5 ≈ 168 float32 ulps). docs/numerics.md.
+double spawn_offset(const Scene& s, const Primitive& prim, const Vec3& p);
 
 /// The unit surface normal at p facing against the incoming direction d. Where the gradient
 /// vanishes (a cone's apex) or is not finite, falls back to −d.
 Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* entering);
 
-/// One Newton step on Q(o + t d) = 0 from the intersection stage's t, in double precision;
-/// the step is limited so a near-tangent ray cannot be thrown far along itself.
-double refine_hit(const Quadric& q, const Ray& ray, double t);
+/// One Newton step on Q(o + t d) = 0 from the intersection stage's t, in double precision on
+/// the primitive's local form (no cancellation far from the origin); the step is limited so a
+/// near-tangent ray cannot be thrown far along itself.
+double refine_hit(const Primitive& prim, const Ray& ray, double t);
 
 /// Everything the shading stage does for one ray that hit `prim` at parameter t.
 void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out);

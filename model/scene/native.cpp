@@ -17,6 +17,7 @@ namespace rtm {
 
 namespace scene_checks {  // defined in scene.cpp
 void check_camera(const Camera& c);
+void check_light(const Light& l);
 void check_resolution(int width, int height);
 void check_grid(const GridOptions& g);
 }  // namespace scene_checks
@@ -227,6 +228,7 @@ class NativeParser {
       Light l;
       l.position = vec3(m.required("position"), m.path("position"));
       if (auto c = m.get("color")) l.color = colour(*c, m.path("color"));
+      check(n[i], "lights[" + std::to_string(i) + "]", [&] { scene_checks::check_light(l); });
       scene_.lights.push_back(l);
     }
   }
@@ -252,7 +254,7 @@ class NativeParser {
   }
 
   void render(const YAML::Node& n) {
-    Map m(*this, n, "render", {"threshold", "max_depth", "grid", "spawn_offset"});
+    Map m(*this, n, "render", {"threshold", "max_depth", "grid", "spawn_offset", "spawn_policy"});
     if (auto v = m.get("threshold")) {
       scene_.threshold = number(*v, m.path("threshold"));
       if (!(scene_.threshold >= 0 && scene_.threshold < 1))
@@ -260,6 +262,8 @@ class NativeParser {
     }
     if (auto v = m.get("max_depth")) scene_.max_depth = integer(*v, m.path("max_depth"), 1);
     if (auto v = m.get("spawn_offset")) scene_.spawn_offset = at_least(*v, m.path("spawn_offset"), 0);
+    if (auto v = m.get("spawn_policy"))
+      check(*v, m.path("spawn_policy"), [&] { scene_.spawn_policy = parse_spawn_policy(text(*v, m.path("spawn_policy"))); });
     if (auto v = m.get("grid")) {
       if (v->IsScalar() && v->Scalar() == "auto") {
         scene_.grid.resolution = {0, 0, 0};

@@ -47,6 +47,8 @@ void check_camera(const Camera& c) {
   require(all_finite(c.eye), "camera eye is not finite");
   require(all_finite(c.look_at), "camera look_at is not finite");
   require(all_finite(c.up), "camera up is not finite");
+  require(max_abs(c.eye) <= kMaxCoordinate && max_abs(c.look_at) <= kMaxCoordinate,
+          "camera eye and look_at must be within +-1e150 of the origin (squared distances must stay finite)");
   const Vec3 dir = c.look_at - c.eye;
   require(length(dir) > 0, "camera eye and look_at coincide");
   require(std::isfinite(length(dir)), "camera eye and look_at are too far apart");
@@ -73,6 +75,9 @@ void check_colour(const Vec3& c, const std::string& what) {
 
 void check_light(const Light& l) {
   require(all_finite(l.position), "light position is not finite");
+  require(max_abs(l.position) <= kMaxCoordinate,
+          "light position must be within +-1e150 of the origin (squared distances must stay finite), got " +
+              str(l.position));
   check_colour(l.color, "light colour");
 }
 
@@ -142,6 +147,14 @@ void validate(const Scene& s) {
           "scene has " + std::to_string(s.origins.size()) + " source locations for " +
               std::to_string(s.primitives.size()) + " primitives");
   check_render(s);
+}
+
+const char* to_string(SpawnPolicy p) { return p == SpawnPolicy::Relative ? "relative" : "bound"; }
+
+SpawnPolicy parse_spawn_policy(const std::string& text) {
+  if (text == "relative") return SpawnPolicy::Relative;
+  if (text == "bound") return SpawnPolicy::Bound;
+  throw std::invalid_argument("spawn policy must be relative or bound, got '" + text + "'");
 }
 
 void set_resolution(Scene& s, int width, int height) {

@@ -40,6 +40,15 @@ struct SourceLocation {
   int line = 0;
 };
 
+/// How a spawned ray's origin is moved off the surface (render/shade.h, docs/numerics.md).
+enum class SpawnPolicy {
+  Relative,  ///< spawn_offset × max(1, |p|∞)
+  Bound,     ///< spawn_offset × (|p|∞ + the primitive's local rounding scale at p): an error bound
+};
+const char* to_string(SpawnPolicy p);
+/// Parses "relative" or "bound"; throws std::invalid_argument naming the choices.
+SpawnPolicy parse_spawn_policy(const std::string& text);
+
 struct Scene {
   std::string name = "scene";
   Camera camera;
@@ -51,8 +60,10 @@ struct Scene {
   std::vector<SourceLocation> origins;  ///< one per primitive
   double threshold = 0;   ///< branch rays with contribution <= threshold are dropped
   int max_depth = 5;      ///< primary rays are depth 1
-  /// Spawned rays start this far off the surface, relative to max(1, |hit point|∞).
+  /// Spawned rays start this far off the surface, relative to max(1, |hit point|∞) (spawn_policy
+  /// relative) or to an error bound of the hit point (bound).
   double spawn_offset = 1e-5;
+  SpawnPolicy spawn_policy = SpawnPolicy::Relative;
   /// The shading stage refines the hit point with one Newton step on the double-precision
   /// quadric before shading, so a float32 t does not leave the point inside its own surface.
   bool refine_hits = true;
