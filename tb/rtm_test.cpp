@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_test_support.h"
 #include "render/image_io.h"
 
 namespace fs = std::filesystem;
@@ -19,53 +20,15 @@ using nlohmann::json;
 
 namespace {
 
+using namespace rtm::test;
+
 const std::string kScenes = std::string(RTM_SOURCE_DIR) + "/scenes/spd/";
-
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-/// A fresh folder per test, removed afterwards.
-class Tmp {
- public:
-  Tmp() {
-    char tmpl[] = "/tmp/rtm-test-XXXXXX";
-    dir_ = mkdtemp(tmpl);
-  }
-  ~Tmp() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string operator/(const std::string& name) const { return (fs::path(dir_) / name).string(); }
-
- private:
-  std::string dir_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-RunResult rtm(const std::string& args, const Tmp& tmp) {
-  const std::string out = tmp / "stdout.txt", err = tmp / "stderr.txt";
-  const std::string cmd = std::string(RTM_BINARY) + " " + args + " >" + out + " 2>" + err + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  RunResult r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
 
 json stats(const std::string& path) { return json::parse(slurp(path)); }
 
 /// Renders on the machine and returns its stats; the image goes to `<name>.exr`.
 json render(const Tmp& tmp, const std::string& name, const std::string& args) {
-  const RunResult r = rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --stats " + (tmp / (name + ".json")) +
+  const Proc r = run_rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --stats " + (tmp / (name + ".json")) +
                         " --id-map " + (tmp / (name + "-id.exr")) + " -q",
                     tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -81,7 +44,7 @@ double id_agreement(const std::string& a, const std::string& b) {
 
 TEST(Cli, HelpListsTheCommands) {
   Tmp tmp;
-  const RunResult r = rtm("--help", tmp);
+  const Proc r = run_rtm("--help", tmp);
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("render"), std::string::npos);
   EXPECT_NE(r.out.find("config"), std::string::npos);
@@ -89,7 +52,7 @@ TEST(Cli, HelpListsTheCommands) {
 
 TEST(Cli, ReferenceRenderOfTheDefaultSceneWritesImageStatsAndIdMap) {
   Tmp tmp;
-  const RunResult r = rtm("render --reference --size 40x30 --out " + (tmp / "d.png") + " --id-map " + (tmp / "id.exr"), tmp);
+  const Proc r = run_rtm("render --reference --size 40x30 --out " + (tmp / "d.png") + " --id-map " + (tmp / "id.exr"), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find(tmp / "d.png"), std::string::npos) << "the summary says where the image went";
   const json j = stats(tmp / "d.json");
@@ -159,7 +122,7 @@ TEST_P(MachineVsReference, Fp32WithinTheFloat32Tolerance) {
   ASSERT_FALSE(j.is_null());
   EXPECT_LE(j["error"]["pixels_over_1_255"].get<double>(), 0.01 * 32 * 32);
   EXPECT_LE(j["error"]["rmse"].get<double>(), 0.02);
-  const json ref = json::parse(rtm("render --reference " + kScenes + c.scene + " --size 32x32 --out " + (tmp / "r.exr") +
+  const json ref = json::parse(run_rtm("render --reference " + kScenes + c.scene + " --size 32x32 --out " + (tmp / "r.exr") +
                                        " --id-map " + (tmp / "r-id.exr") + " -q",
                                    tmp)
                                    .exit_code == 0
@@ -204,19 +167,21 @@ TEST(Machine, ImageAndRayCountsDoNotDependOnPesOrSearchUnits) {
 
 TEST(Machine, ClockedAndFastMacAgreeOnAWholeFrame) {
   Tmp tmp;
-  for (const char* precision : {"fp32", "fp64"}) {
-    const std::string scene = kScenes + "balls-1.nff --size 24x24 --pes 2 --precision " + precision;
-    const json fast = render(tmp, std::string("fast") + precision, scene + " --timing fast");
-    const json clocked = render(tmp, std::string("clocked") + precision, scene + " --timing clocked");
-    ASSERT_FALSE(fast.is_null());
-    ASSERT_FALSE(clocked.is_null());
-    EXPECT_EQ(fast["cycles"], clocked["cycles"]) << precision;
-    EXPECT_EQ(fast["mac"], clocked["mac"]) << precision;
-    EXPECT_EQ(fast["per_pe"], clocked["per_pe"]) << precision;
-    EXPECT_EQ(rtm::read_image(tmp / (std::string("fast") + precision + ".exr")).rgb,
-              rtm::read_image(tmp / (std::string("clocked") + precision + ".exr")).rgb)
-        << precision;
-  }
+  for (const char* schedule : {"full", "sparse"})
+    for (const char* precision : {"fp32", "fp64"}) {
+      const std::string what = std::string(schedule) + "-" + precision;
+      const std::string scene =
+          kScenes + "balls-1.nff --size 24x24 --pes 2 --precision " + precision + " --mac-schedule " + schedule;
+      const json fast = render(tmp, "fast" + what, scene + " --timing fast");
+      const json clocked = render(tmp, "clocked" + what, scene + " --timing clocked");
+      ASSERT_FALSE(fast.is_null());
+      ASSERT_FALSE(clocked.is_null());
+      EXPECT_EQ(fast["cycles"], clocked["cycles"]) << what;
+      EXPECT_EQ(fast["mac"], clocked["mac"]) << what;
+      EXPECT_EQ(fast["per_pe"], clocked["per_pe"]) << what;
+      EXPECT_EQ(rtm::read_image(tmp / ("fast" + what + ".exr")).rgb, rtm::read_image(tmp / ("clocked" + what + ".exr")).rgb)
+          << what;
+    }
 }
 
 /// Value changes in a VCD body, and how many of them come after time `after` (in the file's unit).
@@ -239,7 +204,7 @@ std::pair<int, int> vcd_changes(const std::string& vcd, uint64_t after) {
 TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   Tmp tmp;
   const std::string scene = "render " + kScenes + "balls-1.nff --size 12x12 --timing clocked --pes 2 --vcd-pes 0,1 -q";
-  const RunResult r = rtm(scene + " --vcd " + (tmp / "w.vcd") + " --out " + (tmp / "w.png"), tmp);
+  const Proc r = run_rtm(scene + " --vcd " + (tmp / "w.vcd") + " --out " + (tmp / "w.png"), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string vcd = slurp(tmp / "w.vcd");
   ASSERT_FALSE(vcd.empty());
@@ -265,7 +230,7 @@ TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   // A window: from when the PEs got their work, 2000 cycles (20000 ns at 10 ns); nothing is
   // recorded after it (the kernel only stamps the closing time).
   const uint64_t from = stats(tmp / "w.json")["host"]["transfer_done_cycle"].get<uint64_t>();
-  const RunResult w = rtm(scene + " --vcd " + (tmp / "v.vcd") + " --vcd-window " + std::to_string(from) + ":" +
+  const Proc w = run_rtm(scene + " --vcd " + (tmp / "v.vcd") + " --vcd-window " + std::to_string(from) + ":" +
                               std::to_string(from + 2000) + " --out " + (tmp / "v.png"),
                           tmp);
   ASSERT_EQ(w.exit_code, 0) << w.err;
@@ -299,14 +264,14 @@ TEST(Machine, TheUnregulatedLoopDeadlocksAndIsReported) {
   const std::string tiny_fifos =
       " --set flow_control=none --set search_fifo_depth=1 --set intersect_fifo_depth=1 --set feedback_fifo_depth=1"
       " --set shade_fifo_depth=1 --set root_fifo_depth=1";
-  const RunResult r = rtm("render " + kScenes + "balls-1.nff --size 24x24" + tiny_fifos + " --out " + (tmp / "x.png") + " -q", tmp);
+  const Proc r = run_rtm("render " + kScenes + "balls-1.nff --size 24x24" + tiny_fifos + " --out " + (tmp / "x.png") + " -q", tmp);
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("deadlock"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("search_fifo 1/1"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(tmp / "x.png"));
   // The clocked model, whose clock would otherwise run forever, is stopped and reported too.
-  const RunResult c =
-      rtm("render " + kScenes + "balls-1.nff --size 24x24 --timing clocked" + tiny_fifos + " --out " + (tmp / "y.png") + " -q", tmp);
+  const Proc c =
+      run_rtm("render " + kScenes + "balls-1.nff --size 24x24 --timing clocked" + tiny_fifos + " --out " + (tmp / "y.png") + " -q", tmp);
   EXPECT_EQ(c.exit_code, 3);
   EXPECT_FALSE(fs::exists(tmp / "y.png"));
 }
@@ -330,7 +295,7 @@ TEST_P(BadInput, ClearMessageNonZeroExitNoOutput) {
     scene = tmp / (std::string("bad.") + c.ext);
     std::ofstream(scene) << c.file_text;
   }
-  const RunResult r = rtm("render " + scene + " " + c.args + " --out " + (tmp / "o.png") + " -q", tmp);
+  const Proc r = run_rtm("render " + scene + " " + c.args + " --out " + (tmp / "o.png") + " -q", tmp);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(tmp / "o.png"));

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_test_support.h"
 #include "render/image_io.h"
 
 namespace fs = std::filesystem;
@@ -21,51 +22,14 @@ using nlohmann::json;
 
 namespace {
 
+using namespace rtm::test;
+
 const std::string kStiff = std::string(RTM_SOURCE_DIR) + "/scenes/stiff/";
-
-class Tmp {
- public:
-  Tmp() {
-    char tmpl[] = "/tmp/rtm-stiff-XXXXXX";
-    dir_ = mkdtemp(tmpl);
-  }
-  ~Tmp() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string operator/(const std::string& name) const { return (fs::path(dir_) / name).string(); }
-
- private:
-  std::string dir_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-struct RunResult {
-  int exit_code = -1;
-  std::string err;
-  json stats;
-};
-
-RunResult rtm(const Tmp& tmp, const std::string& args) {
-  const std::string err = tmp / "stderr.txt";
-  const std::string cmd = std::string(RTM_BINARY) + " " + args + " >/dev/null 2>" + err + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  RunResult r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.err = slurp(err);
-  return r;
-}
 
 /// Renders `scene` on the machine with `args`; the image goes to <name>.exr.
 json render(const Tmp& tmp, const std::string& name, const std::string& scene, const std::string& args) {
-  RunResult r = rtm(tmp, "render " + kStiff + scene + " " + args + " --out " + (tmp / (name + ".exr")) + " --stats " +
-                       (tmp / (name + ".json")) + " -q");
+  Proc r = run_rtm("render " + kStiff + scene + " " + args + " --out " + (tmp / (name + ".exr")) + " --stats " +
+                       (tmp / (name + ".json")) + " -q", tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   if (r.exit_code != 0) return json();
   const json j = json::parse(slurp(tmp / (name + ".json")));
@@ -158,7 +122,7 @@ TEST(StiffFrames, SmallShellsNeedTheBoundSpawnPolicy) {
   // (floor 1e-5) the small one loses its inner spheres, with the bound it renders the same picture.
   Tmp tmp;
   const auto ref = [&](const std::string& scene, const std::string& args, const std::string& name) {
-    const RunResult r = rtm(tmp, "render " + scene + " --reference " + args + " --out " + (tmp / name) + " -q");
+    const Proc r = run_rtm("render " + scene + " --reference " + args + " --out " + (tmp / name) + " -q", tmp);
     EXPECT_EQ(r.exit_code, 0) << r.err;
   };
   ref(kStiff + "small-shells-x1000.yaml", "", "big.exr");
@@ -237,7 +201,7 @@ TEST(StiffFrames, NonFiniteOptionsAreRejectedWithAClearMessage) {
                        Bad{"--set origin_latch=double", "origin_latch"}, Bad{"--set coef_scaling=pow3", "coef_scaling"},
                        Bad{"--set fma_discriminant_cycles=-1", "fma_discriminant_cycles"},
                        Bad{"--spawn-policy exact", "spawn-policy"}}) {
-    const RunResult r = rtm(tmp, "render " + kStiff + "far-origin.yaml " + b.args + " --out " + (tmp / "x.png") + " -q");
+    const Proc r = run_rtm("render " + kStiff + "far-origin.yaml " + b.args + " --out " + (tmp / "x.png") + " -q", tmp);
     EXPECT_NE(r.exit_code, 0) << b.args;
     EXPECT_NE(r.err.find(b.says), std::string::npos) << b.args << ": " << r.err;
     EXPECT_FALSE(fs::exists(tmp / "x.png")) << b.args;

@@ -21,10 +21,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_test_support.h"
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
+
+using namespace rtm::test;
 
 const std::string kSource = RTM_SOURCE_DIR;
 const std::string kSweep = kSource + "/scripts/sweep";
@@ -44,47 +48,6 @@ const std::vector<std::string> kColumns = {
     "scene_file"};
 const std::vector<std::string> kPlots = {"cycles.png", "speedup.png", "utilisation.png",
                                          "pe_utilisation.png", "load_imbalance.png", "phases.png"};
-
-class Tmp {
- public:
-  Tmp() {
-    char tmpl[] = "/tmp/rtm-sweep-test-XXXXXX";
-    dir_ = mkdtemp(tmpl);
-  }
-  ~Tmp() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string operator/(const std::string& name) const { return (fs::path(dir_) / name).string(); }
-
- private:
-  std::string dir_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-void spit(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-struct Proc {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-/// Runs a shell command with stdout and stderr captured.
-Proc sh(const std::string& cmd, const Tmp& tmp) {
-  const std::string out = tmp / "stdout.txt", err = tmp / "stderr.txt";
-  const int status = std::system((cmd + " >" + out + " 2>" + err + " </dev/null").c_str());
-  Proc r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
 
 std::string sweep_cmd(const std::string& spec, const std::string& out, const std::string& extra = "") {
   return kSweep + " " + spec + " --out " + out + " --rtm " + RTM_BINARY + " " + extra;

@@ -37,7 +37,11 @@ SceneNeeds analyse_scene(const Scene& s, const std::vector<CoefRam<Real>>& rams)
   }
   Aabb box;
   for (const Primitive& p : s.primitives) box.extend(p.bounds);
-  if (!s.primitives.empty()) n.grid = scene_resolution(s.primitives, box, s.grid);
+  const bool fixed = s.grid.resolution != std::array<int, 3>{0, 0, 0};
+  if (fixed)
+    n.grid = s.grid.resolution;
+  else if (!s.primitives.empty())
+    n.grid = scene_resolution(s.primitives, box, s.grid);
   return n;
 }
 

@@ -24,7 +24,7 @@ struct SceneNeeds {
   uint64_t products_sparse = 0;   ///< Σ non-zero products over primitives
   std::vector<bool> clipped;      ///< per primitive: has clip half-spaces
   int clipped_primitives = 0;
-  std::array<int, 3> grid{1, 1, 1};  ///< the automatic grid resolution for the scene
+  std::array<int, 3> grid{1, 1, 1};  ///< the scene's grid resolution: its own, else the automatic one
 
   bool spawns_rays() const { return shadow_rays || reflected_rays || transmitted_rays; }
 };

@@ -1,0 +1,63 @@
+// What the whole-program tests share: a scratch folder per test, files in and out, and running a
+// command with its output captured.
+#pragma once
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace rtm::test {
+
+/// A fresh folder per test, removed afterwards.
+class Tmp {
+ public:
+  Tmp() {
+    char tmpl[] = "/tmp/rtm-test-XXXXXX";
+    dir_ = mkdtemp(tmpl);
+  }
+  ~Tmp() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+  Tmp(const Tmp&) = delete;
+  Tmp& operator=(const Tmp&) = delete;
+  std::string operator/(const std::string& name) const { return (std::filesystem::path(dir_) / name).string(); }
+
+ private:
+  std::string dir_;
+};
+
+inline std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+inline void spit(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+struct Proc {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs a shell command with stdout and stderr captured in `tmp` (no stdin).
+inline Proc sh(const std::string& cmd, const Tmp& tmp) {
+  const std::string out = tmp / "stdout.txt", err = tmp / "stderr.txt";
+  const int status = std::system((cmd + " >" + out + " 2>" + err + " </dev/null").c_str());
+  Proc r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+/// Runs the rtm binary under test.
+inline Proc run_rtm(const std::string& args, const Tmp& tmp) { return sh(std::string(RTM_BINARY) + " " + args, tmp); }
+
+}  // namespace rtm::test
