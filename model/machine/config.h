@@ -93,6 +93,10 @@ struct MachineConfig {
   double link_latency_ns = 1000;          ///< per transaction
   bool broadcast = false;                 ///< one transfer of the scene reaches every PE (else one per PE)
   int ray_block = 0;                      ///< primary rays per transfer; 0 = all of a PE's rays at once
+  enum class Gather { AfterAll, AsFinished };
+  /// after_all: the host reads the frame buffers once every PE is done (the paper's order);
+  /// as_finished: it reads each PE's as soon as that PE is done, while the others still work.
+  Gather gather = Gather::AfterAll;
 
   /// Root-unit latency including the discriminant option's extra stage.
   int root_cycles() const {
@@ -129,6 +133,7 @@ const char* to_string(Timing t);
 const char* to_string(Precision p);
 const char* to_string(FlowControl f);
 const char* to_string(MachineConfig::RayGeneration g);
+const char* to_string(MachineConfig::Gather g);
 const char* to_string(MachineConfig::SearchWalk w);
 const char* to_string(MachineConfig::MacSchedule m);
 const char* to_string(Discriminant d);

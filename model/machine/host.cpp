@@ -1,5 +1,7 @@
 #include "machine/host.h"
 
+#include <algorithm>
+
 #include "render/camera.h"
 
 namespace rtm {
@@ -116,12 +118,7 @@ void Host::run() {
   }
   times.transfer = sc_core::sc_time_stamp();
 
-  for (Pe* pe : pes_)
-    if (!pe->finished()) sc_core::wait(pe->front.finished_event);
-  times.pes_done = sc_core::sc_time_stamp();
-
-  // Gather every PE's part of the frame.
-  for (int pe = 0; pe < n; ++pe) {
+  auto gather = [&](int pe) {
     const auto& px = parts_[size_t(pe)];
     std::vector<PixelSum> frame(px.size());
     std::vector<int32_t> ids(px.size());
@@ -133,6 +130,34 @@ void Host::run() {
       image.rgb[px[i]] = frame[i].value();
       image.ids[px[i]] = ids[i];
     }
+  };
+  if (config_.gather == MachineConfig::Gather::AfterAll) {
+    for (Pe* pe : pes_)
+      if (!pe->finished()) sc_core::wait(pe->front.finished_event);
+    times.pes_done = sc_core::sc_time_stamp();
+    for (int pe = 0; pe < n; ++pe) gather(pe);
+  } else {
+    // Whichever PEs are done, in PE order; then wait for the next to finish. The link is busy
+    // with one transfer at a time, so PEs finishing meanwhile queue up.
+    std::vector<bool> gathered(size_t(n), false);
+    for (int left = n; left > 0;) {
+      sc_core::sc_event_or_list pending;
+      bool any_done = false;
+      for (int pe = 0; pe < n; ++pe) {
+        if (gathered[size_t(pe)]) continue;
+        if (pes_[size_t(pe)]->finished()) {
+          gather(pe);
+          gathered[size_t(pe)] = true;
+          --left;
+          any_done = true;
+          break;  // re-check from the start: time has passed
+        }
+        pending |= pes_[size_t(pe)]->front.finished_event;
+      }
+      if (!any_done && left > 0) sc_core::wait(pending);
+    }
+    // The frame's PE phase ends with the last PE, whatever the link was doing then.
+    for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
   }
   times.gathered = sc_core::sc_time_stamp();
   done = true;
