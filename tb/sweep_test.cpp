@@ -357,6 +357,39 @@ TEST(Sweep, FailedRunsAreRecordedWithTheirErrorMessage) {
 }
 
 // A bad spec is a usage error, before anything runs.
+TEST(Sweep, VariantsAreWholeMachinesComparedSideBySide) {
+  Tmp tmp;
+  spit(tmp / "spec.yaml", "name: variants\nscene_dir: " + kScenes +
+                              "\nscenes: [balls-1.nff]\nsizes: [16x16]\npes: [1, 2]\nset:\n  search_units: [2]\n"
+                              "variants:\n  paper: {}\n"
+                              "  improved: {ray_generation: pe, broadcast: true, gather: as_finished}\n");
+  const std::string out = tmp / "out";
+  const Proc r = sh(sweep_cmd(tmp / "spec.yaml", out, "--jobs 2 --no-plots"), tmp);
+  ASSERT_EQ(r.exit_code, 2) << "search_units is an axis, not a set key: " << r.out << r.err;
+  spit(tmp / "spec.yaml", "name: variants\nscene_dir: " + kScenes +
+                              "\nscenes: [balls-1.nff]\nsizes: [16x16]\npes: [1, 2]\nset:\n  loop_credits: [0]\n"
+                              "variants:\n  paper: {}\n"
+                              "  improved: {ray_generation: pe, broadcast: true, gather: as_finished}\n");
+  const Proc ok = sh(sweep_cmd(tmp / "spec.yaml", out, "--jobs 2"), tmp);
+  ASSERT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+  const Csv csv = read_csv(out + "/results.csv");
+  std::vector<std::string> want = kColumns;
+  want.insert(want.begin() + 11, {"variant", "loop_credits"});
+  EXPECT_EQ(csv.header, want);
+  ASSERT_EQ(csv.rows.size(), 4u);
+  std::map<std::string, int> per_variant;
+  for (const auto& row : csv.rows) {
+    ASSERT_EQ(row.at("status"), "ok") << row.at("error");
+    ++per_variant[row.at("variant")];
+    const json stats = json::parse(slurp(out + "/runs/" + row.at("run_id") + ".json"));
+    const bool improved = row.at("variant") == "improved";
+    EXPECT_EQ(stats["config"]["ray_generation"], improved ? "pe" : "host") << row.at("run_id");
+    EXPECT_EQ(stats["config"]["gather"], improved ? "as_finished" : "after_all") << row.at("run_id");
+  }
+  EXPECT_EQ(per_variant, (std::map<std::string, int>{{"improved", 2}, {"paper", 2}}));
+  for (const std::string& png : kPlots) expect_png(out + "/plots/" + png);
+}
+
 TEST(Sweep, ABadSpecIsRejectedUpFront) {
   Tmp tmp;
   const std::string out = tmp / "out";
