@@ -14,21 +14,14 @@
 #include <limits>
 #include <random>
 #include <vector>
+#include "geom/test_random.h"
 
 namespace rtm {
 namespace {
 
+using namespace rtm::test;
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> n;
-  for (;;) {
-    const Vec3 v{n(rng), n(rng), n(rng)};
-    if (length(v) > 1e-3) return normalize(v);
-  }
-}
 
 /// A grid with no voxel lists (the DDA needs only the geometry).
 Grid make_grid(const Vec3& lo, const Vec3& cell, std::array<int, 3> n) {

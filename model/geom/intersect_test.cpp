@@ -11,21 +11,12 @@
 #include <set>
 #include <tuple>
 #include <vector>
+#include "geom/test_random.h"
 
 namespace rtm {
 namespace {
 
-double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-double log_uniform(std::mt19937& rng, double lo_exp, double hi_exp) { return std::pow(10.0, uniform(rng, lo_exp, hi_exp)); }
-double random_sign(std::mt19937& rng) { return (rng() & 1) ? 1.0 : -1.0; }
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> n;
-  for (;;) {
-    const Vec3 v{n(rng), n(rng), n(rng)};
-    if (length(v) > 1e-3) return normalize(v);
-  }
-}
+using namespace rtm::test;
 
 Vec3 random_point(std::mt19937& rng, double scale) {
   return Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} * scale;

@@ -16,24 +16,17 @@
 #include <random>
 #include <stdexcept>
 #include <vector>
+#include "geom/test_random.h"
 
 namespace rtm {
 namespace {
 
+using namespace rtm::test;
+
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
 /// 10^U(lo, hi): spreads sizes over several decades.
-double log_uniform(std::mt19937& rng, double lo_exp, double hi_exp) { return std::pow(10.0, uniform(rng, lo_exp, hi_exp)); }
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> n;
-  for (;;) {
-    const Vec3 v{n(rng), n(rng), n(rng)};
-    if (length(v) > 1e-3) return normalize(v);
-  }
-}
 
 Vec3 random_point(std::mt19937& rng, double scale) {
   return Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} * scale;

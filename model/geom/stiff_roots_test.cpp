@@ -14,24 +14,15 @@
 
 #include "geom/intersect.h"
 #include "geom/numerics.h"
+#include "geom/test_random.h"
 
 namespace rtm {
 namespace {
 
+using namespace rtm::test;
+
 using LD = long double;
 using Quad = __float128;  // 113-bit significand: products of two doubles are exact
-
-double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-double log_uniform(std::mt19937& rng, double lo_exp, double hi_exp) { return std::pow(10.0, uniform(rng, lo_exp, hi_exp)); }
-double random_sign(std::mt19937& rng) { return (rng() & 1) ? 1.0 : -1.0; }
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> n;
-  for (;;) {
-    const Vec3 v{n(rng), n(rng), n(rng)};
-    if (length(v) > 1e-3) return normalize(v);
-  }
-}
 
 template <class Real>
 constexpr double eps() {
@@ -49,18 +40,6 @@ template <class Real>
 Quad exact_discriminant(Real a, Real b, Real c) {
   return Quad(b) * Quad(b) - Quad(4) * Quad(a) * Quad(c);
 }
-
-/// Summary of a batch of cases, printed so the figures in docs/numerics.md can be re-measured.
-struct Tally {
-  int n = 0, wrong = 0;
-  double worst = 0;
-  void add(bool ok, double err = 0) {
-    ++n;
-    wrong += !ok;
-    if (std::isfinite(err)) worst = std::max(worst, err);
-  }
-  double rate() const { return n ? double(wrong) / n : 0; }
-};
 
 void report(const char* what, const Tally& t) {
   std::printf("[numerics] %-58s n=%d wrong=%.4f%% worst=%.3g\n", what, t.n, 100 * t.rate(), t.worst);

@@ -11,32 +11,14 @@
 
 #include "render/shade.h"
 #include "render/trace.h"
+#include "geom/test_random.h"
 
 namespace rtm {
 namespace {
 
+using namespace rtm::test;
+
 using LD = long double;
-
-double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> n;
-  for (;;) {
-    const Vec3 v{n(rng), n(rng), n(rng)};
-    if (length(v) > 1e-3) return normalize(v);
-  }
-}
-
-struct Tally {
-  int n = 0, wrong = 0;
-  double worst = 0;
-  void add(bool ok, double err = 0) {
-    ++n;
-    wrong += !ok;
-    if (std::isfinite(err)) worst = std::max(worst, err);
-  }
-  double rate() const { return n ? double(wrong) / n : 0; }
-};
 
 void report(const std::string& what, const Tally& t) {
   std::printf("[numerics] %-62s n=%d wrong=%.4f%% worst=%.3g\n", what.c_str(), t.n, 100 * t.rate(), t.worst);
