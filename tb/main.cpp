@@ -2,10 +2,17 @@
 #include <iostream>
 
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <systemc>
 
 #include "options.h"
 #include "pov_export.h"
+
+namespace {
+// The kernel's banner would land in the middle of rtm's own output. It is printed before
+// sc_main runs, so the variable is set by a static initialiser.
+const bool kQuietKernel = [] { return setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0) == 0; }();
+}  // namespace
 
 int sc_main(int argc, char* argv[]) {
   // Model errors become exceptions the command reports (with a non-zero exit), not aborts.
