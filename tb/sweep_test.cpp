@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -473,6 +474,11 @@ TEST(Sweep, PlotSweepWritesItsPngFiles) {
     expect_png(tmp / ("plots/" + p));
     EXPECT_NE(r.out.find(tmp / ("plots/" + p)), std::string::npos) << p;
   }
+  // The scaling table: a header, a rule and one line per successful run, efficiency from the
+  // configuration's first run (balls-4 scanlines on 2 PEs: 1,215,000 / (2 · 725,000) = 0.84).
+  const std::string table = slurp(tmp / "plots/scaling.md");
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 2 + n) << table;
+  EXPECT_NE(table.find("| balls-4 scanlines | 2 | 725,000 | 1.7 | 0.84 |"), std::string::npos) << table;
 
   // Nothing to plot: an error, no files.
   spit(tmp / "failed.csv", csv.str().substr(0, csv.str().find('\n') + 1));
