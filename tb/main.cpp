@@ -47,7 +47,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--pes", r.pes, "Processing elements")->check(CLI::Range(1, 65536));
   render->add_option("--timing", r.timing, "MAC model: fast (default) or clocked");
   render->add_option("--precision", r.precision, "MAC arithmetic: fp32 (default) or fp64");
-  render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks or strips");
+  render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks, strips or pixels");
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE")->check(CLI::Range(1, 256));
   render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");

@@ -93,6 +93,7 @@ const char* to_string(Partition p) {
     case Partition::Scanlines: return "scanlines";
     case Partition::Blocks: return "blocks";
     case Partition::Strips: return "strips";
+    case Partition::Pixels: return "pixels";
   }
   return "?";
 }
@@ -116,7 +117,7 @@ const std::vector<ConfigKey>& config_keys() {
   static const std::vector<ConfigKey> keys = {
       int_key("pes", "processing elements", &M::pes),
       enum_key("partition", "screen partitioning: scanlines (interleaved rows), blocks (tiles dealt round robin), strips (contiguous bands)",
-               &M::partition, {Partition::Scanlines, Partition::Blocks, Partition::Strips}),
+               &M::partition, {Partition::Scanlines, Partition::Blocks, Partition::Strips, Partition::Pixels}),
       int_key("tile", "block edge in pixels (partition = blocks)", &M::tile),
       enum_key("timing", "MAC model: fast (cycle-exact by formula) or clocked (a process on a clock)", &M::timing,
                {Timing::Fast, Timing::Clocked}),

@@ -10,7 +10,7 @@
 
 namespace rtm {
 
-enum class Partition { Scanlines, Blocks, Strips };
+enum class Partition { Scanlines, Blocks, Strips, Pixels };
 enum class Timing { Fast, Clocked };
 enum class Precision { Fp32, Fp64 };
 enum class FlowControl { Credits, None };

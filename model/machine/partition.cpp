@@ -1,9 +1,13 @@
 #include "machine/partition.h"
 
+#include <algorithm>
+
 namespace rtm {
 
 std::vector<std::vector<uint32_t>> partition_screen(int width, int height, const MachineConfig& c) {
   const int n = c.pes;
+  // A shear near the golden ratio of N keeps a PE's pixels in neighbouring rows far apart.
+  const int64_t shear = std::max<int64_t>(1, int64_t(0.6180339887 * n));
   std::vector<std::vector<uint32_t>> parts(static_cast<size_t>(n));
   auto pe_of = [&](int x, int y) -> int {
     switch (c.partition) {
@@ -13,6 +17,7 @@ std::vector<std::vector<uint32_t>> partition_screen(int width, int height, const
         return int((int64_t(y / c.tile) * tiles_x + x / c.tile) % n);
       }
       case Partition::Strips: return int(int64_t(y) * n / height);
+      case Partition::Pixels: return int((x + shear * y) % n);
     }
     return 0;
   };
