@@ -92,6 +92,8 @@ TEST(Cli, MachineStatsHaveEveryDocumentedKey) {
             28 * j["intersection_tests"].get<uint64_t>());
   EXPECT_LT(j["mac"]["products"].get<uint64_t>(), 28 * j["intersection_tests"].get<uint64_t>());
   EXPECT_TRUE(j["fifo"].contains("search"));
+  EXPECT_GT(j["host"]["scene_bytes"].get<uint64_t>(), 0u);
+  EXPECT_TRUE(j["left_out"].contains("scene_needs"));
 }
 
 // The machine against the reference, several scenes and PE counts.

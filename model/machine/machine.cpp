@@ -22,6 +22,7 @@ class Machine : public sc_core::sc_module {
   std::unique_ptr<Host> host;
   SceneNeeds needs;
   PeUnits units;
+  uint64_t scene_bytes = 0;
 
   SC_HAS_PROCESS(Machine);
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress)
@@ -32,6 +33,7 @@ class Machine : public sc_core::sc_module {
     auto parts = partition_screen(s.camera.width, s.camera.height, c);
     auto image = std::make_shared<SceneImage>(s, g, c);
     needs = c.precision == Precision::Fp32 ? analyse_scene(s, image->mem32.rams) : analyse_scene(s, image->mem64.rams);
+    scene_bytes = image->bytes;
     if (c.leave_out) {
       units.shadow_rays = needs.shadow_rays;
       units.reflection = needs.reflected_rays;
@@ -171,6 +173,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   }
   r.fifos = summarise_fifos(top.pes, r.end);
   r.needs = top.needs;
+  r.scene_bytes = top.scene_bytes;
   r.units = top.units;
   for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, "spawn_fifo"},
                             {top.units.shadow_rays, "shading.shadow_rays"},
