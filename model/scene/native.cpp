@@ -12,15 +12,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "scene/scene.h"
+#include "scene/scene_checks.h"
 
 namespace rtm {
-
-namespace scene_checks {  // defined in scene.cpp
-void check_camera(const Camera& c);
-void check_light(const Light& l);
-void check_resolution(int width, int height);
-void check_grid(const GridOptions& g);
-}  // namespace scene_checks
 
 namespace {
 

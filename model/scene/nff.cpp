@@ -8,16 +8,9 @@
 #include <string_view>
 
 #include "scene/scene.h"
+#include "scene/scene_checks.h"
 
 namespace rtm {
-
-namespace scene_checks {  // defined in scene.cpp
-void check_camera(const Camera& c);
-void check_resolution(int width, int height);
-void check_colour(const Vec3& c, const std::string& what);
-void check_light(const Light& l);
-void check_material(const Material& m);
-}  // namespace scene_checks
 
 namespace {
 

@@ -1,4 +1,5 @@
 #include "scene/scene.h"
+#include "scene/scene_checks.h"
 
 #include <algorithm>
 #include <cctype>
@@ -39,9 +40,6 @@ void check_coefficient(double x, const char* what) {
 // Checks shared with the parsers, which report them with a line number. They are declared again
 // in nff.cpp and native.cpp rather than in scene.h, which stays the public interface.
 namespace scene_checks {
-
-void check_resolution(int width, int height);
-void check_grid(const GridOptions& g);
 
 void check_camera(const Camera& c) {
   require(all_finite(c.eye), "camera eye is not finite");
