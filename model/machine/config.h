@@ -98,6 +98,11 @@ struct MachineConfig {
   /// as_finished: it reads each PE's as soon as that PE is done, while the others still work.
   Gather gather = Gather::AfterAll;
 
+  enum class Arbitration { Kernel, Ranked };
+  /// Who goes first when units finish in the same cycle: kernel (SystemC's event queue decides)
+  /// or ranked (a fixed order by unit: results independent of the kernel; machine/timekeeper.h).
+  Arbitration arbitration = Arbitration::Kernel;
+
   /// Root-unit latency including the discriminant option's extra stage.
   int root_cycles() const {
     return root_latency + (discriminant == Discriminant::Fma ? fma_discriminant_cycles : 0) +
@@ -134,6 +139,7 @@ const char* to_string(Precision p);
 const char* to_string(FlowControl f);
 const char* to_string(MachineConfig::RayGeneration g);
 const char* to_string(MachineConfig::Gather g);
+const char* to_string(MachineConfig::Arbitration a);
 const char* to_string(MachineConfig::SearchWalk w);
 const char* to_string(MachineConfig::MacSchedule m);
 const char* to_string(Discriminant d);

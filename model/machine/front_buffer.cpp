@@ -7,6 +7,7 @@ namespace rtm {
 FrontBuffer::FrontBuffer(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
     : sc_module(name),
       ctx_(ctx),
+      sleep_(ctx.sleeper()),
       mem_(mem),
       credits_(ctx.config.flow_control == FlowControl::None ? INT_MAX
                : ctx.config.loop_credits > 0                  ? ctx.config.loop_credits
@@ -36,7 +37,7 @@ void FrontBuffer::dispatch(MachineRay r, uint64_t extra_cycles) {
   const uint64_t cycles = uint64_t(ctx_.config.fb_dispatch_cycles) + extra_cycles;
   ctx_.counters.front.busy_cycles += cycles;
   ++ctx_.counters.front.items;
-  sc_core::wait(ctx_.cycles(cycles));
+  (*sleep_)(ctx_.cycles(cycles));
   rays_out->write(r);  // with credits, never blocks: in_flight <= credits <= the FIFO's depth
   probe_.end();
 }
@@ -59,7 +60,7 @@ void FrontBuffer::run() {
         continue;
       }
       if (next_primary_ < mem_.rays.size()) {
-        ctx_.align();
+        ctx_.align(*sleep_);
         if (next_primary_ == 0) ctx_.counters.start = sc_core::sc_time_stamp();
         MachineRay r;
         r.ray = mem_.rays[next_primary_];

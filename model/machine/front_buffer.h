@@ -45,6 +45,7 @@ class FrontBuffer : public sc_core::sc_module {
   void dispatch(MachineRay r, uint64_t extra_cycles);
 
   PeContext& ctx_;
+  std::unique_ptr<Sleeper> sleep_;
   LocalMemory& mem_;
   int credits_;
   std::deque<MachineRay> queue_;

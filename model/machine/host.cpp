@@ -9,7 +9,8 @@ namespace rtm {
 using sc_core::sc_time;
 
 Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
-           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes)
+           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
+           Timekeeper* keeper)
     : sc_module(name),
       image(s.camera.width, s.camera.height),
       config_(c),
@@ -17,7 +18,8 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       grid_(g),
       image_(std::move(image)),
       parts_(std::move(parts)),
-      pes_(std::move(pes)) {
+      pes_(std::move(pes)),
+      sleep_(keeper, 0) {
   for (size_t i = 0; i < pes_.size(); ++i)
     links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(("link" + std::to_string(i)).c_str()));
   SC_THREAD(run);
@@ -46,12 +48,12 @@ void Host::transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* 
   (*links[size_t(pe)])->b_transport(t, delay);
   if (ext) t.clear_extension(ext);
   if (t.is_response_error()) SC_REPORT_FATAL("rtm/host", ("transfer to PE " + std::to_string(pe) + " failed: " + t.get_response_string()).c_str());
-  sc_core::wait(delay);
+  sleep_(delay);
 }
 
 void Host::host_wait(sc_time t) {
   busy_until = sc_core::sc_time_stamp() + t;
-  sc_core::wait(t);
+  sleep_(t);
 }
 
 void Host::run() {

@@ -27,7 +27,8 @@ class Host : public sc_core::sc_module {
 
   SC_HAS_PROCESS(Host);
   Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
-       std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes);
+       std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
+       Timekeeper* keeper);
 
   HostTimes times;
   Image image;  ///< the gathered frame
@@ -47,6 +48,7 @@ class Host : public sc_core::sc_module {
   std::shared_ptr<const SceneImage> image_;
   std::vector<std::vector<uint32_t>> parts_;
   std::vector<Pe*> pes_;
+  Sleeper sleep_;  ///< rank 0: the host goes first in its cycle
 };
 
 /// Bytes the hardware would move for one primary ray: origin and direction as six words and a

@@ -50,6 +50,7 @@ class IntersectionStage : public sc_core::sc_module {
   void root_thread();
 
   PeContext& ctx_;
+  std::unique_ptr<Sleeper> mac_sleep_, root_sleep_;
   MacTiming timing_;
   std::unique_ptr<ClockedMac> clocked_;  ///< null in fast timing
   MeteredFifo<MacResult> to_root_;

@@ -12,11 +12,21 @@ ClockedMac::ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Pr
 }
 
 uint64_t ClockedMac::run(const MacJob& job, std::vector<std::array<double, 3>>& sums) {
+  start(job, sums);
+  sc_core::wait(done_);
+  return finish();
+}
+
+void ClockedMac::start(const MacJob& job, std::vector<std::array<double, 3>>& sums) {
   job_ = &job;
   sums_ = &sums;
   sums.assign(job.rams.size(), {0, 0, 0});
+  finished_ = false;
   start_.notify();
-  sc_core::wait(done_);
+}
+
+uint64_t ClockedMac::finish() {
+  if (!finished_) return 0;
   job_ = nullptr;
   return cycles_;
 }
@@ -111,6 +121,7 @@ void ClockedMac::clocked() {
     }
     if (tracing) busy.write(false), m1_valid.write(false), m2_valid.write(false), add_valid.write(false);
     cycles_ = end;
+    finished_ = true;
     // The sums are in the accumulator at this edge; the stage takes them at the next cycle boundary.
     done_.notify(period_ / 2);
   }

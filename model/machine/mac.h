@@ -97,6 +97,11 @@ class ClockedMac : public sc_core::sc_module {
   /// Runs one job from the next clock edge; blocks the calling thread until the last sums are
   /// out. Returns α, β, γ per primitive and the cycles taken (the same as MacTiming's count).
   uint64_t run(const MacJob& job, std::vector<std::array<double, 3>>& sums);
+  /// The same in two halves, for a caller that does its own waiting (arbitration = ranked):
+  /// start() posts the job; finish(), called at the cycle boundary after the last edge or
+  /// later, returns the cycles taken, or 0 if the job is still running.
+  void start(const MacJob& job, std::vector<std::array<double, 3>>& sums);
+  uint64_t finish();
 
   /// Traces the pipeline registers; they change only inside the waveform window.
   void trace(sc_core::sc_trace_file* tf, const std::string& prefix, const TraceWindow* window);
@@ -119,6 +124,7 @@ class ClockedMac : public sc_core::sc_module {
   const MacJob* job_ = nullptr;
   std::vector<std::array<double, 3>>* sums_ = nullptr;
   uint64_t cycles_ = 0;
+  bool finished_ = false;
   sc_core::sc_event start_, done_;
   const TraceWindow* window_ = nullptr;
 };

@@ -18,6 +18,7 @@ namespace {
 class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
+  std::unique_ptr<Timekeeper> keeper;        ///< arbitration = ranked only
   std::vector<std::unique_ptr<Pe>> pes;
   std::unique_ptr<Host> host;
   SceneNeeds needs;
@@ -30,6 +31,7 @@ class Machine : public sc_core::sc_module {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
+    if (c.arbitration == MachineConfig::Arbitration::Ranked) keeper = std::make_unique<Timekeeper>("timekeeper");
     auto parts = partition_screen(s.camera.width, s.camera.height, c);
     auto image = std::make_shared<SceneImage>(s, g, c);
     needs = c.precision == Precision::Fp32 ? analyse_scene(s, image->mem32.rams) : analyse_scene(s, image->mem64.rams);
@@ -43,11 +45,11 @@ class Machine : public sc_core::sc_module {
     std::vector<Pe*> raw;
     for (int i = 0; i < c.pes; ++i) {
       pes.push_back(std::make_unique<Pe>(("pe" + std::to_string(i)).c_str(), i, c, units, parts[size_t(i)].size(),
-                                         clock.get()));
+                                         clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
-    host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw);
+    host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
     // The clock keeps a clocked simulation alive even when the loop has stalled: watch for it.
     if (progress_ || c.timing == Timing::Clocked) SC_THREAD(monitor);

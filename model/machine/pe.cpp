@@ -4,8 +4,9 @@
 
 namespace rtm {
 namespace {
-PeContext make_context(int index, const MachineConfig& c, const PeUnits& units) {
+PeContext make_context(int index, const MachineConfig& c, const PeUnits& units, Timekeeper* keeper) {
   PeContext ctx;
+  ctx.keeper = keeper;
   ctx.pe = index;
   ctx.units = units;
   ctx.config = c;
@@ -15,9 +16,9 @@ PeContext make_context(int index, const MachineConfig& c, const PeUnits& units) 
 }  // namespace
 
 Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-       sc_core::sc_clock* clock)
+       sc_core::sc_clock* clock, Timekeeper* keeper)
     : sc_module(name),
-      ctx(make_context(index, c, units)),
+      ctx(make_context(index, c, units, keeper)),
       memory("memory", ctx, pixels),
       search_fifo("search_fifo", c.search_fifo_depth, "search"),
       intersect_fifo("intersect_fifo", c.intersect_fifo_depth, "intersect"),

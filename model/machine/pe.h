@@ -38,7 +38,7 @@ class Pe : public sc_core::sc_module {
 
   /// `pixels`: how many pixels of the screen this PE renders.
   Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-     sc_core::sc_clock* clock);
+     sc_core::sc_clock* clock, Timekeeper* keeper);
 
   bool finished() const { return front.finished(); }
   /// Every FIFO, for statistics and deadlock reports.

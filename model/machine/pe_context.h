@@ -9,6 +9,7 @@
 #include <systemc>
 
 #include "machine/config.h"
+#include "machine/timekeeper.h"
 #include "machine/trace_window.h"
 #include "render/reference.h"
 #include "render/trace.h"
@@ -86,13 +87,20 @@ struct PeContext {
   PeCounters counters;
   TraceWindow window;
   uint32_t next_ray_id = 0;
+  Timekeeper* keeper = nullptr;  ///< arbitration = ranked: every timed wait goes through it
+  int next_rank = 0;             ///< the next process's same-cycle rank (timekeeper.h)
 
   sc_core::sc_time cycles(uint64_t n) const { return cycle * double(n); }
-  /// Waits until the next PE clock boundary (work arriving from the host is not aligned).
-  void align() const {
-    const sc_dt::uint64 now = sc_core::sc_time_stamp().value(), c = cycle.value();
-    if (const sc_dt::uint64 r = now % c) sc_core::wait(sc_core::sc_time::from_value(c - r));
+  /// A sleeper for one more process of this PE, ranked after the ones made before it.
+  std::unique_ptr<Sleeper> sleeper() {
+    return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + next_rank++);
   }
+  /// Waits until the next PE clock boundary (work arriving from the host is not aligned).
+  void align(Sleeper& sleep) const {
+    const sc_dt::uint64 now = sc_core::sc_time_stamp().value(), c = cycle.value();
+    if (const sc_dt::uint64 r = now % c) sleep(sc_core::sc_time::from_value(c - r));
+  }
+  static constexpr int kRanksPerPe = 1 << 16;
 };
 
 }  // namespace rtm

@@ -4,7 +4,9 @@
 
 namespace rtm {
 
-SearchUnit::SearchUnit(sc_core::sc_module_name name, PeContext& ctx) : sc_module(name), ctx_(ctx) { SC_THREAD(run); }
+SearchUnit::SearchUnit(sc_core::sc_module_name name, PeContext& ctx) : sc_module(name), ctx_(ctx), sleep_(ctx.sleeper()) {
+  SC_THREAD(run);
+}
 
 void SearchUnit::run() {
   const MachineConfig& c = ctx_.config;
@@ -25,7 +27,7 @@ void SearchUnit::run() {
     }
     ctx_.counters.search.busy_cycles += cycles;
     ++ctx_.counters.search.items;
-    sc_core::wait(ctx_.cycles(cycles));
+    (*sleep_)(ctx_.cycles(cycles));
     switch (route) {
       case Route::Intersect: occupied_out->write(r); break;
       case Route::Feedback: feedback_out->write(r); break;

@@ -25,6 +25,7 @@ class SearchUnit : public sc_core::sc_module {
   void run();
 
   PeContext& ctx_;
+  std::unique_ptr<Sleeper> sleep_;
   UnitProbe probe_;
 };
 

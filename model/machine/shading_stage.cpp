@@ -3,7 +3,7 @@
 namespace rtm {
 
 ShadingStage::ShadingStage(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
-    : sc_module(name), ctx_(ctx), mem_(mem) {
+    : sc_module(name), ctx_(ctx), sleep_(ctx.sleeper()), mem_(mem) {
   if (ctx.units.shadow_rays) units_[size_t(RayKind::Shadow)] = std::make_unique<SpawnUnit>("shadow_rays");
   if (ctx.units.reflection) units_[size_t(RayKind::Reflected)] = std::make_unique<SpawnUnit>("reflection");
   if (ctx.units.refraction) units_[size_t(RayKind::Transmitted)] = std::make_unique<SpawnUnit>("refraction");
@@ -50,7 +50,7 @@ void ShadingStage::run() {
       ++u->rays;
       u->probe.begin(r.id);
     }
-    sc_core::wait(ctx_.cycles(cycles));
+    (*sleep_)(ctx_.cycles(cycles));
     for (auto& u : units_)
       if (u) u->probe.end();
     ends_out->write(RayEnd{r.id});

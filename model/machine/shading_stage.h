@@ -36,6 +36,7 @@ class ShadingStage : public sc_core::sc_module {
   void run();
 
   PeContext& ctx_;
+  std::unique_ptr<Sleeper> sleep_;
   LocalMemory& mem_;
   UnitProbe probe_;
   std::unique_ptr<SpawnUnit> units_[kRayKinds];  ///< by RayKind; none for primary rays
