@@ -11,7 +11,8 @@
 namespace rtm {
 namespace {
 
-const std::string kSpdDir = RTM_SOURCE_DIR "/../shared/scenes/spd";
+// The whole SPD corpus, as ../shared/scenes/spd has it (scenes/spd-corpus/README.md).
+const std::string kSpdDir = RTM_SOURCE_DIR "/scenes/spd-corpus";
 
 /// A minimal valid file: view, one light, one material; the test appends primitives.
 const std::string kHeader =
@@ -46,7 +47,7 @@ struct SpdRow {
   double angle;
 };
 
-// The table in shared/scenes/spd/README.md (materials -1: not listed for benchmark sizes).
+// The table in scenes/spd-corpus/README.md (materials -1: not listed for benchmark sizes).
 const SpdRow kSpd[] = {
     {"balls-1.nff", 10, 0, 0, 1, 4, 3, 2, 512, 45},       {"balls-2.nff", 91, 0, 0, 1, 4, 3, 2, 512, 45},
     {"balls-3.nff", 820, 0, 0, 1, 4, 3, 2, 512, 45},      {"rings-1.nff", 30, 30, 0, 1, 4, 3, 7, 512, 45},
@@ -65,7 +66,7 @@ const SpdRow kSpd[] = {
 };
 
 TEST(NffSpd, EveryFileMatchesTheReadmeTable) {
-  if (!std::filesystem::is_directory(kSpdDir)) GTEST_SKIP() << kSpdDir << " is absent";
+  ASSERT_TRUE(std::filesystem::is_directory(kSpdDir)) << kSpdDir;
   for (const SpdRow& row : kSpd) {
     SCOPED_TRACE(row.file);
     const Scene s = load_scene(kSpdDir + "/" + row.file);
@@ -95,7 +96,7 @@ TEST(NffSpd, EveryFileMatchesTheReadmeTable) {
 }
 
 TEST(NffSpd, Tree1ReadsExactly) {
-  if (!std::filesystem::is_directory(kSpdDir)) GTEST_SKIP() << kSpdDir << " is absent";
+  ASSERT_TRUE(std::filesystem::is_directory(kSpdDir)) << kSpdDir;
   const Scene s = load_scene(kSpdDir + "/tree-1.nff");
   EXPECT_EQ(s.background, Vec3(0.078, 0.361, 0.753));
   EXPECT_EQ(s.camera.eye, Vec3(4.5, 0.4, 2));
