@@ -370,7 +370,7 @@ TEST(Sweep, VariantsAreWholeMachinesComparedSideBySide) {
   spit(tmp / "spec.yaml", "name: variants\nscene_dir: " + kScenes +
                               "\nscenes: [balls-1.nff]\nsizes: [16x16]\npes: [1, 2]\nset:\n  loop_credits: [0]\n"
                               "variants:\n  paper: {}\n"
-                              "  improved: {ray_generation: pe, broadcast: true, gather: as_finished}\n");
+                              "  improved: {ray_generation: pe, broadcast: true, gather: as_finished, partition: pixels}\n");
   const Proc ok = sh(sweep_cmd(tmp / "spec.yaml", out, "--jobs 2"), tmp);
   ASSERT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   const Csv csv = read_csv(out + "/results.csv");
@@ -386,6 +386,8 @@ TEST(Sweep, VariantsAreWholeMachinesComparedSideBySide) {
     const bool improved = row.at("variant") == "improved";
     EXPECT_EQ(stats["config"]["ray_generation"], improved ? "pe" : "host") << row.at("run_id");
     EXPECT_EQ(stats["config"]["gather"], improved ? "as_finished" : "after_all") << row.at("run_id");
+    // A variant may fix a top-level axis: its runs use its value instead of the axis's.
+    EXPECT_EQ(row.at("partition"), improved ? "pixels" : "scanlines") << row.at("run_id");
   }
   EXPECT_EQ(per_variant, (std::map<std::string, int>{{"improved", 2}, {"paper", 2}}));
   for (const std::string& png : kPlots) expect_png(out + "/plots/" + png);
