@@ -143,20 +143,22 @@ void Host::run() {
     // with one transfer at a time, so PEs finishing meanwhile queue up.
     std::vector<bool> gathered(size_t(n), false);
     for (int left = n; left > 0;) {
+      int ready = -1;
       sc_core::sc_event_or_list pending;
-      bool any_done = false;
-      for (int pe = 0; pe < n; ++pe) {
+      for (int pe = 0; pe < n && ready < 0; ++pe) {
         if (gathered[size_t(pe)]) continue;
-        if (pes_[size_t(pe)]->finished()) {
-          gather(pe);
-          gathered[size_t(pe)] = true;
-          --left;
-          any_done = true;
-          break;  // re-check from the start: time has passed
-        }
-        pending |= pes_[size_t(pe)]->front.finished_event;
+        if (pes_[size_t(pe)]->finished())
+          ready = pe;
+        else
+          pending |= pes_[size_t(pe)]->front.finished_event;
       }
-      if (!any_done && left > 0) sc_core::wait(pending);
+      if (ready < 0) {
+        sc_core::wait(pending);
+        continue;
+      }
+      gather(ready);  // takes time: look again from the first PE afterwards
+      gathered[size_t(ready)] = true;
+      --left;
     }
     // The frame's PE phase ends with the last PE, whatever the link was doing then.
     for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
