@@ -237,7 +237,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
               {"clipped_primitives", m.needs.clipped_primitives},
               {"mac_products_per_test_full", kMacProducts},
               {"mac_products_per_test_sparse",
-               m.needs.clipped.empty() ? 0.0 : double(m.needs.products_sparse) / double(m.needs.clipped.size())},
+               m.needs.mac_ops.empty() ? 0.0 : double(m.needs.products_sparse) / double(m.needs.mac_ops.size())},
               {"grid", m.needs.grid}}}}},
           {"per_pe", per_pe},
           {"fifo", fifo},

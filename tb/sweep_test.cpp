@@ -357,7 +357,7 @@ TEST(Sweep, FailedRunsAreRecordedWithTheirErrorMessage) {
   EXPECT_EQ(read_csv(out + "/results.csv").rows.size(), 8u);
 }
 
-// A bad spec is a usage error, before anything runs.
+// Variants: named machines in one sweep, one `variant` column, each with its own settings.
 TEST(Sweep, VariantsAreWholeMachinesComparedSideBySide) {
   Tmp tmp;
   spit(tmp / "spec.yaml", "name: variants\nscene_dir: " + kScenes +
@@ -393,6 +393,7 @@ TEST(Sweep, VariantsAreWholeMachinesComparedSideBySide) {
   for (const std::string& png : kPlots) expect_png(out + "/plots/" + png);
 }
 
+// A bad spec is a usage error, before anything runs.
 TEST(Sweep, ABadSpecIsRejectedUpFront) {
   Tmp tmp;
   const std::string out = tmp / "out";
