@@ -112,6 +112,7 @@ const char* to_string(MachineConfig::SearchWalk w) {
 const char* to_string(MachineConfig::RayGeneration g) { return g == MachineConfig::RayGeneration::Host ? "host" : "pe"; }
 const char* to_string(MachineConfig::Gather g) { return g == MachineConfig::Gather::AfterAll ? "after_all" : "as_finished"; }
 const char* to_string(MachineConfig::Arbitration a) { return a == MachineConfig::Arbitration::Kernel ? "kernel" : "ranked"; }
+const char* to_string(MachineConfig::PeSimulation p) { return p == MachineConfig::PeSimulation::Auto ? "auto" : "modules"; }
 
 const std::vector<ConfigKey>& config_keys() {
   using M = MachineConfig;
@@ -175,8 +176,10 @@ const std::vector<ConfigKey>& config_keys() {
       double_key("link_latency_ns", "host <-> PE link latency per transaction, ns", &M::link_latency_ns),
       bool_key("broadcast", "one scene transfer reaches every PE (else one transfer per PE)", &M::broadcast),
       int_key("ray_block", "primary rays per host -> PE transfer (0: all of a PE's rays at once)", &M::ray_block),
-      enum_key("arbitration", "same-cycle order: kernel (SystemC's event queue decides) or ranked (a fixed order by unit, independent of the kernel: clocked and fast timing give the same cycles on any frame)",
+      enum_key("arbitration", "same-cycle order: ranked (a fixed order by unit, independent of the kernel: clocked and fast timing give the same cycles on any frame) or kernel (SystemC's event queue decides)",
                &M::arbitration, {M::Arbitration::Kernel, M::Arbitration::Ranked}),
+      enum_key("pe_simulation", "auto (each PE's pipeline on the PE engine where the configuration allows: the same cycles, several times faster) or modules (one SystemC process per unit)",
+               &M::pe_simulation, {M::PeSimulation::Auto, M::PeSimulation::Modules}),
       enum_key("gather", "after_all (the host reads the frame buffers once every PE is done, as in the paper) or as_finished (each PE's as soon as it is done)",
                &M::gather, {M::Gather::AfterAll, M::Gather::AsFinished}),
   };

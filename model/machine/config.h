@@ -2,6 +2,7 @@
 // Plain data, parsed once by the testbench and handed to the modules' constructors.
 #pragma once
 
+#include <climits>
 #include <functional>
 #include <string>
 #include <vector>
@@ -101,7 +102,12 @@ struct MachineConfig {
   enum class Arbitration { Kernel, Ranked };
   /// Who goes first when units finish in the same cycle: kernel (SystemC's event queue decides)
   /// or ranked (a fixed order by unit: results independent of the kernel; machine/timekeeper.h).
-  Arbitration arbitration = Arbitration::Kernel;
+  Arbitration arbitration = Arbitration::Ranked;
+
+  enum class PeSimulation { Auto, Modules };
+  /// auto: each PE's pipeline runs on the PE engine (machine/pe_engine.h) when the configuration
+  /// allows it, with the same results as the modules; modules: always one SystemC process per unit.
+  PeSimulation pe_simulation = PeSimulation::Auto;
 
   /// Root-unit latency including the discriminant option's extra stage.
   int root_cycles() const {
@@ -112,6 +118,10 @@ struct MachineConfig {
   MacNumerics numerics() const { return {discriminant, coef_scaling, origin_latch}; }
   /// The safe number of loop credits: no FIFO past the front buffer can then ever be full.
   int safe_credits() const;
+  /// The front buffer's credits: loop_credits, its safe value, or unlimited without flow control.
+  int loop_credits_in_force() const {
+    return flow_control == FlowControl::None ? INT_MAX : loop_credits > 0 ? loop_credits : safe_credits();
+  }
   /// Throws std::invalid_argument naming the offending key and why.
   void validate() const;
 };
@@ -140,6 +150,7 @@ const char* to_string(FlowControl f);
 const char* to_string(MachineConfig::RayGeneration g);
 const char* to_string(MachineConfig::Gather g);
 const char* to_string(MachineConfig::Arbitration a);
+const char* to_string(MachineConfig::PeSimulation p);
 const char* to_string(MachineConfig::SearchWalk w);
 const char* to_string(MachineConfig::MacSchedule m);
 const char* to_string(Discriminant d);

@@ -1,17 +1,16 @@
 #include "machine/front_buffer.h"
 
-#include <climits>
+#include "machine/unit_work.h"
 
 namespace rtm {
 
-FrontBuffer::FrontBuffer(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
+FrontBuffer::FrontBuffer(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem, sc_core::sc_event& finished)
     : sc_module(name),
       ctx_(ctx),
-      sleep_(ctx.sleeper()),
+      sleep_(ctx.sleeper(UnitRank::FrontBuffer)),
       mem_(mem),
-      credits_(ctx.config.flow_control == FlowControl::None ? INT_MAX
-               : ctx.config.loop_credits > 0                  ? ctx.config.loop_credits
-                                                              : ctx.config.safe_credits()) {
+      credits_(ctx.config.loop_credits_in_force()),
+      finished_event_(finished) {
   SC_THREAD(run);
 }
 
@@ -31,14 +30,13 @@ void FrontBuffer::drain() {
   if (ctx_.window.now()) traced_waiting_ = int(queue_.size());
 }
 
-void FrontBuffer::dispatch(MachineRay r, uint64_t extra_cycles) {
+void FrontBuffer::dispatch(MachineRay r, uint64_t cycles) {
   ++in_flight_;
   probe_.begin(r.id);
-  const uint64_t cycles = uint64_t(ctx_.config.fb_dispatch_cycles) + extra_cycles;
   ctx_.counters.front.busy_cycles += cycles;
   ++ctx_.counters.front.items;
   (*sleep_)(ctx_.cycles(cycles));
-  rays_out->write(r);  // with credits, never blocks: in_flight <= credits <= the FIFO's depth
+  put(rays_out, r, ctx_, *sleep_);  // with credits, never waits: in_flight <= credits <= the FIFO's depth
   probe_.end();
 }
 
@@ -56,27 +54,20 @@ void FrontBuffer::run() {
         if (spilled) ++ctx_.counters.spills;
         MachineRay r = queue_.front();
         queue_.pop_front();
-        dispatch(r, spilled ? uint64_t(ctx_.config.spill_cycles) : 0);
+        dispatch(r, dispatch_cycles(ctx_.config, spilled, false));
         continue;
       }
       if (next_primary_ < mem_.rays.size()) {
         ctx_.align(*sleep_);
         if (next_primary_ == 0) ctx_.counters.start = sc_core::sc_time_stamp();
-        MachineRay r;
-        r.ray = mem_.rays[next_primary_];
-        r.slot = uint32_t(next_primary_);
-        r.id = ctx_.next_ray_id++;
-        ++next_primary_;
-        ++ctx_.counters.counts.rays[size_t(RayKind::Primary)];
-        const bool generate = ctx_.config.ray_generation == MachineConfig::RayGeneration::Pe;
-        dispatch(r, generate ? uint64_t(ctx_.config.pe_ray_cycles) : 0);
+        dispatch(primary_ray(ctx_, mem_.rays, next_primary_++), dispatch_cycles(ctx_.config, false, true));
         continue;
       }
     }
     if (next_primary_ == mem_.rays_expected && queue_.empty() && in_flight_ == 0) {
       finished_ = true;
       ctx_.counters.finish = sc_core::sc_time_stamp();
-      finished_event.notify(sc_core::SC_ZERO_TIME);
+      finished_event_.notify(sc_core::SC_ZERO_TIME);
       return;
     }
     const bool stalled = !queue_.empty() || next_primary_ < mem_.rays.size();  // only credits hold them back

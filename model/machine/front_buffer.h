@@ -29,10 +29,10 @@ class FrontBuffer : public sc_core::sc_module {
   sc_core::sc_fifo_out<MachineRay> rays_out{"rays_out"};            ///< to the search units
 
   SC_HAS_PROCESS(FrontBuffer);
-  FrontBuffer(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem);
+  /// `finished` is notified when every ray of the PE's part of the frame has ended.
+  FrontBuffer(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem, sc_core::sc_event& finished);
 
   bool finished() const { return finished_; }
-  sc_core::sc_event finished_event;
   /// Rays past the front buffer and rays waiting in it, for deadlock reports.
   int in_flight() const { return in_flight_; }
   size_t waiting() const { return queue_.size(); }
@@ -41,8 +41,8 @@ class FrontBuffer : public sc_core::sc_module {
  private:
   void run();
   void drain();
-  /// Hands a ray to the search units; extra_cycles: spill-area access or ray generation.
-  void dispatch(MachineRay r, uint64_t extra_cycles);
+  /// Hands a ray to the search units, taking `cycles`.
+  void dispatch(MachineRay r, uint64_t cycles);
 
   PeContext& ctx_;
   std::unique_ptr<Sleeper> sleep_;
@@ -52,6 +52,7 @@ class FrontBuffer : public sc_core::sc_module {
   size_t next_primary_ = 0;
   int in_flight_ = 0;
   bool finished_ = false;
+  sc_core::sc_event& finished_event_;
   UnitProbe probe_;
   int traced_waiting_ = 0;
   sc_core::sc_event_or_list inputs_;  ///< any input FIFO written, or primary rays arrived

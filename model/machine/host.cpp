@@ -9,7 +9,7 @@ namespace rtm {
 using sc_core::sc_time;
 
 Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
-           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
+           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<PeBase*> pes,
            Timekeeper* keeper)
     : sc_module(name),
       image(s.camera.width, s.camera.height),
@@ -134,8 +134,8 @@ void Host::run() {
     }
   };
   if (config_.gather == MachineConfig::Gather::AfterAll) {
-    for (Pe* pe : pes_)
-      if (!pe->finished()) sc_core::wait(pe->front.finished_event);
+    for (PeBase* pe : pes_)
+      if (!pe->finished()) sc_core::wait(pe->finished_event);
     times.pes_done = sc_core::sc_time_stamp();
     for (int pe = 0; pe < n; ++pe) gather(pe);
   } else {
@@ -150,7 +150,7 @@ void Host::run() {
         if (pes_[size_t(pe)]->finished())
           ready = pe;
         else
-          pending |= pes_[size_t(pe)]->front.finished_event;
+          pending |= pes_[size_t(pe)]->finished_event;
       }
       if (ready < 0) {
         sc_core::wait(pending);
@@ -161,7 +161,7 @@ void Host::run() {
       --left;
     }
     // The frame's PE phase ends with the last PE, whatever the link was doing then.
-    for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
+    for (PeBase* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
   }
   times.gathered = sc_core::sc_time_stamp();
   done = true;

@@ -1,23 +1,13 @@
 #include "machine/intersection_stage.h"
 
-#include "machine/routing.h"
 
 namespace rtm {
-
-uint64_t back_end_cycles(const MachineConfig& c, const MacTiming::Job& mac, const std::vector<uint32_t>& clips) {
-  uint64_t unit_free = 0;
-  for (size_t p = 0; p < clips.size(); ++p) {
-    const uint64_t ready = mac.done(int(p)) + 1 + uint64_t(c.root_cycles());
-    unit_free = std::max(unit_free, ready) + clips[p] * uint64_t(c.clip_cycles) + uint64_t(c.sort_cycles);
-  }
-  return unit_free - mac.cycles();
-}
 
 IntersectionStage::IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock)
     : sc_module(name),
       ctx_(ctx),
-      mac_sleep_(ctx.sleeper()),
-      root_sleep_(ctx.sleeper()),
+      mac_sleep_(ctx.sleeper(UnitRank::Mac)),
+      root_sleep_(ctx.sleeper(UnitRank::Root)),
       timing_(ctx.config),
       to_root_("to_root", ctx.config.root_fifo_depth, "root") {
   if (clock) {
@@ -70,24 +60,12 @@ void IntersectionStage::mac_thread() {
     MacResult m;
     m.r = rays_in->read();
     mac_probe_.begin(m.r.id);
-    const SceneImage& img = *ctx_.image;
-    const DdaState& s = m.r.examined;
-    const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
-    const int n = int(img.grid->count(v));
-    const bool fp32 = ctx_.config.precision == Precision::Fp32;
-    if (fp32)
-      form_voxel_abg(img.mem32, m.r.ray, v, m.abg32, s.t_enter);
-    else
-      form_voxel_abg(img.mem64, m.r.ray, v, m.abg64, s.t_enter);
-    std::vector<int> counts;
-    int products = 0;
-    for (const uint32_t *it = img.grid->begin(v), *end = it + n; it != end; ++it) {
-      counts.push_back(fp32 ? img.mem32.products(*it) : img.mem64.products(*it));
-      products += counts.back();
-    }
-    m.plan = timing_.job(counts);
-    const uint64_t cycles = m.plan.cycles();
+    const uint64_t cycles = mac_work(ctx_, timing_, m);
     if (clocked_) {
+      const SceneImage& img = *ctx_.image;
+      const DdaState& s = m.r.examined;
+      const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
+      const bool fp32 = ctx_.config.precision == Precision::Fp32;
       const MacJob job = fp32 ? make_job(img.mem32, m.r, v) : make_job(img.mem64, m.r, v);
       uint64_t ran;
       if (ctx_.keeper) {
@@ -106,13 +84,8 @@ void IntersectionStage::mac_thread() {
     } else {
       (*mac_sleep_)(ctx_.cycles(cycles));
     }
-    ctx_.counters.mac_products += uint64_t(products);
-    ctx_.counters.mac_products_saved += uint64_t(n) * kMacProducts - uint64_t(products);
-    ctx_.counters.mac_cycles_saved += timing_.job_cycles(n) - cycles;
-    ctx_.counters.mac.busy_cycles += cycles;
-    ++ctx_.counters.mac.items;
     mac_probe_.end();
-    to_root_.write(m);  // never blocks: see FrontBuffer
+    put(&to_root_, m, ctx_, *mac_sleep_);
   }
 }
 
@@ -120,24 +93,13 @@ void IntersectionStage::root_thread() {
   std::vector<uint32_t> clips;
   for (;;) {
     MacResult m = to_root_.read();
-    MachineRay& r = m.r;
-    root_probe_.begin(r.id);
-    const SceneImage& img = *ctx_.image;
-    const int64_t v = img.grid->index(r.examined.cell[0], r.examined.cell[1], r.examined.cell[2]);
-    const VoxelHit h = ctx_.config.precision == Precision::Fp32
-                           ? resolve_voxel(img.mem32, r.ray, r.examined, v, m.abg32.data(), &clips)
-                           : resolve_voxel(img.mem64, r.ray, r.examined, v, m.abg64.data(), &clips);
-    ctx_.counters.counts.intersection_tests += h.tests;
-    ctx_.counters.counts.clip_tests += h.clip_tests;
-    const uint64_t cycles = back_end_cycles(ctx_.config, m.plan, clips);
-    ctx_.counters.root.busy_cycles += cycles;
-    ++ctx_.counters.root.items;
-    (*root_sleep_)(ctx_.cycles(cycles));
-
-    switch (intersection_route(*img.scene, r, h)) {
-      case Route::Shade: hits_out->write(r); break;
-      case Route::Feedback: feedback_out->write(r); break;
-      case Route::End: ends_out->write(RayEnd{r.id}); break;
+    root_probe_.begin(m.r.id);
+    const Routed w = root_work(ctx_, m, clips);
+    (*root_sleep_)(ctx_.cycles(w.cycles));
+    switch (w.route) {
+      case Route::Shade: put(hits_out, m.r, ctx_, *root_sleep_); break;
+      case Route::Feedback: put(feedback_out, m.r, ctx_, *root_sleep_); break;
+      case Route::End: put(ends_out, RayEnd{m.r.id}, ctx_, *root_sleep_); break;
       case Route::Intersect: break;  // not a route out of this stage
     }
     root_probe_.end();

@@ -13,22 +13,9 @@
 #include "machine/machine_ray.h"
 #include "machine/metered_fifo.h"
 #include "machine/pe_context.h"
+#include "machine/unit_work.h"
 
 namespace rtm {
-
-/// What the MAC hands the root unit: the ray and α, β, γ per primitive of its voxel.
-struct MacResult {
-  MachineRay r;
-  MacTiming::Job plan;  ///< when each primitive's sums left the MAC
-  std::vector<Abg<float>> abg32;
-  std::vector<Abg<double>> abg64;
-};
-inline std::ostream& operator<<(std::ostream& os, const MacResult& m) { return os << m.r; }
-
-/// Cycles the root unit, clip tests and sort need after the MAC finished a voxel, given each
-/// primitive's clip-test count: primitive p's roots are out root_latency after its sums, and its
-/// clip tests and sort then run on one shared unit.
-uint64_t back_end_cycles(const MachineConfig& c, const MacTiming::Job& mac, const std::vector<uint32_t>& clips);
 
 class IntersectionStage : public sc_core::sc_module {
  public:

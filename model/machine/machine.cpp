@@ -1,5 +1,6 @@
 #include "machine/machine.h"
 
+#include "machine/engine_pe.h"
 #include "machine/partition.h"
 #include "render/scene_needs.h"
 
@@ -19,15 +20,18 @@ class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
   std::unique_ptr<Timekeeper> keeper;        ///< arbitration = ranked only
-  std::vector<std::unique_ptr<Pe>> pes;
+  std::vector<std::unique_ptr<PeBase>> pes;
   std::unique_ptr<Host> host;
   SceneNeeds needs;
   PeUnits units;
   uint64_t scene_bytes = 0;
 
   SC_HAS_PROCESS(Machine);
-  Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress)
-      : sc_module(name), config_(c), progress_(progress) {
+  std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
+
+  Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
+          bool tracing)
+      : sc_module(name), engine_unsupported(rtm::engine_unsupported(c, tracing)), config_(c), progress_(progress) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
@@ -42,17 +46,22 @@ class Machine : public sc_core::sc_module {
       units.refraction = needs.transmitted_rays;
       units.spawn_path = needs.spawns_rays();
     }
-    std::vector<Pe*> raw;
+    std::vector<PeBase*> raw;
     for (int i = 0; i < c.pes; ++i) {
-      pes.push_back(std::make_unique<Pe>(("pe" + std::to_string(i)).c_str(), i, c, units, parts[size_t(i)].size(),
-                                         clock.get(), keeper.get()));
+      const std::string pe = "pe" + std::to_string(i);
+      const size_t pixels = parts[size_t(i)].size();
+      if (engine_unsupported.empty())
+        pes.push_back(std::make_unique<EnginePe>(pe.c_str(), i, c, units, pixels, keeper.get()));
+      else
+        pes.push_back(std::make_unique<Pe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
-    // The clock keeps a clocked simulation alive even when the loop has stalled: watch for it.
-    if (progress_ || c.timing == Timing::Clocked) SC_THREAD(monitor);
+    // The clock, and units retrying writes into full FIFOs, keep a simulation alive even when
+    // the loop has stalled: watch for it.
+    if (progress_ || c.timing == Timing::Clocked || c.flow_control == FlowControl::None) SC_THREAD(monitor);
   }
 
  private:
@@ -104,7 +113,7 @@ class Machine : public sc_core::sc_module {
   uint64_t total_pixels_ = 0;
 };
 
-std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
+std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<PeBase>>& pes, sc_time end) {
   std::map<std::string, FifoSummary> by_kind;
   std::map<std::string, int> count;
   for (auto& pe : pes)
@@ -132,7 +141,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   // the trace file's time unit) are not news to the user.
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
-  Machine top("machine", s, g, c, opt.progress && isatty(2));
+  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty());
 
   sc_core::sc_trace_file* tf = nullptr;
   if (!opt.vcd.empty()) {
@@ -175,6 +184,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   }
   r.fifos = summarise_fifos(top.pes, r.end);
   r.needs = top.needs;
+  r.engine_unsupported = top.engine_unsupported;
   r.scene_bytes = top.scene_bytes;
   r.units = top.units;
   for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, "spawn_fifo"},

@@ -40,6 +40,7 @@ struct MachineResult {
   std::vector<std::string> left_out_units;  ///< per PE, not elaborated
   uint64_t mac_products_saved = 0, mac_cycles_saved = 0;  ///< by sparse MAC schedules
   PeUnits units;                                          ///< what each PE elaborated
+  std::string engine_unsupported;  ///< why the PEs ran as modules; empty: on the PE engine
   bool deadlock = false;
   std::string deadlock_report;  ///< every FIFO's occupancy when the simulation stalled
 };

@@ -15,20 +15,23 @@ PeContext make_context(int index, const MachineConfig& c, const PeUnits& units, 
 }
 }  // namespace
 
+PeBase::PeBase(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+               Timekeeper* keeper)
+    : sc_module(name), ctx(make_context(index, c, units, keeper)), memory("memory", ctx, pixels) {
+  memory.rays_expected = pixels;
+}
+
 Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
        sc_core::sc_clock* clock, Timekeeper* keeper)
-    : sc_module(name),
-      ctx(make_context(index, c, units, keeper)),
-      memory("memory", ctx, pixels),
+    : PeBase(name, index, c, units, pixels, keeper),
       search_fifo("search_fifo", c.search_fifo_depth, "search"),
       intersect_fifo("intersect_fifo", c.intersect_fifo_depth, "intersect"),
       shade_fifo("shade_fifo", c.shade_fifo_depth, "shade"),
       feedback_search("feedback_search", c.feedback_fifo_depth, "feedback"),
       feedback_intersect("feedback_intersect", c.feedback_fifo_depth, "feedback"),
       ends_fifo("ends_fifo", c.feedback_fifo_depth, "ends"),
-      front("front_buffer", ctx, memory),
+      front("front_buffer", ctx, memory, finished_event),
       shading("shading", ctx, memory) {
-  memory.rays_expected = pixels;
   front.from_search(feedback_search);
   front.from_intersect(feedback_intersect);
   if (units.spawn_path) {

@@ -20,11 +20,29 @@
 
 namespace rtm {
 
-class Pe : public sc_core::sc_module {
+/// What the host and the machine see of a PE, however its pipeline is simulated: the SystemC
+/// modules below, or the PE engine (engine_pe.h).
+class PeBase : public sc_core::sc_module {
  public:
   PeContext ctx;
   LocalMemory memory;
+  sc_core::sc_event finished_event;  ///< every ray of the PE's part of the frame has ended
 
+  virtual bool finished() const = 0;
+  /// Every FIFO, for statistics and deadlock reports.
+  virtual std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() = 0;
+  virtual std::string occupancy_report() = 0;
+  virtual void trace(sc_core::sc_trace_file* tf) = 0;
+
+ protected:
+  /// `pixels`: how many pixels of the screen this PE renders.
+  PeBase(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+         Timekeeper* keeper);
+};
+
+/// A PE as SystemC modules, one per block of the paper's figure.
+class Pe : public PeBase {
+ public:
   // The channels between the blocks.
   MeteredFifo<MachineRay> search_fifo, intersect_fifo, shade_fifo;
   MeteredFifo<MachineRay> feedback_search, feedback_intersect;
@@ -36,15 +54,13 @@ class Pe : public sc_core::sc_module {
   std::vector<std::unique_ptr<IntersectionStage>> intersection;  ///< the paper has one; more is an option
   ShadingStage shading;
 
-  /// `pixels`: how many pixels of the screen this PE renders.
   Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
      sc_core::sc_clock* clock, Timekeeper* keeper);
 
-  bool finished() const { return front.finished(); }
-  /// Every FIFO, for statistics and deadlock reports.
-  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats();
-  std::string occupancy_report();
-  void trace(sc_core::sc_trace_file* tf);
+  bool finished() const override { return front.finished(); }
+  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
+  std::string occupancy_report() override;
+  void trace(sc_core::sc_trace_file* tf) override;
 
  private:
   template <class T>

@@ -78,6 +78,11 @@ struct PeUnits {
   bool refraction = true;    ///< shading's transmitted-ray generator
 };
 
+/// Within a PE, the same-cycle order of the kinds of unit (timekeeper.h); units of one kind due
+/// in the same cycle go in the order they took their work, so which of the replicated search
+/// units holds a ray never matters.
+enum class UnitRank { FrontBuffer, Shading, Search, Mac, Root };
+
 struct PeContext {
   int pe = 0;
   PeUnits units;
@@ -88,19 +93,18 @@ struct PeContext {
   TraceWindow window;
   uint32_t next_ray_id = 0;
   Timekeeper* keeper = nullptr;  ///< arbitration = ranked: every timed wait goes through it
-  int next_rank = 0;             ///< the next process's same-cycle rank (timekeeper.h)
 
   sc_core::sc_time cycles(uint64_t n) const { return cycle * double(n); }
-  /// A sleeper for one more process of this PE, ranked after the ones made before it.
-  std::unique_ptr<Sleeper> sleeper() {
-    return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + next_rank++);
+  /// A sleeper for one more process of this PE.
+  std::unique_ptr<Sleeper> sleeper(UnitRank kind) const {
+    return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + int(kind));
   }
   /// Waits until the next PE clock boundary (work arriving from the host is not aligned).
   void align(Sleeper& sleep) const {
     const sc_dt::uint64 now = sc_core::sc_time_stamp().value(), c = cycle.value();
     if (const sc_dt::uint64 r = now % c) sleep(sc_core::sc_time::from_value(c - r));
   }
-  static constexpr int kRanksPerPe = 1 << 16;
+  static constexpr int kRanksPerPe = 8;  // more than UnitRank has
 };
 
 }  // namespace rtm

@@ -18,7 +18,6 @@ class SpawnUnit : public sc_core::sc_module {
  public:
   explicit SpawnUnit(sc_core::sc_module_name name) : sc_module(name) {}
   UnitProbe probe;
-  uint64_t rays = 0;
 };
 
 class ShadingStage : public sc_core::sc_module {

@@ -1,0 +1,45 @@
+#include "machine/engine_pe.h"
+
+namespace rtm {
+
+EnginePe::EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+                   size_t pixels, Timekeeper* keeper)
+    : PeBase(name, index, c, units, pixels, keeper), engine_(ctx, memory.frame, memory.ids, memory.rays, pixels) {
+  SC_THREAD(run);
+}
+
+void EnginePe::run() {
+  // Only the host's rays reach a PE from outside, and they land in local memory: until all have
+  // arrived the engine keeps behind SystemC time, afterwards it may run ahead.
+  const uint64_t quantum = ctx.cycle.value() * kQuantumCycles;
+  for (;;) {
+    const uint64_t now = sc_core::sc_time_stamp().value();
+    engine_.run_before(now);
+    if (memory.rays.size() > engine_.rays_known()) engine_.rays_arrived(now, memory.rays.size());
+    const bool all_in = memory.rays.size() == memory.rays_expected;
+    if (all_in) engine_.run_before(now + quantum);
+    if (engine_.finished()) break;
+    if (all_in && engine_.idle()) return;  // rays outstanding and nothing to do: the machine reports it
+    if (all_in)
+      sc_core::wait(sc_core::sc_time::from_value(quantum));
+    else
+      sc_core::wait(sc_core::sc_time::from_value(quantum), memory.rays_arrived);
+  }
+  const sc_core::sc_time at = sc_core::sc_time::from_value(engine_.finish_time());
+  if (at > sc_core::sc_time_stamp()) sc_core::wait(at - sc_core::sc_time_stamp());
+  sc_core::wait(sc_core::SC_ZERO_TIME);  // the modules' front buffer sees the last end a delta late
+  finished_ = true;
+  finished_event.notify(sc_core::SC_ZERO_TIME);
+}
+
+std::vector<std::pair<std::string, const FifoStats*>> EnginePe::fifo_stats() {
+  return engine_.fifo_stats(sc_core::sc_time_stamp().value());
+}
+
+std::string EnginePe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }
+
+void EnginePe::trace(sc_core::sc_trace_file*) {
+  SC_REPORT_ERROR("rtm/pe", "a PE on the engine has no signals to trace (waveforms select the modules)");
+}
+
+}  // namespace rtm

@@ -1,0 +1,33 @@
+// A PE whose macro-pipeline runs on the PE engine (pe_engine.h) instead of one SystemC process
+// per unit. To the host it is the same PE: a local memory on the link, the same counters, and
+// its finished event at the same simulated time.
+#pragma once
+
+#include "machine/pe.h"
+#include "machine/pe_engine.h"
+
+namespace rtm {
+
+class EnginePe : public PeBase {
+ public:
+  SC_HAS_PROCESS(EnginePe);
+  EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+           Timekeeper* keeper);
+
+  bool finished() const override { return finished_; }
+  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
+  std::string occupancy_report() override;
+  void trace(sc_core::sc_trace_file* tf) override;
+
+  /// The engine runs at most this far ahead of SystemC time, so that the progress display and
+  /// the stall watch (machine.cpp) keep seeing the PE's counters move.
+  static constexpr uint64_t kQuantumCycles = 8192;
+
+ private:
+  void run();
+
+  PeEngine engine_;
+  bool finished_ = false;
+};
+
+}  // namespace rtm

@@ -1,0 +1,341 @@
+#include "machine/pe_engine.h"
+
+#include <sstream>
+
+namespace rtm {
+
+std::string engine_unsupported(const MachineConfig& c, bool tracing) {
+  if (c.pe_simulation == MachineConfig::PeSimulation::Modules) return "pe_simulation = modules";
+  if (c.timing != Timing::Fast) return "clocked timing runs the MAC on a clock";
+  if (c.arbitration != MachineConfig::Arbitration::Ranked) return "arbitration = kernel leaves the same-cycle order to SystemC";
+  if (c.flow_control != FlowControl::Credits) return "flow_control = none can deadlock, which the modules report";
+  if (c.intersection_units != 1) return "with several intersection units SystemC picks the one that takes a ray";
+  if (c.dda_step_cycles == 0 || c.shade_cycles == 0 || c.accumulate_cycles == 0)
+    return "a unit taking zero cycles acts within the instant it started";
+  if (tracing) return "a waveform traces the modules' signals";
+  return "";
+}
+
+PeEngine::Fifo::Fifo(std::string n, const char* kind, int depth) : name(std::move(n)) {
+  stats.kind = kind;
+  stats.depth = depth;
+}
+
+void PeEngine::Fifo::change(int delta, uint64_t now) {
+  area += uint64_t(occupancy) * (now - last_change);
+  last_change = now;
+  occupancy += delta;
+  if (occupancy > stats.peak) stats.peak = occupancy;
+}
+
+void PeEngine::Fifo::write(uint32_t v, uint64_t now) {
+  items.push_back(v);
+  written = true;
+  change(+1, now);
+  ++stats.writes;
+}
+
+uint32_t PeEngine::Fifo::read(uint64_t now) {
+  const uint32_t v = items.front();
+  items.pop_front();
+  --visible;
+  ++reads_now;
+  change(-1, now);
+  return v;
+}
+
+PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int32_t>& ids,
+                   const std::vector<Ray>& rays, size_t rays_expected)
+    : ctx_(ctx),
+      frame_(frame),
+      ids_(ids),
+      rays_(rays),
+      rays_expected_(rays_expected),
+      cycle_(ctx.cycle.value()),
+      credits_(ctx.config.loop_credits_in_force()),
+      timing_(ctx.config),
+      search_fifo_("search_fifo", "search", ctx.config.search_fifo_depth),
+      intersect_fifo_("intersect_fifo", "intersect", ctx.config.intersect_fifo_depth),
+      shade_fifo_("shade_fifo", "shade", ctx.config.shade_fifo_depth),
+      feedback_search_("feedback_search", "feedback", ctx.config.feedback_fifo_depth),
+      feedback_intersect_("feedback_intersect", "feedback", ctx.config.feedback_fifo_depth),
+      spawn_fifo_("spawn_fifo", "spawn", ctx.config.feedback_fifo_depth),
+      to_root_("to_root", "root", ctx.config.root_fifo_depth),
+      ends_fifo_("ends_fifo", "ends", ctx.config.feedback_fifo_depth),
+      spawn_path_(ctx.units.spawn_path),
+      idle_search_(ctx.config.search_units) {
+  fifos_ = {&search_fifo_, &intersect_fifo_, &shade_fifo_, &feedback_search_, &feedback_intersect_};
+  if (spawn_path_) fifos_.push_back(&spawn_fifo_);
+  fifos_.push_back(&to_root_);
+  fifos_.push_back(&ends_fifo_);
+  front_loop(0);
+}
+
+// ---- the event loop ----
+
+void PeEngine::run_before(uint64_t t) {
+  for (;;) {
+    const uint64_t next = std::min(pending_step_, events_.empty() ? kNever : events_.top().at);
+    if (next >= t) return;
+    step(next);
+  }
+}
+
+void PeEngine::rays_arrived(uint64_t t, size_t n) {
+  rays_visible_ = n;
+  front_poked_ = true;
+  pending_step_ = t;
+}
+
+void PeEngine::schedule(uint64_t now, uint64_t ticks, Unit u, uint32_t item, Route route) {
+  events_.push({now + ticks, u, seq_++, item, route});
+}
+
+void PeEngine::step(uint64_t now) {
+  if (pending_step_ == now) pending_step_ = kNever;
+  for (Fifo* f : fifos_) f->reads_now = 0;
+  // The units whose work ends now, in rank order.
+  while (!events_.empty() && events_.top().at == now) {
+    const Event e = events_.top();
+    events_.pop();
+    wake(e, now);
+  }
+  // What they wrote becomes visible.
+  const bool poked = front_poked_ || feedback_search_.written || feedback_intersect_.written || spawn_fifo_.written ||
+                     ends_fifo_.written;
+  front_poked_ = false;
+  for (Fifo* f : fifos_) {
+    f->visible = f->items.size();
+    f->written = false;
+  }
+  take_inputs(now);
+  if (front_ == Front::Waiting && poked) {
+    if (stalled_) ctx_.counters.credit_stall += sc_core::sc_time::from_value(now - waiting_since_);
+    front_loop(now);
+  }
+}
+
+void PeEngine::take_inputs(uint64_t now) {
+  while (idle_search_ > 0 && search_fifo_.visible > 0) search_start(search_fifo_.read(now), now);
+  if (!mac_busy_ && intersect_fifo_.visible > 0) mac_start(intersect_fifo_.read(now), now);
+  if (!root_busy_ && to_root_.visible > 0) root_start(to_root_.read(now), now);
+  if (!shade_busy_ && shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
+}
+
+// ---- rays ----
+
+uint32_t PeEngine::new_ray(const MachineRay& r) {
+  if (free_slots_.empty()) {
+    slots_.push_back(r);
+    return uint32_t(slots_.size() - 1);
+  }
+  const uint32_t s = free_slots_.back();
+  free_slots_.pop_back();
+  slots_[s] = r;
+  return s;
+}
+
+void PeEngine::end_ray(uint32_t slot, uint64_t now) {
+  ends_fifo_.write(slots_[slot].id, now);
+  free_slots_.push_back(slot);
+}
+
+// ---- the units: each writes its result when its work ends (one cycle later again while the
+// FIFO is full, as the modules' put() does), then takes its next item ----
+
+void PeEngine::wake(const Event& e, uint64_t now) {
+  switch (e.unit) {
+    case Unit::FrontBuffer:
+      if (front_ == Front::Aligning) {
+        primary(now);
+        return;
+      }
+      if (search_fifo_.full()) return schedule(now, cycle_, Unit::FrontBuffer);
+      search_fifo_.write(front_ray_, now);
+      front_loop(now);
+      return;
+
+    case Unit::Search: {
+      Fifo& out = e.route == Route::Intersect ? intersect_fifo_
+                  : e.route == Route::Feedback ? feedback_search_
+                  : e.route == Route::Shade    ? shade_fifo_
+                                               : ends_fifo_;
+      if (out.full()) return schedule(now, cycle_, Unit::Search, e.item, e.route);
+      if (e.route == Route::End)
+        end_ray(e.item, now);
+      else
+        out.write(e.item, now);
+      if (search_fifo_.visible > 0)
+        search_start(search_fifo_.read(now), now);
+      else
+        ++idle_search_;
+      return;
+    }
+
+    case Unit::Mac:
+      if (to_root_.full()) return schedule(now, cycle_, Unit::Mac);
+      to_root_.write(mac_result_, now);
+      mac_busy_ = false;
+      if (intersect_fifo_.visible > 0) mac_start(intersect_fifo_.read(now), now);
+      return;
+
+    case Unit::Root: {
+      Fifo& out = root_route_ == Route::Shade ? shade_fifo_ : root_route_ == Route::Feedback ? feedback_intersect_ : ends_fifo_;
+      if (out.full()) return schedule(now, cycle_, Unit::Root);
+      const MachineRay& r = results_[root_result_].r;
+      if (root_route_ == Route::End)
+        ends_fifo_.write(r.id, now);
+      else
+        out.write(new_ray(r), now);
+      free_results_.push_back(root_result_);
+      root_busy_ = false;
+      if (to_root_.visible > 0) root_start(to_root_.read(now), now);
+      return;
+    }
+
+    case Unit::Shading:
+      // The ray's end first, then the spawned rays in order; each is made (numbered) before
+      // it waits for room, as in the module.
+      for (; shade_next_ <= shade_out_.rays.size(); ++shade_next_) {
+        if (shade_next_ == 0) {
+          if (ends_fifo_.full()) return schedule(now, cycle_, Unit::Shading);
+          ends_fifo_.write(slots_[shade_ray_].id, now);
+          continue;
+        }
+        if (!shade_child_made_) {
+          shade_child_ = new_ray(spawned_ray(ctx_, slots_[shade_ray_], shade_out_.rays[shade_next_ - 1]));
+          shade_child_made_ = true;
+        }
+        if (spawn_fifo_.full()) return schedule(now, cycle_, Unit::Shading);
+        spawn_fifo_.write(shade_child_, now);
+        shade_child_made_ = false;
+      }
+      free_slots_.push_back(shade_ray_);
+      shade_busy_ = false;
+      if (shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
+      return;
+  }
+}
+
+void PeEngine::front_loop(uint64_t now) {
+  while (ends_fifo_.visible > 0) {
+    ends_fifo_.read(now);
+    --in_flight_;
+  }
+  for (Fifo* f : {&feedback_search_, &feedback_intersect_}) {
+    while (f->visible > 0) {
+      queue_.push_back(f->read(now));
+      --in_flight_;
+    }
+  }
+  // Spawned rays are new: their parent's credit came back through the ends FIFO.
+  if (spawn_path_)
+    while (spawn_fifo_.visible > 0) queue_.push_back(spawn_fifo_.read(now));
+
+  if (in_flight_ < credits_) {
+    if (!queue_.empty()) {
+      const bool spilled = queue_.size() > size_t(ctx_.config.front_buffer_capacity);
+      if (spilled) ++ctx_.counters.spills;
+      const uint32_t slot = queue_.front();
+      queue_.pop_front();
+      return dispatch(slot, dispatch_cycles(ctx_.config, spilled, false), now);
+    }
+    if (next_primary_ < rays_visible_) {
+      // Rays from the host arrive between PE clock edges.
+      if (const uint64_t off = now % cycle_) {
+        front_ = Front::Aligning;
+        return schedule(now, cycle_ - off, Unit::FrontBuffer);
+      }
+      return primary(now);
+    }
+  }
+  if (next_primary_ == rays_expected_ && queue_.empty() && in_flight_ == 0) {
+    front_ = Front::Done;
+    finished_ = true;
+    finish_ = now;
+    ctx_.counters.finish = sc_core::sc_time::from_value(now);
+    return;
+  }
+  stalled_ = !queue_.empty() || next_primary_ < rays_visible_;  // only credits hold them back
+  waiting_since_ = now;
+  front_ = Front::Waiting;
+}
+
+void PeEngine::primary(uint64_t now) {
+  if (next_primary_ == 0) ctx_.counters.start = sc_core::sc_time::from_value(now);
+  const uint32_t slot = new_ray(primary_ray(ctx_, rays_, next_primary_++));
+  dispatch(slot, dispatch_cycles(ctx_.config, false, true), now);
+}
+
+void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint64_t now) {
+  ++in_flight_;
+  ctx_.counters.front.busy_cycles += cycles;
+  ++ctx_.counters.front.items;
+  front_ray_ = slot;
+  front_ = Front::Dispatching;
+  schedule(now, cycles * cycle_, Unit::FrontBuffer);
+}
+
+void PeEngine::search_start(uint32_t slot, uint64_t now) {
+  --idle_search_;
+  const Routed w = search_work(ctx_, slots_[slot]);
+  schedule(now, w.cycles * cycle_, Unit::Search, slot, w.route);
+}
+
+void PeEngine::mac_start(uint32_t slot, uint64_t now) {
+  mac_busy_ = true;
+  if (free_results_.empty()) {
+    results_.emplace_back();
+    free_results_.push_back(uint32_t(results_.size() - 1));
+  }
+  mac_result_ = free_results_.back();
+  free_results_.pop_back();
+  MacResult& m = results_[mac_result_];
+  m.r = slots_[slot];
+  free_slots_.push_back(slot);  // the ray travels with its MAC result now
+  schedule(now, mac_work(ctx_, timing_, m) * cycle_, Unit::Mac);
+}
+
+void PeEngine::root_start(uint32_t result, uint64_t now) {
+  root_busy_ = true;
+  root_result_ = result;
+  const Routed w = root_work(ctx_, results_[result], clips_);
+  root_route_ = w.route;
+  schedule(now, w.cycles * cycle_, Unit::Root);
+}
+
+void PeEngine::shade_start(uint32_t slot, uint64_t now) {
+  shade_busy_ = true;
+  shade_ray_ = slot;
+  const MachineRay& r = slots_[slot];
+  const uint64_t cycles = shade_work(ctx_, r, frame_[r.slot], ids_[r.slot], shade_out_);
+  for (const Ray& child : shade_out_.rays) {
+    const bool kept = child.kind == RayKind::Shadow      ? ctx_.units.shadow_rays
+                      : child.kind == RayKind::Reflected ? ctx_.units.reflection
+                                                         : ctx_.units.refraction;
+    if (!kept) SC_REPORT_FATAL("rtm/pe/shading", "a left-out ray generator was needed: the scene analysis is wrong");
+  }
+  shade_next_ = 0;
+  schedule(now, cycles * cycle_, Unit::Shading);
+}
+
+// ---- statistics ----
+
+std::vector<std::pair<std::string, const FifoStats*>> PeEngine::fifo_stats(uint64_t now) {
+  std::vector<std::pair<std::string, const FifoStats*>> out;
+  for (Fifo* f : fifos_) {
+    f->change(0, now);
+    f->stats.occupancy_time = double(f->area) * sc_core::sc_get_time_resolution().to_seconds();
+    out.emplace_back(f->name, &f->stats);
+  }
+  return out;
+}
+
+std::string PeEngine::occupancy_report() const {
+  std::ostringstream s;
+  s << queue_.size() << " rays waiting in the front buffer, " << in_flight_ << " past it;";
+  for (const Fifo* f : fifos_) s << " " << f->name << " " << f->occupancy << "/" << f->stats.depth;
+  return s.str();
+}
+
+}  // namespace rtm

@@ -1,0 +1,158 @@
+// A PE's macro-pipeline on its own event loop instead of SystemC processes.
+//
+// The units, FIFOs, routing and work are those of the modules in pe.h (unit_work.h), and they act
+// in the order the modules act under `arbitration = ranked`, so every cycle count and statistic
+// comes out identical (tb/engine_test.cpp renders frames both ways and compares). What it saves is
+// the kernel's context switches, events and FIFO copies on every one of a ray's voxel passes: a
+// ray walks ~30 voxels, and in the modules each pass costs two process switches and two timed
+// events. docs/machine.md, "The PE engine", states the order it reproduces.
+//
+// Time is in SystemC time-resolution units (sc_time::value()). Order within one instant, as in
+// the modules: first the units whose work ends then, by UnitRank, units of a rank in the order
+// they took their work; each writes its result and takes its next item from what its input FIFO
+// held before the instant; then the items written in the instant become visible, idle units take
+// them, and the front buffer, if it was waiting, drains its inputs.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <queue>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "machine/metered_fifo.h"
+#include "machine/unit_work.h"
+
+namespace rtm {
+
+/// Why a configuration cannot run on the engine, or "" when it can. `tracing`: a waveform is
+/// requested (the engine has no signals to trace).
+std::string engine_unsupported(const MachineConfig& c, bool tracing);
+
+class PeEngine {
+ public:
+  /// `frame`, `ids`: the PE's frame buffer in local memory; `rays`: its primary rays, of which
+  /// rays_arrived() says how many are there.
+  PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int32_t>& ids, const std::vector<Ray>& rays,
+           size_t rays_expected);
+
+  /// Simulates everything that happens before time t.
+  void run_before(uint64_t t);
+  /// The first n primary rays are in local memory from time t on (no earlier than what ran).
+  void rays_arrived(uint64_t t, size_t n);
+  size_t rays_known() const { return rays_visible_; }
+
+  bool finished() const { return finished_; }
+  uint64_t finish_time() const { return finish_; }
+  /// Nothing left to simulate (finished, or stalled with rays outstanding).
+  bool idle() const { return events_.empty() && pending_step_ == kNever; }
+
+  /// Every FIFO's statistics, closed at time `now`, named as the modules name them.
+  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats(uint64_t now);
+  std::string occupancy_report() const;
+
+ private:
+  static constexpr uint64_t kNever = UINT64_MAX;
+
+  /// A FIFO of ray slots (or MAC results); items written in the current instant are not yet
+  /// visible to readers. Statistics as MeteredFifo keeps them.
+  struct Fifo {
+    std::string name;
+    std::deque<uint32_t> items;
+    size_t visible = 0;
+    bool written = false;  ///< in the current instant
+    size_t reads_now = 0;  ///< in the current instant: places freed only once it is over
+    FifoStats stats;
+    int occupancy = 0;
+    uint64_t last_change = 0, area = 0;
+
+    Fifo(std::string n, const char* kind, int depth);
+    void write(uint32_t v, uint64_t now);
+    uint32_t read(uint64_t now);
+    void change(int delta, uint64_t now);
+    /// No room to write in this instant (sc_fifo::num_free() == 0).
+    bool full() const { return items.size() + reads_now >= size_t(stats.depth); }
+  };
+
+  enum class Unit : uint8_t { FrontBuffer, Shading, Search, Mac, Root };
+  struct Event {
+    uint64_t at;
+    Unit unit;
+    uint64_t seq;   ///< units of one kind due together go in the order they took their work
+    uint32_t item;  ///< the search unit's ray slot
+    Route route;    ///< the search unit's route
+    bool operator>(const Event& o) const {
+      if (at != o.at) return at > o.at;
+      if (unit != o.unit) return unit > o.unit;
+      return seq > o.seq;
+    }
+  };
+
+  void step(uint64_t now);
+  void schedule(uint64_t now, uint64_t cycles, Unit u, uint32_t item = 0, Route route = Route::End);
+  void wake(const Event& e, uint64_t now);
+  void take_inputs(uint64_t now);
+
+  uint32_t new_ray(const MachineRay& r);
+  void end_ray(uint32_t slot, uint64_t now);
+  /// Writes a ray to the FIFO its route names.
+  void route_out(uint32_t slot, Route route, Fifo& onwards, Fifo& back, uint64_t now);
+
+  void front_loop(uint64_t now);
+  void primary(uint64_t now);
+  void dispatch(uint32_t slot, uint64_t cycles, uint64_t now);
+  void search_start(uint32_t slot, uint64_t now);
+  void mac_start(uint32_t slot, uint64_t now);
+  void root_start(uint32_t result, uint64_t now);
+  void shade_start(uint32_t slot, uint64_t now);
+
+  PeContext& ctx_;
+  std::vector<PixelSum>& frame_;
+  std::vector<int32_t>& ids_;
+  const std::vector<Ray>& rays_;
+  const size_t rays_expected_;
+  const uint64_t cycle_;
+  const int credits_;
+  const MacTiming timing_;
+
+  std::vector<MachineRay> slots_;  ///< rays in the loop
+  std::vector<uint32_t> free_slots_;
+  std::vector<MacResult> results_;  ///< MAC results on their way to the root unit
+  std::vector<uint32_t> free_results_;
+
+  Fifo search_fifo_, intersect_fifo_, shade_fifo_, feedback_search_, feedback_intersect_, spawn_fifo_, to_root_,
+      ends_fifo_;
+  const bool spawn_path_;
+  std::vector<Fifo*> fifos_;  ///< in the order fifo_stats reports them
+
+  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
+  uint64_t seq_ = 0;
+  uint64_t pending_step_ = kNever;  ///< an instant with no unit due but rays arriving
+  bool front_poked_ = false;        ///< an input of the front buffer was written in this instant
+
+  // Front buffer
+  enum class Front : uint8_t { Waiting, Dispatching, Aligning, Done } front_ = Front::Waiting;
+  std::deque<uint32_t> queue_;
+  uint32_t front_ray_ = 0;
+  size_t next_primary_ = 0, rays_visible_ = 0;
+  int in_flight_ = 0;
+  bool stalled_ = false;
+  uint64_t waiting_since_ = 0;
+
+  // The other units
+  int idle_search_;
+  bool mac_busy_ = false, root_busy_ = false, shade_busy_ = false;
+  uint32_t mac_result_ = 0, root_result_ = 0, shade_ray_ = 0;
+  Route root_route_ = Route::End;
+  std::vector<uint32_t> clips_;
+  ShadeOut shade_out_;
+  size_t shade_next_ = 0;  ///< the shading unit's next write: 0 the ray's end, then each spawned ray
+  uint32_t shade_child_ = 0;
+  bool shade_child_made_ = false;
+
+  bool finished_ = false;
+  uint64_t finish_ = 0;
+};
+
+}  // namespace rtm
