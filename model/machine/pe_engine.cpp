@@ -1,5 +1,6 @@
 #include "machine/pe_engine.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace rtm {
@@ -16,7 +17,8 @@ std::string engine_unsupported(const MachineConfig& c, bool tracing) {
   return "";
 }
 
-PeEngine::Fifo::Fifo(std::string n, const char* kind, int depth) : name(std::move(n)) {
+PeEngine::Fifo::Fifo(std::string n, const char* kind, int depth, std::vector<Fifo*>* touched)
+    : name(std::move(n)), ring(size_t(depth)), touched_list(touched) {
   stats.kind = kind;
   stats.depth = depth;
 }
@@ -29,17 +31,20 @@ void PeEngine::Fifo::change(int delta, uint64_t now) {
 }
 
 void PeEngine::Fifo::write(uint32_t v, uint64_t now) {
-  items.push_back(v);
+  ring[(head + count++) % ring.size()] = v;
   written = true;
+  touch();
   change(+1, now);
   ++stats.writes;
 }
 
 uint32_t PeEngine::Fifo::read(uint64_t now) {
-  const uint32_t v = items.front();
-  items.pop_front();
+  const uint32_t v = ring[head];
+  head = head + 1 == ring.size() ? 0 : head + 1;
+  --count;
   --visible;
   ++reads_now;
+  touch();
   change(-1, now);
   return v;
 }
@@ -54,16 +59,18 @@ PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int
       cycle_(ctx.cycle.value()),
       credits_(ctx.config.loop_credits_in_force()),
       timing_(ctx.config),
-      search_fifo_("search_fifo", "search", ctx.config.search_fifo_depth),
-      intersect_fifo_("intersect_fifo", "intersect", ctx.config.intersect_fifo_depth),
-      shade_fifo_("shade_fifo", "shade", ctx.config.shade_fifo_depth),
-      feedback_search_("feedback_search", "feedback", ctx.config.feedback_fifo_depth),
-      feedback_intersect_("feedback_intersect", "feedback", ctx.config.feedback_fifo_depth),
-      spawn_fifo_("spawn_fifo", "spawn", ctx.config.feedback_fifo_depth),
-      to_root_("to_root", "root", ctx.config.root_fifo_depth),
-      ends_fifo_("ends_fifo", "ends", ctx.config.feedback_fifo_depth),
+      search_fifo_("search_fifo", "search", ctx.config.search_fifo_depth, &touched_),
+      intersect_fifo_("intersect_fifo", "intersect", ctx.config.intersect_fifo_depth, &touched_),
+      shade_fifo_("shade_fifo", "shade", ctx.config.shade_fifo_depth, &touched_),
+      feedback_search_("feedback_search", "feedback", ctx.config.feedback_fifo_depth, &touched_),
+      feedback_intersect_("feedback_intersect", "feedback", ctx.config.feedback_fifo_depth, &touched_),
+      spawn_fifo_("spawn_fifo", "spawn", ctx.config.feedback_fifo_depth, &touched_),
+      to_root_("to_root", "root", ctx.config.root_fifo_depth, &touched_),
+      ends_fifo_("ends_fifo", "ends", ctx.config.feedback_fifo_depth, &touched_),
       spawn_path_(ctx.units.spawn_path),
-      idle_search_(ctx.config.search_units) {
+      due_at_(kSearch + size_t(ctx.config.search_units), kNever),
+      due_(due_at_.size()) {
+  for (size_t u = due_.size(); u-- > kSearch;) idle_search_.push_back(u);
   fifos_ = {&search_fifo_, &intersect_fifo_, &shade_fifo_, &feedback_search_, &feedback_intersect_};
   if (spawn_path_) fifos_.push_back(&spawn_fifo_);
   fifos_.push_back(&to_root_);
@@ -73,12 +80,27 @@ PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int
 
 // ---- the event loop ----
 
-void PeEngine::run_before(uint64_t t) {
-  for (;;) {
-    const uint64_t next = std::min(pending_step_, events_.empty() ? kNever : events_.top().at);
-    if (next >= t) return;
-    step(next);
+uint64_t PeEngine::next_instant() {
+  uint64_t next = pending_step_;
+  due_now_.clear();
+  for (size_t u = 0; u < due_at_.size(); ++u) {
+    const uint64_t at = due_at_[u];
+    if (at > next) continue;
+    if (at < next) {
+      next = at;
+      due_now_.clear();
+    }
+    if (at != kNever) due_now_.push_back(u);
   }
+  return next;
+}
+
+bool PeEngine::idle() const {
+  return pending_step_ == kNever && std::all_of(due_at_.begin(), due_at_.end(), [](uint64_t at) { return at == kNever; });
+}
+
+void PeEngine::run_before(uint64_t t) {
+  for (uint64_t next; (next = next_instant()) < t;) step(next);
 }
 
 void PeEngine::rays_arrived(uint64_t t, size_t n) {
@@ -87,36 +109,55 @@ void PeEngine::rays_arrived(uint64_t t, size_t n) {
   pending_step_ = t;
 }
 
-void PeEngine::schedule(uint64_t now, uint64_t ticks, Unit u, uint32_t item, Route route) {
-  events_.push({now + ticks, u, seq_++, item, route});
+void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Route route) {
+  const Unit kind = unit >= kSearch ? Unit::Search
+                    : unit == kFront ? Unit::FrontBuffer
+                    : unit == kShading ? Unit::Shading
+                    : unit == kMac    ? Unit::Mac
+                                      : Unit::Root;
+  due_at_[unit] = at;
+  due_[unit] = {uint64_t(kind) << 56 | seq_++, item, route};
 }
 
 void PeEngine::step(uint64_t now) {
   if (pending_step_ == now) pending_step_ = kNever;
-  for (Fifo* f : fifos_) f->reads_now = 0;
-  // The units whose work ends now, in rank order.
-  while (!events_.empty() && events_.top().at == now) {
-    const Event e = events_.top();
-    events_.pop();
-    wake(e, now);
+  // The units whose work ends now (found by next_instant), in rank order; their next work ends later.
+  if (due_now_.size() > 1)
+    std::sort(due_now_.begin(), due_now_.end(), [&](size_t a, size_t b) { return due_[a].order < due_[b].order; });
+  for (size_t u : due_now_) {
+    const Due d = due_[u];
+    due_at_[u] = kNever;
+    wake(u, d, now);
   }
   // What they wrote becomes visible.
   const bool poked = front_poked_ || feedback_search_.written || feedback_intersect_.written || spawn_fifo_.written ||
                      ends_fifo_.written;
   front_poked_ = false;
-  for (Fifo* f : fifos_) {
-    f->visible = f->items.size();
+  for (Fifo* f : touched_) {
+    f->visible = f->count;
     f->written = false;
+    f->reads_now = 0;
   }
+  // Idle units take it, and the front buffer drains its inputs if it was waiting.
   take_inputs(now);
   if (front_ == Front::Waiting && poked) {
     if (stalled_) ctx_.counters.credit_stall += sc_core::sc_time::from_value(now - waiting_since_);
     front_loop(now);
   }
+  // Places freed by reads are there for the next instant's writers.
+  for (Fifo* f : touched_) {
+    f->reads_now = 0;
+    f->touched = false;
+  }
+  touched_.clear();
 }
 
 void PeEngine::take_inputs(uint64_t now) {
-  while (idle_search_ > 0 && search_fifo_.visible > 0) search_start(search_fifo_.read(now), now);
+  while (!idle_search_.empty() && search_fifo_.visible > 0) {
+    const size_t u = idle_search_.back();
+    idle_search_.pop_back();
+    search_start(u, search_fifo_.read(now), now);
+  }
   if (!mac_busy_ && intersect_fifo_.visible > 0) mac_start(intersect_fifo_.read(now), now);
   if (!root_busy_ && to_root_.visible > 0) root_start(to_root_.read(now), now);
   if (!shade_busy_ && shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
@@ -143,37 +184,38 @@ void PeEngine::end_ray(uint32_t slot, uint64_t now) {
 // ---- the units: each writes its result when its work ends (one cycle later again while the
 // FIFO is full, as the modules' put() does), then takes its next item ----
 
-void PeEngine::wake(const Event& e, uint64_t now) {
-  switch (e.unit) {
+void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
+  const uint64_t retry = now + cycle_;
+  switch (d.unit()) {
     case Unit::FrontBuffer:
       if (front_ == Front::Aligning) {
         primary(now);
         return;
       }
-      if (search_fifo_.full()) return schedule(now, cycle_, Unit::FrontBuffer);
+      if (search_fifo_.full()) return schedule(kFront, retry);
       search_fifo_.write(front_ray_, now);
       front_loop(now);
       return;
 
     case Unit::Search: {
-      Fifo& out = e.route == Route::Intersect ? intersect_fifo_
-                  : e.route == Route::Feedback ? feedback_search_
-                  : e.route == Route::Shade    ? shade_fifo_
+      Fifo& out = d.route == Route::Intersect ? intersect_fifo_
+                  : d.route == Route::Feedback ? feedback_search_
+                  : d.route == Route::Shade    ? shade_fifo_
                                                : ends_fifo_;
-      if (out.full()) return schedule(now, cycle_, Unit::Search, e.item, e.route);
-      if (e.route == Route::End)
-        end_ray(e.item, now);
+      if (out.full()) return schedule(unit, retry, d.item, d.route);
+      if (d.route == Route::End)
+        end_ray(d.item, now);
       else
-        out.write(e.item, now);
+        out.write(d.item, now);
       if (search_fifo_.visible > 0)
-        search_start(search_fifo_.read(now), now);
+        search_start(unit, search_fifo_.read(now), now);
       else
-        ++idle_search_;
+        idle_search_.push_back(unit);
       return;
     }
 
     case Unit::Mac:
-      if (to_root_.full()) return schedule(now, cycle_, Unit::Mac);
+      if (to_root_.full()) return schedule(kMac, retry);
       to_root_.write(mac_result_, now);
       mac_busy_ = false;
       if (intersect_fifo_.visible > 0) mac_start(intersect_fifo_.read(now), now);
@@ -181,7 +223,7 @@ void PeEngine::wake(const Event& e, uint64_t now) {
 
     case Unit::Root: {
       Fifo& out = root_route_ == Route::Shade ? shade_fifo_ : root_route_ == Route::Feedback ? feedback_intersect_ : ends_fifo_;
-      if (out.full()) return schedule(now, cycle_, Unit::Root);
+      if (out.full()) return schedule(kRoot, retry);
       const MachineRay& r = results_[root_result_].r;
       if (root_route_ == Route::End)
         ends_fifo_.write(r.id, now);
@@ -198,7 +240,7 @@ void PeEngine::wake(const Event& e, uint64_t now) {
       // it waits for room, as in the module.
       for (; shade_next_ <= shade_out_.rays.size(); ++shade_next_) {
         if (shade_next_ == 0) {
-          if (ends_fifo_.full()) return schedule(now, cycle_, Unit::Shading);
+          if (ends_fifo_.full()) return schedule(kShading, retry);
           ends_fifo_.write(slots_[shade_ray_].id, now);
           continue;
         }
@@ -206,7 +248,7 @@ void PeEngine::wake(const Event& e, uint64_t now) {
           shade_child_ = new_ray(spawned_ray(ctx_, slots_[shade_ray_], shade_out_.rays[shade_next_ - 1]));
           shade_child_made_ = true;
         }
-        if (spawn_fifo_.full()) return schedule(now, cycle_, Unit::Shading);
+        if (spawn_fifo_.full()) return schedule(kShading, retry);
         spawn_fifo_.write(shade_child_, now);
         shade_child_made_ = false;
       }
@@ -244,7 +286,7 @@ void PeEngine::front_loop(uint64_t now) {
       // Rays from the host arrive between PE clock edges.
       if (const uint64_t off = now % cycle_) {
         front_ = Front::Aligning;
-        return schedule(now, cycle_ - off, Unit::FrontBuffer);
+        return schedule(kFront, now + cycle_ - off);
       }
       return primary(now);
     }
@@ -273,13 +315,12 @@ void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint64_t now) {
   ++ctx_.counters.front.items;
   front_ray_ = slot;
   front_ = Front::Dispatching;
-  schedule(now, cycles * cycle_, Unit::FrontBuffer);
+  schedule(kFront, now + cycles * cycle_);
 }
 
-void PeEngine::search_start(uint32_t slot, uint64_t now) {
-  --idle_search_;
+void PeEngine::search_start(size_t unit, uint32_t slot, uint64_t now) {
   const Routed w = search_work(ctx_, slots_[slot]);
-  schedule(now, w.cycles * cycle_, Unit::Search, slot, w.route);
+  schedule(unit, now + w.cycles * cycle_, slot, w.route);
 }
 
 void PeEngine::mac_start(uint32_t slot, uint64_t now) {
@@ -293,7 +334,7 @@ void PeEngine::mac_start(uint32_t slot, uint64_t now) {
   MacResult& m = results_[mac_result_];
   m.r = slots_[slot];
   free_slots_.push_back(slot);  // the ray travels with its MAC result now
-  schedule(now, mac_work(ctx_, timing_, m) * cycle_, Unit::Mac);
+  schedule(kMac, now + mac_work(ctx_, timing_, m) * cycle_);
 }
 
 void PeEngine::root_start(uint32_t result, uint64_t now) {
@@ -301,7 +342,7 @@ void PeEngine::root_start(uint32_t result, uint64_t now) {
   root_result_ = result;
   const Routed w = root_work(ctx_, results_[result], clips_);
   root_route_ = w.route;
-  schedule(now, w.cycles * cycle_, Unit::Root);
+  schedule(kRoot, now + w.cycles * cycle_);
 }
 
 void PeEngine::shade_start(uint32_t slot, uint64_t now) {
@@ -316,7 +357,7 @@ void PeEngine::shade_start(uint32_t slot, uint64_t now) {
     if (!kept) SC_REPORT_FATAL("rtm/pe/shading", "a left-out ray generator was needed: the scene analysis is wrong");
   }
   shade_next_ = 0;
-  schedule(now, cycles * cycle_, Unit::Shading);
+  schedule(kShading, now + cycles * cycle_);
 }
 
 // ---- statistics ----

@@ -16,7 +16,6 @@
 
 #include <cstdint>
 #include <deque>
-#include <queue>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,7 +45,7 @@ class PeEngine {
   bool finished() const { return finished_; }
   uint64_t finish_time() const { return finish_; }
   /// Nothing left to simulate (finished, or stalled with rays outstanding).
-  bool idle() const { return events_.empty() && pending_step_ == kNever; }
+  bool idle() const;
 
   /// Every FIFO's statistics, closed at time `now`, named as the modules name them.
   std::vector<std::pair<std::string, const FifoStats*>> fifo_stats(uint64_t now);
@@ -59,7 +58,8 @@ class PeEngine {
   /// visible to readers. Statistics as MeteredFifo keeps them.
   struct Fifo {
     std::string name;
-    std::deque<uint32_t> items;
+    std::vector<uint32_t> ring;  ///< `depth` places; items from `head`, `count` of them
+    size_t head = 0, count = 0;
     size_t visible = 0;
     bool written = false;  ///< in the current instant
     size_t reads_now = 0;  ///< in the current instant: places freed only once it is over
@@ -67,42 +67,47 @@ class PeEngine {
     int occupancy = 0;
     uint64_t last_change = 0, area = 0;
 
-    Fifo(std::string n, const char* kind, int depth);
+    bool touched = false;  ///< written or read in the current instant: on the touched list
+    std::vector<Fifo*>* touched_list;
+
+    Fifo(std::string n, const char* kind, int depth, std::vector<Fifo*>* touched_list);
+    void touch() {
+      if (!touched) touched_list->push_back(this);
+      touched = true;
+    }
     void write(uint32_t v, uint64_t now);
     uint32_t read(uint64_t now);
     void change(int delta, uint64_t now);
     /// No room to write in this instant (sc_fifo::num_free() == 0).
-    bool full() const { return items.size() + reads_now >= size_t(stats.depth); }
+    bool full() const { return count + reads_now >= ring.size(); }
   };
 
   enum class Unit : uint8_t { FrontBuffer, Shading, Search, Mac, Root };
-  struct Event {
-    uint64_t at;
-    Unit unit;
-    uint64_t seq;   ///< units of one kind due together go in the order they took their work
-    uint32_t item;  ///< the search unit's ray slot
-    Route route;    ///< the search unit's route
-    bool operator>(const Event& o) const {
-      if (at != o.at) return at > o.at;
-      if (unit != o.unit) return unit > o.unit;
-      return seq > o.seq;
-    }
+  /// A unit's pending wake-up: its work (or its wait for room in a full FIFO) ends at due_at_.
+  /// One per unit: a few units, so a scan finds the next instant faster than a heap would.
+  struct Due {
+    uint64_t order = 0;        ///< the unit's rank, then (units of one kind due together) when it took its work
+    uint32_t item = 0;         ///< a search unit's ray slot
+    Route route = Route::End;  ///< a search unit's route
+    Unit unit() const { return Unit(order >> 56); }
   };
+  // Places in due_; the search units follow.
+  static constexpr size_t kFront = 0, kShading = 1, kMac = 2, kRoot = 3, kSearch = 4;
 
+  /// The next instant, with the units due then in due_now_.
+  uint64_t next_instant();
   void step(uint64_t now);
-  void schedule(uint64_t now, uint64_t cycles, Unit u, uint32_t item = 0, Route route = Route::End);
-  void wake(const Event& e, uint64_t now);
+  void schedule(size_t unit, uint64_t at, uint32_t item = 0, Route route = Route::End);
+  void wake(size_t unit, const Due& d, uint64_t now);
   void take_inputs(uint64_t now);
 
   uint32_t new_ray(const MachineRay& r);
   void end_ray(uint32_t slot, uint64_t now);
-  /// Writes a ray to the FIFO its route names.
-  void route_out(uint32_t slot, Route route, Fifo& onwards, Fifo& back, uint64_t now);
 
   void front_loop(uint64_t now);
   void primary(uint64_t now);
   void dispatch(uint32_t slot, uint64_t cycles, uint64_t now);
-  void search_start(uint32_t slot, uint64_t now);
+  void search_start(size_t unit, uint32_t slot, uint64_t now);
   void mac_start(uint32_t slot, uint64_t now);
   void root_start(uint32_t result, uint64_t now);
   void shade_start(uint32_t slot, uint64_t now);
@@ -121,12 +126,15 @@ class PeEngine {
   std::vector<MacResult> results_;  ///< MAC results on their way to the root unit
   std::vector<uint32_t> free_results_;
 
+  std::vector<Fifo*> touched_;  ///< FIFOs written or read in the current instant
   Fifo search_fifo_, intersect_fifo_, shade_fifo_, feedback_search_, feedback_intersect_, spawn_fifo_, to_root_,
       ends_fifo_;
   const bool spawn_path_;
   std::vector<Fifo*> fifos_;  ///< in the order fifo_stats reports them
 
-  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
+  std::vector<uint64_t> due_at_;  ///< kNever: not due
+  std::vector<Due> due_;
+  std::vector<size_t> due_now_;
   uint64_t seq_ = 0;
   uint64_t pending_step_ = kNever;  ///< an instant with no unit due but rays arriving
   bool front_poked_ = false;        ///< an input of the front buffer was written in this instant
@@ -141,7 +149,7 @@ class PeEngine {
   uint64_t waiting_since_ = 0;
 
   // The other units
-  int idle_search_;
+  std::vector<size_t> idle_search_;  ///< places in due_
   bool mac_busy_ = false, root_busy_ = false, shade_busy_ = false;
   uint32_t mac_result_ = 0, root_result_ = 0, shade_ray_ = 0;
   Route root_route_ = Route::End;
