@@ -11,6 +11,9 @@
 #include <sstream>
 #include <string>
 
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
 namespace rtm::test {
 
 /// A fresh folder per test, removed afterwards.
@@ -59,5 +62,15 @@ inline Proc sh(const std::string& cmd, const Tmp& tmp) {
 
 /// Runs the rtm binary under test.
 inline Proc run_rtm(const std::string& args, const Tmp& tmp) { return sh(std::string(RTM_BINARY) + " " + args, tmp); }
+
+/// `rtm render ARGS`, the image to `<name>.exr`, the ID map to `<name>-id.exr`; returns the stats
+/// (null, with a test failure, if the render failed).
+inline nlohmann::json render(const Tmp& tmp, const std::string& name, const std::string& args) {
+  const Proc r = run_rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --id-map " + (tmp / (name + "-id.exr")) +
+                             " --stats " + (tmp / (name + ".json")) + " -q",
+                         tmp);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return r.exit_code == 0 ? nlohmann::json::parse(slurp(tmp / (name + ".json"))) : nlohmann::json();
+}
 
 }  // namespace rtm::test

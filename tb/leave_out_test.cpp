@@ -21,14 +21,6 @@ const std::string kScenes = std::string(RTM_SOURCE_DIR) + "/scenes/spd/";
 const std::string kFull = "--mac-schedule full --set leave_out=false";
 const std::string kPruned = "--mac-schedule sparse --set leave_out=true";
 
-json render(const Tmp& tmp, const std::string& name, const std::string& args) {
-  const Proc r = run_rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --id-map " + (tmp / (name + "-id.exr")) +
-                             " --stats " + (tmp / (name + ".json")) + " -q",
-                         tmp);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return r.exit_code == 0 ? json::parse(slurp(tmp / (name + ".json"))) : json();
-}
-
 struct Case {
   std::string scene, precision;
 };

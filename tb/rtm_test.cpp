@@ -26,15 +26,6 @@ const std::string kScenes = std::string(RTM_SOURCE_DIR) + "/scenes/spd/";
 
 json stats(const std::string& path) { return json::parse(slurp(path)); }
 
-/// Renders on the machine and returns its stats; the image goes to `<name>.exr`.
-json render(const Tmp& tmp, const std::string& name, const std::string& args) {
-  const Proc r = run_rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --stats " + (tmp / (name + ".json")) +
-                        " --id-map " + (tmp / (name + "-id.exr")) + " -q",
-                    tmp);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return r.exit_code == 0 ? stats(tmp / (name + ".json")) : json();
-}
-
 double id_agreement(const std::string& a, const std::string& b) {
   const rtm::Image x = rtm::read_id_map(a), y = rtm::read_id_map(b);
   size_t same = 0;

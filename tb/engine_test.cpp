@@ -1,0 +1,110 @@
+// The PE engine against the modules it stands in for: the same frame rendered both ways must
+// give the same picture, ID map and every statistic (cycles, per-PE and per-unit counters, FIFO
+// peaks and means, host phases), over configurations that exercise each of its paths.
+#include <random>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_test_support.h"
+#include "render/image_io.h"
+
+using nlohmann::json;
+using namespace rtm::test;
+
+namespace {
+
+const std::string kScenes = std::string(RTM_SOURCE_DIR) + "/scenes/spd/";
+
+/// The stats without what may differ between two runs of the same frame: wall times (every
+/// `*_seconds`), the reference cache and how the PEs were simulated.
+json comparable(json j) {
+  for (const char* key : {"reference", "pe_simulation", "config"}) j.erase(key);
+  for (auto it = j.begin(); it != j.end();) {
+    const std::string key = it.key();
+    if (key.size() >= 7 && key.compare(key.size() - 7, 7, "seconds") == 0) {
+      it = j.erase(it);
+      continue;
+    }
+    if (it->is_object()) *it = comparable(*it);
+    ++it;
+  }
+  return j;
+}
+
+void expect_engine_matches_modules(const std::string& args) {
+  Tmp tmp;
+  const json modules = render(tmp, "modules", args + " --set pe_simulation=modules");
+  const json engine = render(tmp, "engine", args);
+  ASSERT_FALSE(modules.is_null() || engine.is_null()) << args;
+  ASSERT_TRUE(engine["pe_simulation"]["engine"].get<bool>()) << engine["pe_simulation"];
+  ASSERT_FALSE(modules["pe_simulation"]["engine"].get<bool>());
+  EXPECT_GT(engine["cycles"].get<uint64_t>(), 0u);
+  const json m = comparable(modules), e = comparable(engine);
+  for (auto& [key, value] : m.items()) EXPECT_EQ(value, e[key]) << key << " differs; " << args;
+  EXPECT_EQ(m.size(), e.size());
+  EXPECT_EQ(rtm::read_image(tmp / "modules.exr").rgb, rtm::read_image(tmp / "engine.exr").rgb) << args;
+  EXPECT_EQ(rtm::read_id_map(tmp / "modules-id.exr").ids, rtm::read_id_map(tmp / "engine-id.exr").ids) << args;
+}
+
+struct Case {
+  const char* name;
+  const char* args;
+};
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+class EngineMatchesModules : public ::testing::TestWithParam<Case> {};
+
+TEST_P(EngineMatchesModules, SamePictureAndStatistics) {
+  expect_engine_matches_modules(kScenes + GetParam().args);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Paths, EngineMatchesModules,
+    ::testing::Values(
+        Case{"OnePe", "balls-1.nff --size 32x32"},
+        Case{"BlocksOnThreePes", "rings-1.nff --size 48x48 --pes 3 --partition blocks"},
+        // Primary rays arriving block by block while the PEs work.
+        Case{"StreamedRays", "tree-2.nff --size 32x32 --pes 2 --set ray_block=37"},
+        Case{"PeRayGenerationBroadcastGatherAsFinished",
+             "shells-1.nff --size 32x32 --pes 3 --set ray_generation=pe --set broadcast=true --set gather=as_finished"},
+        // Units waiting for room in full feedback FIFOs, and rays spilling from the front buffer.
+        Case{"FullFifosAndSpills",
+             "mount-1.nff --size 32x32 --pes 2 --search-units 8 --set feedback_fifo_depth=1 --set front_buffer_capacity=2"},
+        Case{"UntilOccupiedFp64FullSchedule",
+             "lattice-1.nff --size 32x32 --set search_walk=until_occupied --precision fp64 --mac-schedule full"},
+        Case{"PixelsFewCredits", "jacks-1.nff --size 32x32 --pes 5 --partition pixels --set loop_credits=3"},
+        Case{"SlowLinkNoLeaveOut",
+             "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false --set clock_ns=7"}),
+    [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
+
+TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
+  std::mt19937 rng(1201);
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  const char* scenes[] = {"balls-1.nff", "mount-1.nff", "tree-2.nff", "rings-1.nff"};
+  for (int i = 0; i < 6; ++i) {
+    const int depth = pick(1, 4);
+    std::ostringstream args;
+    args << kScenes << scenes[i % 4] << " --size 16x16 --pes " << pick(1, 4) << " --search-units " << pick(1, 6)
+         << " --set search_fifo_depth=" << depth << " --set intersect_fifo_depth=" << pick(depth, 5)
+         << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
+         << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
+         << " --set loop_credits=" << pick(0, depth) << " --set fb_dispatch_cycles=" << pick(1, 3)
+         << " --set dda_step_cycles=" << pick(1, 3) << " --set spill_cycles=" << pick(0, 9);
+    expect_engine_matches_modules(args.str());
+  }
+}
+
+TEST(EngineMatchesModules, WaveformsAndClockedTimingUseTheModules) {
+  Tmp tmp;
+  const json vcd = render(tmp, "vcd", kScenes + "balls-1.nff --size 8x8 --vcd " + (tmp / "w.vcd"));
+  ASSERT_FALSE(vcd.is_null());
+  EXPECT_FALSE(vcd["pe_simulation"]["engine"].get<bool>());
+  EXPECT_NE(vcd["pe_simulation"]["modules_because"].get<std::string>().find("waveform"), std::string::npos);
+  const json clocked = render(tmp, "clocked", kScenes + "balls-1.nff --size 8x8 --timing clocked");
+  ASSERT_FALSE(clocked.is_null());
+  EXPECT_FALSE(clocked["pe_simulation"]["engine"].get<bool>());
+}
+
+}  // namespace
