@@ -1,6 +1,7 @@
 // The PE engine against the modules it stands in for: the same frame rendered both ways must
 // give the same picture, ID map and every statistic (cycles, per-PE and per-unit counters, FIFO
 // peaks and means, host phases), over configurations that exercise each of its paths.
+// docs/machine.md, "The PE engine".
 #include <random>
 #include <sstream>
 #include <string>
@@ -75,6 +76,8 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"UntilOccupiedFp64FullSchedule",
              "lattice-1.nff --size 32x32 --set search_walk=until_occupied --precision fp64 --mac-schedule full"},
         Case{"PixelsFewCredits", "jacks-1.nff --size 32x32 --pes 5 --partition pixels --set loop_credits=3"},
+        // PEs with no pixels at all finish at once; one ray per transfer.
+        Case{"MorePesThanPixels", "balls-1.nff --size 3x2 --pes 8 --set ray_block=1 --set gather=as_finished"},
         Case{"SlowLinkNoLeaveOut",
              "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false --set clock_ns=7"}),
     [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
