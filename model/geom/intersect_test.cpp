@@ -142,6 +142,32 @@ TEST(MacSchedule, ExactOnSmallIntegers) {
   }
 }
 
+/// The unrolled forms the simulators use give the schedule's sums bit for bit: the masked one
+/// for the full schedule and for sparse ones, the reference's for any finite input.
+template <class Real>
+void expect_unrolled_forms_match(uint32_t seed) {
+  std::mt19937 rng(seed);
+  for (int i = 0; i < 4000; ++i) {
+    Quadric q;
+    for (double& c : q.c) c = (rng() % 3 == 0) ? 0.0 : random_sign(rng) * log_uniform(rng, -3, 3);
+    if (i % 2) q.c[3] = q.c[4] = q.c[5] = 0;  // no cross terms: the reference's short form
+    const Latches<Real> l = load_latches<Real>(random_unit(rng), Vec3(uniform(rng, -50, 50), uniform(rng, -50, 50),
+                                                                      uniform(rng, -50, 50)));
+    const CoefRam<Real> ram = load_ram<Real>(q);
+    const Abg<Real> full = form_abg(l, ram), sparse = form_abg(l, ram, sparse_ops(ram));
+    for (const Abg<Real>& got : {form_abg(l, ram, kAllProducts), form_abg_fast(l, ram)}) {
+      ASSERT_EQ(std::memcmp(&got, &full, sizeof full), 0) << i;
+    }
+    const Abg<Real> masked = form_abg(l, ram, sparse_mask(ram));
+    ASSERT_EQ(std::memcmp(&masked, &sparse, sizeof sparse), 0) << i;
+  }
+}
+
+TEST(MacSchedule, UnrolledFormsGiveTheScheduleSums) {
+  expect_unrolled_forms_match<float>(5);
+  expect_unrolled_forms_match<double>(6);
+}
+
 TEST(IntersectAbg, DoubleMatchesSubstitution) {
   std::mt19937 rng(22);
   for (int i = 0; i < 5000; ++i) {

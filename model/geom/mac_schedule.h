@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "geom/quadric.h"
@@ -112,6 +113,74 @@ Abg<Real> form_abg(const Latches<Real>& l, const CoefRam<Real>& ram, const MacOp
   Real acc[3] = {0, 0, 0};
   for (uint8_t k : ops) acc[kMacSchedule[k].sum] += mac_product(kMacSchedule[k], l, ram);
   return {acc[kAlpha], acc[kBeta], acc[kGamma]};
+}
+
+namespace detail {
+constexpr bool is_cross(const MacOp& op) { return op.w == kRamD || op.w == kRamE || op.w == kRamF; }
+
+struct OpList {
+  std::array<uint8_t, kMacProducts> k{};
+  size_t n = 0;
+};
+
+constexpr OpList schedule_subset(bool cross_terms) {
+  OpList l;
+  for (size_t k = 0; k < kMacProducts; ++k)
+    if (cross_terms || !is_cross(kMacSchedule[k])) l.k[l.n++] = uint8_t(k);
+  return l;
+}
+inline constexpr OpList kAllOps = schedule_subset(true);
+inline constexpr OpList kNoCrossOps = schedule_subset(false);
+
+template <const OpList& Ops, class Real, size_t... I>
+Abg<Real> form_abg_unrolled(const Latches<Real>& l, const CoefRam<Real>& ram, std::index_sequence<I...>) {
+  Real acc[3] = {0, 0, 0};
+  ((acc[kMacSchedule[Ops.k[I]].sum] += mac_product(kMacSchedule[Ops.k[I]], l, ram)), ...);  // left to right
+  return {acc[kAlpha], acc[kBeta], acc[kGamma]};
+}
+}  // namespace detail
+
+/// A per-primitive schedule as a mask over kMacSchedule (bit k: product k runs).
+using MacMask = uint32_t;
+constexpr MacMask kAllProducts = (MacMask(1) << kMacProducts) - 1;
+
+template <class Real>
+MacMask sparse_mask(const CoefRam<Real>& ram) {
+  MacMask m = 0;
+  for (uint8_t k : sparse_ops(ram)) m |= MacMask(1) << k;
+  return m;
+}
+
+namespace detail {
+template <class Real, size_t... K>
+Abg<Real> form_abg_masked(const Latches<Real>& l, const CoefRam<Real>& ram, MacMask mask, std::index_sequence<K...>) {
+  Real acc[3] = {0, 0, 0};
+  // Left to right, in schedule order; a product not in the mask leaves its sum alone.
+  ((acc[kMacSchedule[K].sum] = (mask >> K & 1) ? acc[kMacSchedule[K].sum] + mac_product(kMacSchedule[K], l, ram)
+                                               : acc[kMacSchedule[K].sum]),
+   ...);
+  return {acc[kAlpha], acc[kBeta], acc[kGamma]};
+}
+}  // namespace detail
+
+/// α, β, γ from the products in `mask`, in schedule order: the same bits as form_abg with that
+/// schedule (all products: the full one), unrolled at compile time so the sums stay in registers.
+template <class Real>
+Abg<Real> form_abg(const Latches<Real>& l, const CoefRam<Real>& ram, MacMask mask) {
+  return detail::form_abg_masked(l, ram, mask, std::make_index_sequence<kMacProducts>{});
+}
+
+/// The same α, β, γ as form_abg, bit for bit, for the reference renderer: the schedule unrolled at
+/// compile time with the accumulators in registers instead of an indexed array (whose
+/// store-to-load chain dominated the profiles), and, for a quadric without cross terms
+/// (D = E = F = 0: spheres, planes, axis-aligned shapes), without those 12 products — each is ±0,
+/// which never changes a sum (the argument of sparse_ops). The same sums as any sparse schedule.
+template <class Real>
+Abg<Real> form_abg_fast(const Latches<Real>& l, const CoefRam<Real>& ram) {
+  using namespace detail;
+  if (ram[kRamD] == 0 && ram[kRamE] == 0 && ram[kRamF] == 0)
+    return form_abg_unrolled<kNoCrossOps>(l, ram, std::make_index_sequence<kNoCrossOps.n>{});
+  return form_abg_unrolled<kAllOps>(l, ram, std::make_index_sequence<kAllOps.n>{});
 }
 
 }  // namespace rtm

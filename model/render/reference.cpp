@@ -21,42 +21,6 @@ void TraceCounts::add(const TraceCounts& o) {
 
 namespace {
 
-/// The products of the MAC schedule a primitive needs: all of them, or, for a quadric without
-/// cross terms (D = E = F = 0: spheres, axis-aligned shapes, planes), all but the 12 products
-/// with those coefficients. A skipped product is ±0 and adding it never changes a sum (the
-/// argument of sparse_ops), so either subset gives the full schedule's α, β, γ bit for bit.
-constexpr bool is_cross(const MacOp& op) { return op.w == kRamD || op.w == kRamE || op.w == kRamF; }
-
-struct OpList {
-  std::array<uint8_t, kMacProducts> k{};
-  size_t n = 0;
-};
-
-constexpr OpList schedule_subset(bool cross_terms) {
-  OpList l;
-  for (size_t k = 0; k < kMacProducts; ++k)
-    if (cross_terms || !is_cross(kMacSchedule[k])) l.k[l.n++] = uint8_t(k);
-  return l;
-}
-constexpr OpList kAllOps = schedule_subset(true);
-constexpr OpList kNoCrossOps = schedule_subset(false);
-
-/// α, β, γ from the products `Ops` lists, unrolled at compile time: the same products summed into
-/// the same accumulators in the same order as form_abg, but with the accumulators in registers
-/// instead of an indexed array whose store-to-load chain dominated the renderer's profile.
-template <const OpList& Ops, size_t... I>
-Abg<double> form_abg_unrolled(const Latches<double>& l, const CoefRam<double>& ram, std::index_sequence<I...>) {
-  double acc[3] = {0, 0, 0};
-  ((acc[kMacSchedule[Ops.k[I]].sum] += mac_product(kMacSchedule[Ops.k[I]], l, ram)), ...);  // left to right
-  return {acc[kAlpha], acc[kBeta], acc[kGamma]};
-}
-
-Abg<double> form_abg_fast(const Latches<double>& l, const CoefRam<double>& ram) {
-  if (ram[kRamD] == 0 && ram[kRamE] == 0 && ram[kRamF] == 0)
-    return form_abg_unrolled<kNoCrossOps>(l, ram, std::make_index_sequence<kNoCrossOps.n>{});
-  return form_abg_unrolled<kAllOps>(l, ram, std::make_index_sequence<kAllOps.n>{});
-}
-
 /// A per-thread memo of each primitive's test against the current ray (a "mailbox"). A primitive
 /// spanning several voxels is listed, and tested, in each of them, but its roots and clip tests
 /// depend only on the ray; only the voxel window differs. So the MAC and root work runs once per

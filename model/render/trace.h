@@ -31,6 +31,7 @@ struct SceneMemory {
   std::vector<Vec3> centres;                  ///< each primitive's frame origin (zero: world frame)
   std::vector<std::vector<HalfSpace>> clips;  ///< each primitive's clips, in its frame
   std::vector<MacOps> ops;                    ///< sparse MAC schedules; empty: the full schedule
+  std::vector<MacMask> masks;                 ///< the same as masks
 
   MacNumerics numerics;                       ///< discriminant form and coefficient scaling (geom/numerics.h)
 
@@ -61,7 +62,11 @@ struct SceneMemory {
   /// word skipped; same sums, see sparse_ops).
   void use_sparse_schedule() {
     ops.clear();
-    for (const CoefRam<Real>& r : rams) ops.push_back(sparse_ops(r));
+    masks.clear();
+    for (const CoefRam<Real>& r : rams) {
+      ops.push_back(sparse_ops(r));
+      masks.push_back(sparse_mask(r));
+    }
   }
   /// Products the MAC runs for primitive `prim`.
   int products(uint32_t prim) const { return ops.empty() ? kMacProducts : int(ops[prim].size()); }
@@ -106,8 +111,7 @@ void form_voxel_abg(const SceneMemory<Real>& mem, const Ray& ray, int64_t voxel,
   const Grid& g = *mem.grid;
   out.clear();
   for (const uint32_t *it = g.begin(voxel), *end = it + g.count(voxel); it != end; ++it)
-    out.push_back(mem.ops.empty() ? form_abg(mem.latches(ray, *it, t_enter), mem.rams[*it])
-                                  : form_abg(mem.latches(ray, *it, t_enter), mem.rams[*it], mem.ops[*it]));
+    out.push_back(form_abg(mem.latches(ray, *it, t_enter), mem.rams[*it], mem.masks.empty() ? kAllProducts : mem.masks[*it]));
 }
 
 /// The root unit and the sort for one voxel: roots of each primitive's α t² + β t + γ, clip
