@@ -23,32 +23,6 @@ PeEngine::Fifo::Fifo(std::string n, const char* kind, int depth, std::vector<Fif
   stats.depth = depth;
 }
 
-void PeEngine::Fifo::change(int delta, uint64_t now) {
-  area += uint64_t(occupancy) * (now - last_change);
-  last_change = now;
-  occupancy += delta;
-  if (occupancy > stats.peak) stats.peak = occupancy;
-}
-
-void PeEngine::Fifo::write(uint32_t v, uint64_t now) {
-  ring[(head + count++) % ring.size()] = v;
-  written = true;
-  touch();
-  change(+1, now);
-  ++stats.writes;
-}
-
-uint32_t PeEngine::Fifo::read(uint64_t now) {
-  const uint32_t v = ring[head];
-  head = head + 1 == ring.size() ? 0 : head + 1;
-  --count;
-  --visible;
-  ++reads_now;
-  touch();
-  change(-1, now);
-  return v;
-}
-
 PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int32_t>& ids,
                    const std::vector<Ray>& rays, size_t rays_expected)
     : ctx_(ctx),
@@ -122,8 +96,9 @@ void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Route route) {
 void PeEngine::step(uint64_t now) {
   if (pending_step_ == now) pending_step_ = kNever;
   // The units whose work ends now (found by next_instant), in rank order; their next work ends later.
-  if (due_now_.size() > 1)
-    std::sort(due_now_.begin(), due_now_.end(), [&](size_t a, size_t b) { return due_[a].order < due_[b].order; });
+  for (size_t i = 1; i < due_now_.size(); ++i)  // a few at most: insertion sort
+    for (size_t j = i; j > 0 && due_[due_now_[j]].order < due_[due_now_[j - 1]].order; --j)
+      std::swap(due_now_[j], due_now_[j - 1]);
   for (size_t u : due_now_) {
     const Due d = due_[u];
     due_at_[u] = kNever;

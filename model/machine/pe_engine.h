@@ -75,9 +75,29 @@ class PeEngine {
       if (!touched) touched_list->push_back(this);
       touched = true;
     }
-    void write(uint32_t v, uint64_t now);
-    uint32_t read(uint64_t now);
-    void change(int delta, uint64_t now);
+    void write(uint32_t v, uint64_t now) {
+      ring[(head + count++) % ring.size()] = v;
+      written = true;
+      touch();
+      change(+1, now);
+      ++stats.writes;
+    }
+    uint32_t read(uint64_t now) {
+      const uint32_t v = ring[head];
+      head = head + 1 == ring.size() ? 0 : head + 1;
+      --count;
+      --visible;
+      ++reads_now;
+      touch();
+      change(-1, now);
+      return v;
+    }
+    void change(int delta, uint64_t now) {
+      area += uint64_t(occupancy) * (now - last_change);
+      last_change = now;
+      occupancy += delta;
+      if (occupancy > stats.peak) stats.peak = occupancy;
+    }
     /// No room to write in this instant (sc_fifo::num_free() == 0).
     bool full() const { return count + reads_now >= ring.size(); }
   };
