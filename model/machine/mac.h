@@ -53,14 +53,19 @@ struct MacTiming {
   Job job(const std::vector<int>& counts) const {
     Job j;
     j.counts = counts;
+    plan(j);
+    return j;
+  }
+  /// Fills in j's schedule for the counts it holds (reusing its storage).
+  void plan(Job& j) const {
     j.add_latency = add_latency;
     j.pipe = 2 * mul_latency + add_latency;
+    j.start.clear();
     uint64_t at = coef_load_cycles;
-    for (int n : counts) {
+    for (int n : j.counts) {
       j.start.push_back(at);
       at += std::max<uint64_t>(uint64_t(n) * add_latency, coef_load_cycles);
     }
-    return j;
   }
 };
 

@@ -33,14 +33,14 @@ uint64_t mac_work(PeContext& ctx, const MacTiming& timing, MacResult& m) {
     form_voxel_abg(img.mem32, m.r.ray, v, m.abg32, s.t_enter);
   else
     form_voxel_abg(img.mem64, m.r.ray, v, m.abg64, s.t_enter);
-  std::vector<int> counts;
-  counts.reserve(size_t(n));
+  std::vector<int>& counts = m.plan.counts;  // filled in place: a MacResult is reused
+  counts.clear();
   int products = 0;
   for (const uint32_t *it = img.grid->begin(v), *end = it + n; it != end; ++it) {
     counts.push_back(fp32 ? img.mem32.products(*it) : img.mem64.products(*it));
     products += counts.back();
   }
-  m.plan = timing.job(counts);
+  timing.plan(m.plan);
   const uint64_t cycles = m.plan.cycles();
   ctx.counters.mac_products += uint64_t(products);
   ctx.counters.mac_products_saved += uint64_t(n) * kMacProducts - uint64_t(products);
