@@ -45,7 +45,8 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
   render->add_option("--pes", r.pes, "Processing elements")->check(CLI::Range(1, 65536));
-  render->add_option("--timing", r.timing, "MAC model: fast (default) or clocked");
+  render->add_option("--timing", r.timing,
+                     "fast (default: the MAC by formula, the PEs on the PE engine) or clocked (the MAC on a clock, every unit a SystemC process); the same cycles either way");
   render->add_option("--precision", r.precision, "MAC arithmetic: fp32 (default) or fp64");
   render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks, strips or pixels");
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE")->check(CLI::Range(1, 256));
