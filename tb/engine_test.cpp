@@ -76,6 +76,11 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"UntilOccupiedFp64FullSchedule",
              "lattice-1.nff --size 32x32 --set search_walk=until_occupied --precision fp64 --mac-schedule full"},
         Case{"PixelsFewCredits", "jacks-1.nff --size 32x32 --pes 5 --partition pixels --set loop_credits=3"},
+        // Several intersection units: the lowest idle one takes a ray; root units rank by lane.
+        Case{"TwoIntersectionUnits", "tree-2.nff --size 40x40 --pes 2 --set intersection_units=2"},
+        Case{"ThreeIntersectionUnitsTinyFifos",
+             "shells-1.nff --size 32x32 --pes 3 --set intersection_units=3 --search-units 6 --set root_fifo_depth=2"
+             " --set search_fifo_depth=2 --set feedback_fifo_depth=1"},
         // PEs with no pixels at all finish at once; one ray per transfer.
         Case{"MorePesThanPixels", "balls-1.nff --size 3x2 --pes 8 --set ray_block=1 --set gather=as_finished"},
         Case{"SlowLinkNoLeaveOut",
@@ -94,7 +99,8 @@ TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
          << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
          << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
          << " --set loop_credits=" << pick(0, depth) << " --set fb_dispatch_cycles=" << pick(1, 3)
-         << " --set dda_step_cycles=" << pick(1, 3) << " --set spill_cycles=" << pick(0, 9);
+         << " --set dda_step_cycles=" << pick(1, 3) << " --set spill_cycles=" << pick(0, 9)
+         << " --set intersection_units=" << pick(1, 3);
     expect_engine_matches_modules(args.str());
   }
 }

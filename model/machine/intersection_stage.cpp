@@ -3,12 +3,37 @@
 
 namespace rtm {
 
-IntersectionStage::IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock)
+LaneDispatcher::LaneDispatcher(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int lanes)
+    : sc_module(name), in_(in) {
+  for (int i = 0; i < lanes; ++i) wake_.push_back(std::make_unique<sc_core::sc_event>());
+  SC_METHOD(dispatch);
+  sensitive << in_.data_written_event();
+  dont_initialize();
+}
+
+void LaneDispatcher::wait_for_ray(int lane) {
+  idle_.insert(lane);
+  sc_core::wait(*wake_[size_t(lane)]);
+}
+
+void LaneDispatcher::dispatch() {
+  // Immediate notifications: the units run next, in the order notified, and each takes one ray.
+  for (int n = in_.num_available(); n > 0 && !idle_.empty(); --n) {
+    const int lane = *idle_.begin();
+    idle_.erase(idle_.begin());
+    wake_[size_t(lane)]->notify();
+  }
+}
+
+IntersectionStage::IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
+                                     LaneDispatcher* lanes, int lane)
     : sc_module(name),
       ctx_(ctx),
       mac_sleep_(ctx.sleeper(UnitRank::Mac)),
-      root_sleep_(ctx.sleeper(UnitRank::Root)),
+      root_sleep_(ctx.sleeper(UnitRank::Root, lane)),
       timing_(ctx.config),
+      lanes_(lanes),
+      lane_(lane),
       to_root_("to_root", ctx.config.root_fifo_depth, "root") {
   if (clock) {
     clocked_ = std::make_unique<ClockedMac>("mac_unit", timing_, ctx.config.precision, ctx.cycle);
@@ -58,7 +83,10 @@ void IntersectionStage::mac_thread() {
   std::vector<std::array<double, 3>> sums;
   for (;;) {
     MacResult m;
-    m.r = rays_in->read();
+    if (lanes_)
+      while (!rays_in->nb_read(m.r)) lanes_->wait_for_ray(lane_);
+    else
+      m.r = rays_in->read();
     mac_probe_.begin(m.r.id);
     const uint64_t cycles = mac_work(ctx_, timing_, m);
     if (clocked_) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <set>
 #include <vector>
 
 #include <systemc>
@@ -17,6 +18,24 @@
 
 namespace rtm {
 
+/// With several intersection units: hands each occupied-voxel ray that arrives to the idle unit
+/// with the lowest number, so which unit takes a ray follows the numbering, not the order in
+/// which SystemC wakes processes waiting on the same FIFO (the PE engine follows the same rule).
+class LaneDispatcher : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(LaneDispatcher);
+  LaneDispatcher(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int lanes);
+  /// Unit `lane` found the FIFO empty: returns once a ray has been handed to it.
+  void wait_for_ray(int lane);
+
+ private:
+  void dispatch();
+
+  MeteredFifo<MachineRay>& in_;
+  std::set<int> idle_;
+  std::vector<std::unique_ptr<sc_core::sc_event>> wake_;
+};
+
 class IntersectionStage : public sc_core::sc_module {
  public:
   sc_core::sc_fifo_in<MachineRay> rays_in{"rays_in"};             ///< occupied voxels, from the search units
@@ -27,7 +46,9 @@ class IntersectionStage : public sc_core::sc_module {
   SC_HAS_PROCESS(IntersectionStage);
   /// With a clock (clocked timing), every MAC job runs on a clock-level MAC unit and is checked
   /// against the schedule; without one, the fast model times it by formula.
-  IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock);
+  /// `lanes`: the dispatcher shared by several units, or null for the only one; `lane`: its number.
+  IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock, LaneDispatcher* lanes,
+                    int lane);
 
   void trace(sc_core::sc_trace_file* tf, const std::string& prefix);
   MeteredFifo<MacResult>& root_fifo() { return to_root_; }
@@ -40,6 +61,8 @@ class IntersectionStage : public sc_core::sc_module {
   std::unique_ptr<Sleeper> mac_sleep_, root_sleep_;
   MacTiming timing_;
   std::unique_ptr<ClockedMac> clocked_;  ///< null in fast timing
+  LaneDispatcher* lanes_;
+  int lane_;
   MeteredFifo<MacResult> to_root_;
   UnitProbe mac_probe_, root_probe_;
 };

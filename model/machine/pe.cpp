@@ -52,9 +52,12 @@ Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const Pe
     s.ends_out(ends_fifo);
   }
 
+  if (c.intersection_units > 1)
+    lanes = std::make_unique<LaneDispatcher>("lane_dispatcher", intersect_fifo, c.intersection_units);
   for (int k = 0; k < c.intersection_units; ++k) {
     intersection.push_back(std::make_unique<IntersectionStage>(("intersection" + std::to_string(k)).c_str(), ctx,
-                                                               c.timing == Timing::Clocked ? clock : nullptr));
+                                                               c.timing == Timing::Clocked ? clock : nullptr,
+                                                               lanes.get(), k));
     IntersectionStage& x = *intersection.back();
     x.rays_in(intersect_fifo);
     x.hits_out(shade_fifo);

@@ -51,6 +51,7 @@ class Pe : public PeBase {
 
   FrontBuffer front;
   std::vector<std::unique_ptr<SearchUnit>> search;
+  std::unique_ptr<LaneDispatcher> lanes;  ///< with more than one intersection unit
   std::vector<std::unique_ptr<IntersectionStage>> intersection;  ///< the paper has one; more is an option
   ShadingStage shading;
 

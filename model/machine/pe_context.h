@@ -80,7 +80,8 @@ struct PeUnits {
 
 /// Within a PE, the same-cycle order of the kinds of unit (timekeeper.h); units of one kind due
 /// in the same cycle go in the order they took their work, so which of the replicated search
-/// units holds a ray never matters.
+/// units holds a ray never matters. Root units rank by their lane (Root + lane): each takes only
+/// its own MAC's results, so no work order could rank them.
 enum class UnitRank { FrontBuffer, Shading, Search, Mac, Root };
 
 struct PeContext {
@@ -95,16 +96,16 @@ struct PeContext {
   Timekeeper* keeper = nullptr;  ///< arbitration = ranked: every timed wait goes through it
 
   sc_core::sc_time cycles(uint64_t n) const { return cycle * double(n); }
-  /// A sleeper for one more process of this PE.
-  std::unique_ptr<Sleeper> sleeper(UnitRank kind) const {
-    return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + int(kind));
+  /// A sleeper for one more process of this PE (`lane`: a root unit's).
+  std::unique_ptr<Sleeper> sleeper(UnitRank kind, int lane = 0) const {
+    return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + int(kind) + lane);
   }
   /// Waits until the next PE clock boundary (work arriving from the host is not aligned).
   void align(Sleeper& sleep) const {
     const sc_dt::uint64 now = sc_core::sc_time_stamp().value(), c = cycle.value();
     if (const sc_dt::uint64 r = now % c) sleep(sc_core::sc_time::from_value(c - r));
   }
-  static constexpr int kRanksPerPe = 8;  // more than UnitRank has
+  static constexpr int kRanksPerPe = 128;  // more than UnitRank and 64 root lanes need
 };
 
 }  // namespace rtm

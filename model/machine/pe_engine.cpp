@@ -10,7 +10,6 @@ std::string engine_unsupported(const MachineConfig& c, bool tracing) {
   if (c.timing != Timing::Fast) return "clocked timing runs the MAC on a clock";
   if (c.arbitration != MachineConfig::Arbitration::Ranked) return "arbitration = kernel leaves the same-cycle order to SystemC";
   if (c.flow_control != FlowControl::Credits) return "flow_control = none can deadlock, which the modules report";
-  if (c.intersection_units != 1) return "with several intersection units SystemC picks the one that takes a ray";
   if (c.dda_step_cycles == 0 || c.shade_cycles == 0 || c.accumulate_cycles == 0)
     return "a unit taking zero cycles acts within the instant it started";
   if (tracing) return "a waveform traces the modules' signals";
@@ -39,15 +38,22 @@ PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int
       feedback_search_("feedback_search", "feedback", ctx.config.feedback_fifo_depth, &touched_),
       feedback_intersect_("feedback_intersect", "feedback", ctx.config.feedback_fifo_depth, &touched_),
       spawn_fifo_("spawn_fifo", "spawn", ctx.config.feedback_fifo_depth, &touched_),
-      to_root_("to_root", "root", ctx.config.root_fifo_depth, &touched_),
       ends_fifo_("ends_fifo", "ends", ctx.config.feedback_fifo_depth, &touched_),
       spawn_path_(ctx.units.spawn_path),
-      due_at_(kSearch + size_t(ctx.config.search_units), kNever),
-      due_(due_at_.size()) {
-  for (size_t u = due_.size(); u-- > kSearch;) idle_search_.push_back(u);
+      lanes_(size_t(ctx.config.intersection_units)),
+      mac0_(kSearch + size_t(ctx.config.search_units)),
+      root0_(mac0_ + lanes_),
+      root_busy_(lanes_, false) {
+  due_at_.assign(root0_ + lanes_, kNever);
+  due_.resize(due_at_.size());
+  for (size_t u = mac0_; u-- > kSearch;) idle_search_.push_back(u);
+  for (size_t lane = 0; lane < lanes_; ++lane) {
+    idle_macs_.insert(lane);
+    to_root_.emplace_back("to_root", "root", ctx.config.root_fifo_depth, &touched_);
+  }
   fifos_ = {&search_fifo_, &intersect_fifo_, &shade_fifo_, &feedback_search_, &feedback_intersect_};
   if (spawn_path_) fifos_.push_back(&spawn_fifo_);
-  fifos_.push_back(&to_root_);
+  for (Fifo& f : to_root_) fifos_.push_back(&f);
   fifos_.push_back(&ends_fifo_);
   front_loop(0);
 }
@@ -84,13 +90,12 @@ void PeEngine::rays_arrived(uint64_t t, size_t n) {
 }
 
 void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Route route) {
-  const Unit kind = unit >= kSearch ? Unit::Search
-                    : unit == kFront ? Unit::FrontBuffer
-                    : unit == kShading ? Unit::Shading
-                    : unit == kMac    ? Unit::Mac
-                                      : Unit::Root;
+  // Root units go by their lane: each takes only its own MAC's results, and the modules rank
+  // them so (pe_context.h).
+  const Unit kind = unit_at(unit);
+  const uint64_t rank = uint64_t(kind) + (kind == Unit::Root ? unit - root0_ : 0);
   due_at_[unit] = at;
-  due_[unit] = {uint64_t(kind) << 56 | seq_++, item, route};
+  due_[unit] = {rank << 48 | seq_++, item, route};
 }
 
 void PeEngine::step(uint64_t now) {
@@ -133,8 +138,13 @@ void PeEngine::take_inputs(uint64_t now) {
     idle_search_.pop_back();
     search_start(u, search_fifo_.read(now), now);
   }
-  if (!mac_busy_ && intersect_fifo_.visible > 0) mac_start(intersect_fifo_.read(now), now);
-  if (!root_busy_ && to_root_.visible > 0) root_start(to_root_.read(now), now);
+  while (!idle_macs_.empty() && intersect_fifo_.visible > 0) {
+    const size_t lane = *idle_macs_.begin();
+    idle_macs_.erase(idle_macs_.begin());
+    mac_start(lane, intersect_fifo_.read(now), now);
+  }
+  for (size_t lane = 0; lane < lanes_; ++lane)
+    if (!root_busy_[lane] && to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
   if (!shade_busy_ && shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
 }
 
@@ -161,7 +171,7 @@ void PeEngine::end_ray(uint32_t slot, uint64_t now) {
 
 void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
   const uint64_t retry = now + cycle_;
-  switch (d.unit()) {
+  switch (unit_at(unit)) {
     case Unit::FrontBuffer:
       if (front_ == Front::Aligning) {
         primary(now);
@@ -189,24 +199,30 @@ void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
       return;
     }
 
-    case Unit::Mac:
-      if (to_root_.full()) return schedule(kMac, retry);
-      to_root_.write(mac_result_, now);
-      mac_busy_ = false;
-      if (intersect_fifo_.visible > 0) mac_start(intersect_fifo_.read(now), now);
+    case Unit::Mac: {
+      const size_t lane = unit - mac0_;
+      Fifo& out = to_root_[lane];
+      if (out.full()) return schedule(unit, retry, d.item);
+      out.write(d.item, now);
+      if (intersect_fifo_.visible > 0)
+        mac_start(lane, intersect_fifo_.read(now), now);
+      else
+        idle_macs_.insert(lane);
       return;
+    }
 
     case Unit::Root: {
-      Fifo& out = root_route_ == Route::Shade ? shade_fifo_ : root_route_ == Route::Feedback ? feedback_intersect_ : ends_fifo_;
-      if (out.full()) return schedule(kRoot, retry);
-      const MachineRay& r = results_[root_result_].r;
-      if (root_route_ == Route::End)
+      const size_t lane = unit - root0_;
+      Fifo& out = d.route == Route::Shade ? shade_fifo_ : d.route == Route::Feedback ? feedback_intersect_ : ends_fifo_;
+      if (out.full()) return schedule(unit, retry, d.item, d.route);
+      const MachineRay& r = results_[d.item].r;
+      if (d.route == Route::End)
         ends_fifo_.write(r.id, now);
       else
         out.write(new_ray(r), now);
-      free_results_.push_back(root_result_);
-      root_busy_ = false;
-      if (to_root_.visible > 0) root_start(to_root_.read(now), now);
+      free_results_.push_back(d.item);
+      root_busy_[lane] = false;
+      if (to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
       return;
     }
 
@@ -298,26 +314,23 @@ void PeEngine::search_start(size_t unit, uint32_t slot, uint64_t now) {
   schedule(unit, now + w.cycles * cycle_, slot, w.route);
 }
 
-void PeEngine::mac_start(uint32_t slot, uint64_t now) {
-  mac_busy_ = true;
+void PeEngine::mac_start(size_t lane, uint32_t slot, uint64_t now) {
   if (free_results_.empty()) {
     results_.emplace_back();
     free_results_.push_back(uint32_t(results_.size() - 1));
   }
-  mac_result_ = free_results_.back();
+  const uint32_t result = free_results_.back();
   free_results_.pop_back();
-  MacResult& m = results_[mac_result_];
+  MacResult& m = results_[result];
   m.r = slots_[slot];
   free_slots_.push_back(slot);  // the ray travels with its MAC result now
-  schedule(kMac, now + mac_work(ctx_, timing_, m) * cycle_);
+  schedule(mac0_ + lane, now + mac_work(ctx_, timing_, m) * cycle_, result);
 }
 
-void PeEngine::root_start(uint32_t result, uint64_t now) {
-  root_busy_ = true;
-  root_result_ = result;
+void PeEngine::root_start(size_t lane, uint32_t result, uint64_t now) {
+  root_busy_[lane] = true;
   const Routed w = root_work(ctx_, results_[result], clips_);
-  root_route_ = w.route;
-  schedule(kRoot, now + w.cycles * cycle_);
+  schedule(root0_ + lane, now + w.cycles * cycle_, result, w.route);
 }
 
 void PeEngine::shade_start(uint32_t slot, uint64_t now) {

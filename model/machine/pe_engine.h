@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -106,13 +107,16 @@ class PeEngine {
   /// A unit's pending wake-up: its work (or its wait for room in a full FIFO) ends at due_at_.
   /// One per unit: a few units, so a scan finds the next instant faster than a heap would.
   struct Due {
-    uint64_t order = 0;        ///< the unit's rank, then (units of one kind due together) when it took its work
-    uint32_t item = 0;         ///< a search unit's ray slot
-    Route route = Route::End;  ///< a search unit's route
-    Unit unit() const { return Unit(order >> 56); }
+    uint64_t order = 0;        ///< the unit's rank, then (units of one rank due together) when it took its work
+    uint32_t item = 0;         ///< a search unit's ray slot; a MAC's or root unit's MAC result
+    Route route = Route::End;  ///< a search or root unit's route
   };
-  // Places in due_; the search units follow.
-  static constexpr size_t kFront = 0, kShading = 1, kMac = 2, kRoot = 3, kSearch = 4;
+  // Places in due_: the front buffer, shading, then the search units, the MACs and the root units.
+  static constexpr size_t kFront = 0, kShading = 1, kSearch = 2;
+  Unit unit_at(size_t place) const {
+    return place >= root0_ ? Unit::Root : place >= mac0_ ? Unit::Mac : place >= kSearch ? Unit::Search
+         : place == kFront ? Unit::FrontBuffer : Unit::Shading;
+  }
 
   /// The next instant, with the units due then in due_now_.
   uint64_t next_instant();
@@ -128,8 +132,8 @@ class PeEngine {
   void primary(uint64_t now);
   void dispatch(uint32_t slot, uint64_t cycles, uint64_t now);
   void search_start(size_t unit, uint32_t slot, uint64_t now);
-  void mac_start(uint32_t slot, uint64_t now);
-  void root_start(uint32_t result, uint64_t now);
+  void mac_start(size_t lane, uint32_t slot, uint64_t now);
+  void root_start(size_t lane, uint32_t result, uint64_t now);
   void shade_start(uint32_t slot, uint64_t now);
 
   PeContext& ctx_;
@@ -147,8 +151,8 @@ class PeEngine {
   std::vector<uint32_t> free_results_;
 
   std::vector<Fifo*> touched_;  ///< FIFOs written or read in the current instant
-  Fifo search_fifo_, intersect_fifo_, shade_fifo_, feedback_search_, feedback_intersect_, spawn_fifo_, to_root_,
-      ends_fifo_;
+  Fifo search_fifo_, intersect_fifo_, shade_fifo_, feedback_search_, feedback_intersect_, spawn_fifo_, ends_fifo_;
+  std::deque<Fifo> to_root_;  ///< one per intersection unit (a deque: the FIFOs must not move)
   const bool spawn_path_;
   std::vector<Fifo*> fifos_;  ///< in the order fifo_stats reports them
 
@@ -169,10 +173,12 @@ class PeEngine {
   uint64_t waiting_since_ = 0;
 
   // The other units
-  std::vector<size_t> idle_search_;  ///< places in due_
-  bool mac_busy_ = false, root_busy_ = false, shade_busy_ = false;
-  uint32_t mac_result_ = 0, root_result_ = 0, shade_ray_ = 0;
-  Route root_route_ = Route::End;
+  const size_t lanes_, mac0_, root0_;  ///< intersection units; where their MACs and root units sit in due_
+  std::vector<size_t> idle_search_;    ///< places in due_
+  std::set<size_t> idle_macs_;         ///< lanes; a ray goes to the lowest idle one (LaneDispatcher)
+  std::vector<bool> root_busy_;        ///< per lane
+  bool shade_busy_ = false;
+  uint32_t shade_ray_ = 0;
   std::vector<uint32_t> clips_;
   ShadeOut shade_out_;
   size_t shade_next_ = 0;  ///< the shading unit's next write: 0 the ray's end, then each spawned ray
