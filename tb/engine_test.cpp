@@ -72,7 +72,8 @@ INSTANTIATE_TEST_SUITE_P(
              "shells-1.nff --size 32x32 --pes 3 --set ray_generation=pe --set broadcast=true --set gather=as_finished"},
         // Units waiting for room in full feedback FIFOs, and rays spilling from the front buffer.
         Case{"FullFifosAndSpills",
-             "mount-1.nff --size 32x32 --pes 2 --search-units 8 --set feedback_fifo_depth=1 --set front_buffer_capacity=2"},
+             "mount-1.nff --size 32x32 --pes 2 --search-units 8 --set feedback_fifo_depth=1"
+             " --set front_buffer_capacity=2"},
         Case{"UntilOccupiedFp64FullSchedule",
              "lattice-1.nff --size 32x32 --set search_walk=until_occupied --precision fp64 --mac-schedule full"},
         Case{"PixelsFewCredits", "jacks-1.nff --size 32x32 --pes 5 --partition pixels --set loop_credits=3"},

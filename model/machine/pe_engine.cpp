@@ -8,7 +8,8 @@ namespace rtm {
 std::string engine_unsupported(const MachineConfig& c, bool tracing) {
   if (c.pe_simulation == MachineConfig::PeSimulation::Modules) return "pe_simulation = modules";
   if (c.timing != Timing::Fast) return "clocked timing runs the MAC on a clock";
-  if (c.arbitration != MachineConfig::Arbitration::Ranked) return "arbitration = kernel leaves the same-cycle order to SystemC";
+  if (c.arbitration != MachineConfig::Arbitration::Ranked)
+    return "arbitration = kernel leaves the same-cycle order to SystemC";
   if (c.flow_control != FlowControl::Credits) return "flow_control = none can deadlock, which the modules report";
   if (c.dda_step_cycles == 0 || c.shade_cycles == 0 || c.accumulate_cycles == 0)
     return "a unit taking zero cycles acts within the instant it started";
@@ -76,7 +77,8 @@ uint64_t PeEngine::next_instant() {
 }
 
 bool PeEngine::idle() const {
-  return pending_step_ == kNever && std::all_of(due_at_.begin(), due_at_.end(), [](uint64_t at) { return at == kNever; });
+  return pending_step_ == kNever &&
+         std::all_of(due_at_.begin(), due_at_.end(), [](uint64_t at) { return at == kNever; });
 }
 
 void PeEngine::run_before(uint64_t t) {

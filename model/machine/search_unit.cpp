@@ -4,7 +4,8 @@
 
 namespace rtm {
 
-SearchUnit::SearchUnit(sc_core::sc_module_name name, PeContext& ctx) : sc_module(name), ctx_(ctx), sleep_(ctx.sleeper(UnitRank::Search)) {
+SearchUnit::SearchUnit(sc_core::sc_module_name name, PeContext& ctx)
+    : sc_module(name), ctx_(ctx), sleep_(ctx.sleeper(UnitRank::Search)) {
   SC_THREAD(run);
 }
 
