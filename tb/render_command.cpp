@@ -362,8 +362,10 @@ int run_render(const RenderOptions& opt) {
                   double(m.cycles) / std::max(1.0, std::ceil(double(m.mac_products) / config.pes)), f.imbalance);
       std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,
                   err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255);
-      std::printf("wall time: %.3f s model, %.3f s reference%s\n", m.wall_seconds, ref.wall_seconds,
-                  cache_hit ? " (cached)" : "");
+      std::printf("wall time: %.3f s model (%s), %.3f s reference%s\n", m.wall_seconds,
+                  m.engine_unsupported.empty() ? "PEs on the PE engine"
+                                               : ("PEs as modules: " + m.engine_unsupported).c_str(),
+                  ref.wall_seconds, cache_hit ? " (cached)" : "");
       std::printf("image: %s\nstats: %s\n", out.c_str(), stats_path.c_str());
       if (!opt.id_map.empty()) std::printf("id map: %s\n", opt.id_map.c_str());
       if (!opt.vcd.empty()) std::printf("waveform: %s (GTKWave: gtkwave %s)\n", opt.vcd.c_str(),
