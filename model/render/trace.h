@@ -31,7 +31,7 @@ struct SceneMemory {
   std::vector<Vec3> centres;                  ///< each primitive's frame origin (zero: world frame)
   std::vector<std::vector<HalfSpace>> clips;  ///< each primitive's clips, in its frame
   std::vector<MacOps> ops;                    ///< sparse MAC schedules; empty: the full schedule
-  std::vector<MacMask> masks;                 ///< the same as masks
+  std::vector<MacMask> masks;                 ///< the same schedules as bit masks
 
   MacNumerics numerics;                       ///< discriminant form and coefficient scaling (geom/numerics.h)
 
@@ -111,7 +111,8 @@ void form_voxel_abg(const SceneMemory<Real>& mem, const Ray& ray, int64_t voxel,
   const Grid& g = *mem.grid;
   out.clear();
   for (const uint32_t *it = g.begin(voxel), *end = it + g.count(voxel); it != end; ++it)
-    out.push_back(form_abg(mem.latches(ray, *it, t_enter), mem.rams[*it], mem.masks.empty() ? kAllProducts : mem.masks[*it]));
+    out.push_back(
+        form_abg(mem.latches(ray, *it, t_enter), mem.rams[*it], mem.masks.empty() ? kAllProducts : mem.masks[*it]));
 }
 
 /// The root unit and the sort for one voxel: roots of each primitive's α t² + β t + γ, clip
