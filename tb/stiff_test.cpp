@@ -26,13 +26,11 @@ using namespace rtm::test;
 
 const std::string kStiff = std::string(RTM_SOURCE_DIR) + "/scenes/stiff/";
 
-/// Renders `scene` on the machine with `args`; the image goes to <name>.exr.
+/// Renders `scene` on the machine with `args` (the image to <name>.exr) and prints its error, for
+/// the figures in docs/numerics.md.
 json render(const Tmp& tmp, const std::string& name, const std::string& scene, const std::string& args) {
-  Proc r = run_rtm("render " + kStiff + scene + " " + args + " --out " + (tmp / (name + ".exr")) + " --stats " +
-                       (tmp / (name + ".json")) + " -q", tmp);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  if (r.exit_code != 0) return json();
-  const json j = json::parse(slurp(tmp / (name + ".json")));
+  const json j = rtm::test::render(tmp, name, kStiff + scene + " " + args);
+  if (j.is_null()) return j;
   std::printf("[numerics] %-22s %-62s px>1/255 %5d  rmse %.3g  max %.3g  cycles %llu\n", scene.c_str(), args.c_str(),
               j["error"]["pixels_over_1_255"].get<int>(), j["error"]["rmse"].get<double>(),
               j["error"]["max_abs"].get<double>(), (unsigned long long)j["cycles"].get<uint64_t>());

@@ -22,13 +22,37 @@ struct FifoStats {
   uint64_t writes = 0;
 };
 
+/// A FIFO's occupancy as it changes over time, and the statistics it gives; times in SystemC
+/// time-resolution units. Shared by MeteredFifo and the PE engine's FIFOs.
+struct FifoMeter {
+  FifoStats stats;
+  int occupancy = 0;
+  uint64_t last_change = 0;
+  uint64_t area = 0;  ///< ∫ occupancy dt
+
+  FifoMeter(const char* kind, int depth) {
+    stats.kind = kind;
+    stats.depth = depth;
+  }
+  void change(int delta, uint64_t now) {
+    area += uint64_t(occupancy) * (now - last_change);
+    last_change = now;
+    occupancy += delta;
+    if (occupancy > stats.peak) stats.peak = occupancy;
+    if (delta > 0) stats.writes += uint64_t(delta);
+  }
+  /// The statistics, with the time integral closed at `now`.
+  const FifoStats& close(uint64_t now) {
+    change(0, now);
+    stats.occupancy_time = double(area) * sc_core::sc_get_time_resolution().to_seconds();
+    return stats;
+  }
+};
+
 template <class T>
 class MeteredFifo : public sc_core::sc_fifo<T> {
  public:
-  MeteredFifo(const char* name, int depth, const char* kind) : sc_core::sc_fifo<T>(name, depth) {
-    stats_.kind = kind;
-    stats_.depth = depth;
-  }
+  MeteredFifo(const char* name, int depth, const char* kind) : sc_core::sc_fifo<T>(name, depth), meter_(kind, depth) {}
 
   /// Any number of reader and writer ports (plain sc_fifo allows one of each).
   void register_port(sc_core::sc_port_base&, const char*) override {}
@@ -36,12 +60,10 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
   void write(const T& v) override {
     sc_core::sc_fifo<T>::write(v);
     change(+1);
-    ++stats_.writes;
   }
   bool nb_write(const T& v) override {
     if (!sc_core::sc_fifo<T>::nb_write(v)) return false;
     change(+1);
-    ++stats_.writes;
     return true;
   }
   void read(T& v) override {
@@ -59,13 +81,9 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
     return true;
   }
 
-  int occupancy() const { return occupancy_; }
+  int occupancy() const { return meter_.occupancy; }
   /// Closes the time integral at the end of simulation.
-  const FifoStats& stats() {
-    change(0);
-    stats_.occupancy_time = double(area_) * sc_core::sc_get_time_resolution().to_seconds();
-    return stats_;
-  }
+  const FifoStats& stats() { return meter_.close(sc_core::sc_time_stamp().value()); }
   /// Traces the occupancy; only changes inside the waveform window reach the file.
   void trace(sc_core::sc_trace_file* tf, const std::string& name, const TraceWindow* window) {
     window_ = window;
@@ -74,20 +92,13 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
 
  private:
   void change(int delta) {
-    const sc_dt::uint64 now = sc_core::sc_time_stamp().value();
-    area_ += sc_dt::uint64(occupancy_) * (now - last_change_);
-    last_change_ = now;
-    occupancy_ += delta;
-    if (occupancy_ > stats_.peak) stats_.peak = occupancy_;
-    if (window_ && window_->now()) traced_ = occupancy_;
+    meter_.change(delta, sc_core::sc_time_stamp().value());
+    if (window_ && window_->now()) traced_ = meter_.occupancy;
   }
 
-  FifoStats stats_;
-  int occupancy_ = 0;
+  FifoMeter meter_;
   int traced_ = 0;
   const TraceWindow* window_ = nullptr;
-  sc_dt::uint64 last_change_ = 0;  ///< in time-resolution units
-  sc_dt::uint64 area_ = 0;         ///< ∫ occupancy dt, in time-resolution units
 };
 
 }  // namespace rtm

@@ -76,6 +76,11 @@ struct PeUnits {
   bool shadow_rays = true;   ///< shading's shadow-ray generator
   bool reflection = true;    ///< shading's reflected-ray generator
   bool refraction = true;    ///< shading's transmitted-ray generator
+
+  /// Whether shading can spawn rays of this kind.
+  bool generates(RayKind k) const {
+    return k == RayKind::Shadow ? shadow_rays : k == RayKind::Reflected ? reflection : refraction;
+  }
 };
 
 /// Within a PE, the same-cycle order of the kinds of unit (timekeeper.h); units of one kind due

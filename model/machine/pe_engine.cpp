@@ -18,10 +18,7 @@ std::string engine_unsupported(const MachineConfig& c, bool tracing) {
 }
 
 PeEngine::Fifo::Fifo(std::string n, const char* kind, int depth, std::vector<Fifo*>* touched)
-    : name(std::move(n)), ring(size_t(depth)), touched_list(touched) {
-  stats.kind = kind;
-  stats.depth = depth;
-}
+    : name(std::move(n)), ring(size_t(depth)), meter(kind, depth), touched_list(touched) {}
 
 PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int32_t>& ids,
                    const std::vector<Ray>& rays, size_t rays_expected)
@@ -340,12 +337,9 @@ void PeEngine::shade_start(uint32_t slot, uint64_t now) {
   shade_ray_ = slot;
   const MachineRay& r = slots_[slot];
   const uint64_t cycles = shade_work(ctx_, r, frame_[r.slot], ids_[r.slot], shade_out_);
-  for (const Ray& child : shade_out_.rays) {
-    const bool kept = child.kind == RayKind::Shadow      ? ctx_.units.shadow_rays
-                      : child.kind == RayKind::Reflected ? ctx_.units.reflection
-                                                         : ctx_.units.refraction;
-    if (!kept) SC_REPORT_FATAL("rtm/pe/shading", "a left-out ray generator was needed: the scene analysis is wrong");
-  }
+  for (const Ray& child : shade_out_.rays)
+    if (!ctx_.units.generates(child.kind))
+      SC_REPORT_FATAL("rtm/pe/shading", "a left-out ray generator was needed: the scene analysis is wrong");
   shade_next_ = 0;
   schedule(kShading, now + cycles * cycle_);
 }
@@ -355,9 +349,7 @@ void PeEngine::shade_start(uint32_t slot, uint64_t now) {
 std::vector<std::pair<std::string, const FifoStats*>> PeEngine::fifo_stats(uint64_t now) {
   std::vector<std::pair<std::string, const FifoStats*>> out;
   for (Fifo* f : fifos_) {
-    f->change(0, now);
-    f->stats.occupancy_time = double(f->area) * sc_core::sc_get_time_resolution().to_seconds();
-    out.emplace_back(f->name, &f->stats);
+    out.emplace_back(f->name, &f->meter.close(now));
   }
   return out;
 }
@@ -365,7 +357,7 @@ std::vector<std::pair<std::string, const FifoStats*>> PeEngine::fifo_stats(uint6
 std::string PeEngine::occupancy_report() const {
   std::ostringstream s;
   s << queue_.size() << " rays waiting in the front buffer, " << in_flight_ << " past it;";
-  for (const Fifo* f : fifos_) s << " " << f->name << " " << f->occupancy << "/" << f->stats.depth;
+  for (const Fifo* f : fifos_) s << " " << f->name << " " << f->meter.occupancy << "/" << f->meter.stats.depth;
   return s.str();
 }
 

@@ -56,7 +56,7 @@ class PeEngine {
   static constexpr uint64_t kNever = UINT64_MAX;
 
   /// A FIFO of ray slots (or MAC results); items written in the current instant are not yet
-  /// visible to readers. Statistics as MeteredFifo keeps them.
+  /// visible to readers. Metered as MeteredFifo is.
   struct Fifo {
     std::string name;
     std::vector<uint32_t> ring;  ///< `depth` places; items from `head`, `count` of them
@@ -64,9 +64,7 @@ class PeEngine {
     size_t visible = 0;
     bool written = false;  ///< in the current instant
     size_t reads_now = 0;  ///< in the current instant: places freed only once it is over
-    FifoStats stats;
-    int occupancy = 0;
-    uint64_t last_change = 0, area = 0;
+    FifoMeter meter;
 
     bool touched = false;  ///< written or read in the current instant: on the touched list
     std::vector<Fifo*>* touched_list;
@@ -80,8 +78,7 @@ class PeEngine {
       ring[(head + count++) % ring.size()] = v;
       written = true;
       touch();
-      change(+1, now);
-      ++stats.writes;
+      meter.change(+1, now);
     }
     uint32_t read(uint64_t now) {
       const uint32_t v = ring[head];
@@ -90,14 +87,8 @@ class PeEngine {
       --visible;
       ++reads_now;
       touch();
-      change(-1, now);
+      meter.change(-1, now);
       return v;
-    }
-    void change(int delta, uint64_t now) {
-      area += uint64_t(occupancy) * (now - last_change);
-      last_change = now;
-      occupancy += delta;
-      if (occupancy > stats.peak) stats.peak = occupancy;
     }
     /// No room to write in this instant (sc_fifo::num_free() == 0).
     bool full() const { return count + reads_now >= ring.size(); }
