@@ -40,8 +40,7 @@ PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int
       spawn_path_(ctx.units.spawn_path),
       lanes_(size_t(ctx.config.intersection_units)),
       mac0_(kSearch + size_t(ctx.config.search_units)),
-      root0_(mac0_ + lanes_),
-      root_busy_(lanes_, false) {
+      root0_(mac0_ + lanes_) {
   due_at_.assign(root0_ + lanes_, kNever);
   due_.resize(due_at_.size());
   for (size_t u = mac0_; u-- > kSearch;) idle_search_.push_back(u);
@@ -142,9 +141,11 @@ void PeEngine::take_inputs(uint64_t now) {
     idle_macs_.erase(idle_macs_.begin());
     mac_start(lane, intersect_fifo_.read(now), now);
   }
+  // A unit with nothing due is idle.
   for (size_t lane = 0; lane < lanes_; ++lane)
-    if (!root_busy_[lane] && to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
-  if (!shade_busy_ && shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
+    if (due_at_[root0_ + lane] == kNever && to_root_[lane].visible > 0)
+      root_start(lane, to_root_[lane].read(now), now);
+  if (due_at_[kShading] == kNever && shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
 }
 
 // ---- rays ----
@@ -220,7 +221,6 @@ void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
       else
         out.write(new_ray(r), now);
       free_results_.push_back(d.item);
-      root_busy_[lane] = false;
       if (to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
       return;
     }
@@ -243,7 +243,6 @@ void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
         shade_child_made_ = false;
       }
       free_slots_.push_back(shade_ray_);
-      shade_busy_ = false;
       if (shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
       return;
   }
@@ -283,7 +282,6 @@ void PeEngine::front_loop(uint64_t now) {
   }
   if (next_primary_ == rays_expected_ && queue_.empty() && in_flight_ == 0) {
     front_ = Front::Done;
-    finished_ = true;
     finish_ = now;
     ctx_.counters.finish = sc_core::sc_time::from_value(now);
     return;
@@ -327,13 +325,11 @@ void PeEngine::mac_start(size_t lane, uint32_t slot, uint64_t now) {
 }
 
 void PeEngine::root_start(size_t lane, uint32_t result, uint64_t now) {
-  root_busy_[lane] = true;
   const Routed w = root_work(ctx_, results_[result], clips_);
   schedule(root0_ + lane, now + w.cycles * cycle_, result, w.route);
 }
 
 void PeEngine::shade_start(uint32_t slot, uint64_t now) {
-  shade_busy_ = true;
   shade_ray_ = slot;
   const MachineRay& r = slots_[slot];
   const uint64_t cycles = shade_work(ctx_, r, frame_[r.slot], ids_[r.slot], shade_out_);

@@ -43,7 +43,7 @@ class PeEngine {
   void rays_arrived(uint64_t t, size_t n);
   size_t rays_known() const { return rays_visible_; }
 
-  bool finished() const { return finished_; }
+  bool finished() const { return front_ == Front::Done; }
   uint64_t finish_time() const { return finish_; }
   /// Nothing left to simulate (finished, or stalled with rays outstanding).
   bool idle() const;
@@ -147,7 +147,7 @@ class PeEngine {
   const bool spawn_path_;
   std::vector<Fifo*> fifos_;  ///< in the order fifo_stats reports them
 
-  std::vector<uint64_t> due_at_;  ///< kNever: not due
+  std::vector<uint64_t> due_at_;  ///< kNever: not due, the unit is idle
   std::vector<Due> due_;
   std::vector<size_t> due_now_;
   uint64_t seq_ = 0;
@@ -167,8 +167,6 @@ class PeEngine {
   const size_t lanes_, mac0_, root0_;  ///< intersection units; where their MACs and root units sit in due_
   std::vector<size_t> idle_search_;    ///< places in due_
   std::set<size_t> idle_macs_;         ///< lanes; a ray goes to the lowest idle one (LaneDispatcher)
-  std::vector<bool> root_busy_;        ///< per lane
-  bool shade_busy_ = false;
   uint32_t shade_ray_ = 0;
   std::vector<uint32_t> clips_;
   ShadeOut shade_out_;
@@ -176,7 +174,6 @@ class PeEngine {
   uint32_t shade_child_ = 0;
   bool shade_child_made_ = false;
 
-  bool finished_ = false;
   uint64_t finish_ = 0;
 };
 
