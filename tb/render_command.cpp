@@ -342,7 +342,14 @@ int run_render(const RenderOptions& opt) {
     j["wall_seconds"] = m.wall_seconds;
     j.update(machine_json(m, config));
     j["error"] = error_json(err);
-    j["reference"] = {{"wall_seconds", ref.wall_seconds}, {"cached", cache_hit}, {"rays_match", ref.counts.rays == m.counts.rays}};
+    // The same walk and tests as the machine's (at fp64 always; at fp32 unless a hit moved).
+    const bool counts_match = ref.counts.rays == m.counts.rays && ref.counts.voxel_steps == m.counts.voxel_steps &&
+                              ref.counts.intersection_tests == m.counts.intersection_tests &&
+                              ref.counts.clip_tests == m.counts.clip_tests;
+    j["reference"] = {{"wall_seconds", ref.wall_seconds},
+                      {"cached", cache_hit},
+                      {"rays_match", ref.counts.rays == m.counts.rays},
+                      {"counts_match", counts_match}};
     write_text_atomically(stats_path, j.dump(2) + "\n");
 
     if (!opt.quiet) {

@@ -577,3 +577,88 @@ TEST(DdaExact, CornerEdgeAndBoundaryCasesMatchTheRationalWalk) {
 
 }  // namespace
 }  // namespace rtm
+
+namespace rtm {
+namespace {
+
+bool same_state(const DdaState& a, const DdaState& b) {
+  return a.cell == b.cell && a.t_next == b.t_next && a.t_enter == b.t_enter && a.t_exit == b.t_exit && a.done == b.done;
+}
+
+bool inside(const std::array<int, 3>& c, const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+  for (int a = 0; a < 3; ++a)
+    if (c[a] < lo[a] || c[a] > hi[a]) return false;
+  return true;
+}
+
+/// skip_box against advance() one voxel at a time: from every voxel of the walk, over a random
+/// box holding it, the skip must leave the state exactly where the steps do, having counted them.
+void check_skips(const Grid& g, const Vec3& o, const Vec3& d, double t_max, std::mt19937& rng, int& skipped) {
+  SCOPED_TRACE(::testing::Message() << "o = (" << o.x << ", " << o.y << ", " << o.z << ") d = (" << d.x << ", " << d.y
+                                    << ", " << d.z << ") t_max " << t_max);
+  for (DdaState s = Dda::start(g, o, d, 0, t_max); !s.done; Dda::advance(g, o, d, t_max, s)) {
+    std::array<int, 3> lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::uniform_int_distribution<int>(0, s.cell[a])(rng);
+      hi[a] = std::uniform_int_distribution<int>(s.cell[a], g.n[a] - 1)(rng);
+    }
+    // Step until the next voxel is outside the box or the walk ends.
+    DdaState stepped = s;
+    int steps = 0;
+    for (;;) {
+      DdaState next = stepped;
+      Dda::advance(g, o, d, t_max, next);
+      if (next.done || !inside(next.cell, lo, hi)) {
+        if (next.done && !inside(next.cell, lo, hi)) break;  // left the grid through the box's face
+        if (next.done) steps = -1;                             // ends inside the box: no skip promised
+        break;
+      }
+      stepped = next;
+      ++steps;
+    }
+    DdaState skipped_state = s;
+    const int k = Dda::skip_box(g, o, d, t_max, skipped_state, lo, hi);
+    if (k == 0) {
+      ASSERT_TRUE(same_state(skipped_state, s)) << "a skip of no voxels changed the state";
+      ASSERT_TRUE(steps <= 0 || t_max < kInf) << "skipped nothing where " << steps << " steps stay in the box";
+      continue;
+    }
+    ASSERT_EQ(k, steps) << "cell (" << s.cell[0] << ", " << s.cell[1] << ", " << s.cell[2] << ")";
+    ASSERT_TRUE(same_state(skipped_state, stepped)) << "after " << k << " steps from (" << s.cell[0] << ", "
+                                                   << s.cell[1] << ", " << s.cell[2] << ")";
+    ++skipped;
+  }
+}
+
+TEST(DdaSkipBox, LandsExactlyWhereTheStepsDoOnRandomRays) {
+  std::mt19937 rng(7);
+  int skipped = 0;
+  for (int i = 0; i < 400; ++i) {
+    const std::array<int, 3> n{1 + int(rng() % 40), 1 + int(rng() % 40), 1 + int(rng() % 40)};
+    const Vec3 cell{test::log_uniform(rng, -2, 2), test::log_uniform(rng, -2, 2), test::log_uniform(rng, -2, 2)};
+    const Grid g = make_grid({test::uniform(rng, -50, 50), test::uniform(rng, -50, 50), test::uniform(rng, -50, 50)},
+                             cell, n);
+    const Vec3 o = g.box.lo + Vec3(test::uniform(rng, -0.2, 1.2), test::uniform(rng, -0.2, 1.2),
+                                   test::uniform(rng, -0.2, 1.2)) * g.box.extent();
+    Vec3 d = test::random_unit(rng);
+    if (i % 5 == 0) d[rng() % 3] = (rng() & 1) ? 0.0 : -0.0;  // zero components never step
+    const double t_max = i % 3 == 0 ? test::uniform(rng, 0, length(g.box.extent())) : kInf;
+    check_skips(g, o, d, t_max, rng, skipped);
+  }
+  EXPECT_GT(skipped, 1000);
+}
+
+TEST(DdaSkipBox, TiesAtEdgesAndCornersGoToTheLowerAxisAsInAdvance) {
+  // Unit voxels, rays through lattice points: crossings on two or three axes coincide exactly.
+  std::mt19937 rng(11);
+  const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {16, 16, 16});
+  int skipped = 0;
+  for (const Vec3& d : {Vec3(1, 1, 0), Vec3(1, 1, 1), Vec3(-1, 1, 1), Vec3(1, -1, -1), Vec3(2, 1, 0), Vec3(1, 2, 2),
+                        Vec3(-2, -2, 1), Vec3(0, -1, 1)})
+    for (const Vec3& o : {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5), Vec3(3, 5, 7), Vec3(15.5, 0.25, 8), Vec3(16, 16, 0)})
+      check_skips(g, o, d, kInf, rng, skipped);
+  EXPECT_GT(skipped, 50);
+}
+
+}  // namespace
+}  // namespace rtm

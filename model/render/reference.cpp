@@ -2,9 +2,12 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <thread>
 #include <utility>
 
+#include "geom/occupancy.h"
 #include "render/camera.h"
 #include "render/pixel_sum.h"
 #include "render/shade.h"
@@ -56,105 +59,39 @@ class Mailbox {
   uint32_t serial_ = 0;
 };
 
-/// One bit per voxel: is it occupied? The walk asks this for every voxel it steps through; the
-/// bitmap is 32 times smaller than the grid's start array, so it stays in cache on fine grids,
-/// where the start array's misses were the largest single cost. A second, coarser map marks
-/// blocks of 8³ voxels holding any occupied voxel, so a walk can cross an empty block at once.
-class Occupancy {
- public:
-  static constexpr int kShift = 3;  ///< blocks of 8³ voxels
-  explicit Occupancy(const Grid& g) : bits_(size_t(g.voxel_count() + 63) / 64, 0) {
-    for (int a = 0; a < 3; ++a) nb_[a] = ((g.n[a] - 1) >> kShift) + 1;
-    blocks_.assign(size_t(nb_[0]) * nb_[1] * nb_[2], 0);
-    for (int z = 0; z < g.n[2]; ++z)
-      for (int y = 0; y < g.n[1]; ++y)
-        for (int x = 0; x < g.n[0]; ++x) {
-          const int64_t v = g.index(x, y, z);
-          if (g.count(v) == 0) continue;
-          bits_[size_t(v) >> 6] |= uint64_t(1) << (v & 63);
-          blocks_[block({x, y, z})] = 1;
-        }
-  }
-  bool operator[](int64_t v) const { return bits_[size_t(v) >> 6] >> (v & 63) & 1; }
-  bool block_empty(const std::array<int, 3>& cell) const { return blocks_[block(cell)] == 0; }
-
- private:
-  size_t block(const std::array<int, 3>& c) const {
-    return (size_t(c[2] >> kShift) * nb_[1] + size_t(c[1] >> kShift)) * nb_[0] + size_t(c[0] >> kShift);
-  }
-  std::array<int, 3> nb_{};
-  std::vector<uint64_t> bits_;
-  std::vector<uint8_t> blocks_;
-};
-
-/// Dda's crossing, repeated for the block skip below, which must reproduce Dda::advance bit for
-/// bit: keep the two expressions identical.
-inline double crossing(const Grid& g, const Vec3& o, const Vec3& d, int axis, int cell) {
-  if (d[axis] == 0) return kInf;
-  const int boundary = d[axis] > 0 ? cell + 1 : cell;
-  return (g.plane(axis, boundary) - o[axis]) / d[axis];
-}
-
-/// Moves the walk from a voxel of an empty block to the block's last voxel on the ray, in one
-/// go, leaving `s` exactly as the Dda::advance calls it replaces would; returns how many voxels
-/// that entered (each one a voxel step to count). 0 leaves `s` alone.
-///
-/// Dda::advance crosses planes in order of (t, axis), ties to the lower axis, and each axis's
-/// crossings grow monotonically with its cell index (t_next is recomputed from the index, so
-/// there is no drift). The walk leaves the block at the first of the three "leave the block's
-/// last cell on this axis" crossings; every crossing ordered before that one happens inside the
-/// block, and counting them per axis gives the cell where the walk stands just before it leaves.
-int skip_empty_block(const Grid& g, const Ray& ray, DdaState& s) {
-  const Vec3 &o = ray.origin, &d = ray.dir;
-  constexpr int kShift = Occupancy::kShift;
-  std::array<int, 3> last = s.cell;  // the block's last cell on each axis, in the walk's direction
-  double t_out = kInf;
-  int axis_out = -1;
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0) continue;
-    const int first = (s.cell[a] >> kShift) << kShift;
-    last[a] = d[a] > 0 ? std::min(first + (1 << kShift) - 1, g.n[a] - 1) : first;
-    const double t = crossing(g, o, d, a, last[a]);
-    if (t < t_out) {  // strict: a tie goes to the lower axis, as in Dda
-      t_out = t;
-      axis_out = a;
-    }
-  }
-  // The walk might end inside the block (a shadow ray reaching its light): step normally.
-  if (axis_out < 0 || !(t_out <= ray.t_max)) return 0;
-
-  DdaState n = s;
-  int steps = 0;
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0) continue;
-    const int dir = d[a] > 0 ? 1 : -1;
-    // Crossings of this axis ordered before (t_out, axis_out); on axis_out itself that is every
-    // cell before the last.
-    int cell = s.cell[a];
-    while (cell != last[a]) {
-      const double t = crossing(g, o, d, a, cell);
-      if (a != axis_out && !(t < t_out || (t == t_out && a < axis_out))) break;
-      n.t_enter = std::max(n.t_enter, t);  // each step's t_enter is the previous t_exit
-      cell += dir;
-      ++steps;
-    }
-    n.cell[a] = cell;
-    n.t_next[a] = crossing(g, o, d, a, cell);
-  }
-  if (steps == 0) return 0;
-  int a = 0;  // Dda::exit_axis
-  if (n.t_next[1] < n.t_next[a]) a = 1;
-  if (n.t_next[2] < n.t_next[a]) a = 2;
-  n.t_exit = std::max(n.t_enter, n.t_next[a]);
-  s = n;
-  return steps;
-}
-
 /// What the walk reads: the scene memory and the grid's occupancy.
 struct TraceData {
   const SceneMemory<double>& mem;
   const Occupancy& occupied;
 };
+
+/// Where a walk over the whole grid ends: where the ray leaves the grid, or its t_max.
+double walk_end(const Grid& g, const Ray& r) {
+  double t = r.t_max;
+  for (int a = 0; a < 3; ++a)
+    if (r.dir[a] != 0) t = std::min(t, ((r.dir[a] > 0 ? g.box.hi[a] : g.box.lo[a]) - r.origin[a]) / r.dir[a]);
+  return t;
+}
+
+/// The box of cells from `cell` to where the walk ends, one cell wider at the far end (so
+/// rounding in the estimate cannot cut off a voxel the walk visits; Dda::skip_box is exact
+/// whatever box it is given).
+void rest_box(const Grid& g, const Ray& r, double t_end, const std::array<int, 3>& cell, std::array<int, 3>& lo,
+              std::array<int, 3>& hi) {
+  for (int a = 0; a < 3; ++a) {
+    const double p = (r.origin[a] + t_end * r.dir[a] - g.box.lo[a]) / g.cell[a];
+    const int e = !(p > 0) ? 0 : p >= g.n[a] ? g.n[a] - 1 : static_cast<int>(p);
+    if (r.dir[a] > 0) {
+      lo[a] = cell[a];
+      hi[a] = std::min(std::max(e + 1, cell[a]), g.n[a] - 1);
+    } else if (r.dir[a] < 0) {
+      lo[a] = std::max(std::min(e - 1, cell[a]), 0);
+      hi[a] = cell[a];
+    } else {
+      lo[a] = hi[a] = cell[a];
+    }
+  }
+}
 
 /// Walks one ray to its end; returns the hit that ends it (none: left the grid, or a shadow ray
 /// that reached its light). Same result as intersect_voxel on every occupied voxel: a memoised
@@ -163,12 +100,24 @@ VoxelHit walk(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb) {
   const SceneMemory<double>& mem = d.mem;
   const Grid& g = *mem.grid;
   mb.next_ray();
+  double t_end = std::numeric_limits<double>::quiet_NaN();  // computed when first needed
   for (DdaState s = Dda::start(g, ray.origin, ray.dir, 0.0, ray.t_max); !s.done;
        Dda::advance(g, ray.origin, ray.dir, ray.t_max, s)) {
     ++c.voxel_steps;
     const int64_t v = g.index(s.cell[0], s.cell[1], s.cell[2]);
-    if (!d.occupied[v]) {
-      if (d.occupied.block_empty(s.cell)) c.voxel_steps += uint64_t(skip_empty_block(g, ray, s));
+    if (!d.occupied.voxel(v)) {
+      std::array<int, 3> lo, hi;
+      if (d.occupied.empty_block(s.cell, lo, hi)) {
+        // If nothing lies between here and where the walk ends, cross all of it at once.
+        std::array<int, 3> rest_lo, rest_hi;
+        if (std::isnan(t_end)) t_end = walk_end(g, ray);
+        rest_box(g, ray, t_end, s.cell, rest_lo, rest_hi);
+        if (d.occupied.box_empty(rest_lo, rest_hi)) {
+          lo = rest_lo;
+          hi = rest_hi;
+        }
+        c.voxel_steps += uint64_t(Dda::skip_box(g, ray.origin, ray.dir, ray.t_max, s, lo, hi));
+      }
       continue;
     }
     const uint32_t n = g.count(v);
