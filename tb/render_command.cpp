@@ -271,6 +271,7 @@ int run_render(const RenderOptions& opt) {
       set_resolution(scene, w, h);
     }
     if (!opt.grid.empty()) scene.grid.resolution = parse_grid(opt.grid);
+    if (opt.reference) scene.grid.max_auto_axis = kCpuMaxAutoAxis;  // a CPU's grid, not a PE's
     if (opt.threshold) scene.threshold = *opt.threshold;
     if (opt.max_depth) scene.max_depth = *opt.max_depth;
     if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;

@@ -27,6 +27,15 @@ class Dda {
   /// At most n_x + n_y + n_z steps from any start, so a walk always ends.
   static void advance(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s);
 
+  /// The crossing after t_next on each axis (kInf on an axis the ray does not step along), for
+  /// advance_ahead(); refill after start() and skip_box().
+  static std::array<double, 3> ahead(const Grid& g, const Vec3& o, const Vec3& d, const DdaState& s);
+  /// advance() with each axis's next crossing computed one step ahead: the same states, but no
+  /// division stands between one step's choice of axis and the next one's (the reference
+  /// renderer's walk, where that latency was the largest single cost).
+  static void advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s,
+                            std::array<double, 3>& ahead);
+
   /// True if advance() would end the walk: the last voxel of this ray.
   static bool is_last(const Grid& g, const Vec3& d, double t_max, const DdaState& s);
 
@@ -97,6 +106,32 @@ inline void Dda::advance(const Grid& g, const Vec3& o, const Vec3& d, double t_m
     return;
   }
   s.t_next[a] = crossing(g, o, d, a, s.cell[a]);
+  s.t_exit = std::max(s.t_enter, s.t_next[exit_axis(s)]);
+}
+
+inline std::array<double, 3> Dda::ahead(const Grid& g, const Vec3& o, const Vec3& d, const DdaState& s) {
+  std::array<double, 3> t{kInf, kInf, kInf};
+  for (int a = 0; a < 3; ++a)
+    if (d[a] != 0) t[a] = crossing(g, o, d, a, s.cell[a] + (d[a] > 0 ? 1 : -1));
+  return t;
+}
+
+inline void Dda::advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s,
+                               std::array<double, 3>& ahead) {
+  const int a = exit_axis(s);
+  if (s.t_next[a] == kInf) {
+    s.done = true;
+    return;
+  }
+  const int dir = d[a] > 0 ? 1 : -1;
+  s.cell[a] += dir;
+  s.t_enter = s.t_exit;
+  if (s.cell[a] < 0 || s.cell[a] >= g.n[a] || s.t_enter > t_max) {
+    s.done = true;
+    return;
+  }
+  s.t_next[a] = ahead[a];
+  ahead[a] = crossing(g, o, d, a, s.cell[a] + dir);
   s.t_exit = std::max(s.t_enter, s.t_next[exit_axis(s)]);
 }
 

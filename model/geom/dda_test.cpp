@@ -648,6 +648,31 @@ TEST(DdaSkipBox, LandsExactlyWhereTheStepsDoOnRandomRays) {
   EXPECT_GT(skipped, 1000);
 }
 
+TEST(DdaAdvanceAhead, VisitsTheSameStatesAsAdvance) {
+  std::mt19937 rng(13);
+  int visits = 0;
+  for (int i = 0; i < 300; ++i) {
+    const std::array<int, 3> n{1 + int(rng() % 30), 1 + int(rng() % 30), 1 + int(rng() % 30)};
+    const Grid g = make_grid({test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)},
+                             {test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1)}, n);
+    const Vec3 o = g.box.lo + Vec3(test::uniform(rng, -0.2, 1.2), test::uniform(rng, -0.2, 1.2),
+                                   test::uniform(rng, -0.2, 1.2)) * g.box.extent();
+    Vec3 d = i % 7 == 0 ? Vec3(1, 1, i % 2) : test::random_unit(rng);  // some through edges and corners
+    if (i % 5 == 0) d[rng() % 3] = 0.0;
+    const double t_max = i % 3 == 0 ? test::uniform(rng, 0, length(g.box.extent())) : kInf;
+    DdaState a = Dda::start(g, o, d, 0, t_max), b = a;
+    std::array<double, 3> ahead = Dda::ahead(g, o, d, b);
+    while (!a.done) {
+      ASSERT_TRUE(same_state(a, b)) << "ray " << i << " visit " << visits;
+      Dda::advance(g, o, d, t_max, a);
+      Dda::advance_ahead(g, o, d, t_max, b, ahead);
+      ++visits;
+    }
+    ASSERT_TRUE(b.done);
+  }
+  EXPECT_GT(visits, 1000);
+}
+
 TEST(DdaSkipBox, TiesAtEdgesAndCornersGoToTheLowerAxisAsInAdvance) {
   // Unit voxels, rays through lattice points: crossings on two or three axes coincide exactly.
   std::mt19937 rng(11);

@@ -223,12 +223,14 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt) {
         }
   }
   if (refs.size() > UINT32_MAX) throw std::invalid_argument("grid holds too many primitive references");
+  // start[v] counts, then ends, then (filling backwards) begins voxel v's list: no second array
+  // the size of the grid.
   g.start.assign(size_t(g.voxel_count()) + 1, 0);
-  for (const auto& r : refs) ++g.start[size_t(r.first) + 1];
-  for (size_t v = 1; v < g.start.size(); ++v) g.start[v] += g.start[v - 1];
+  for (const auto& r : refs) ++g.start[size_t(r.first)];
+  for (size_t v = 1; v + 1 < g.start.size(); ++v) g.start[v] += g.start[v - 1];
+  g.start.back() = uint32_t(refs.size());
   g.items.resize(refs.size());
-  std::vector<uint32_t> fill(g.start.begin(), g.start.end() - 1);
-  for (const auto& r : refs) g.items[fill[size_t(r.first)]++] = r.second;
+  for (auto r = refs.rbegin(); r != refs.rend(); ++r) g.items[--g.start[size_t(r->first)]] = r->second;
   return g;
 }
 

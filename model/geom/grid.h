@@ -14,9 +14,13 @@ struct GridOptions {
   std::array<int, 3> resolution{0, 0, 0};
   /// Automatic resolution aims at this many voxels per primitive.
   double voxels_per_primitive = 4.0;
-  /// Automatic resolution never exceeds this many voxels on an axis.
+  /// Automatic resolution never exceeds this many voxels on an axis. The machine's 128 keeps
+  /// small the voxel data every PE receives (and walks one voxel per pass); the reference
+  /// renderer on its own runs on a CPU and crosses empty space in large steps, so it allows
+  /// kCpuMaxAutoAxis (docs/benchmarks.md).
   int max_auto_axis = 128;
 };
+constexpr int kCpuMaxAutoAxis = 384;
 
 struct Grid {
   Aabb box;                      ///< the object space; voxels tile it exactly

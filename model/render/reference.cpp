@@ -101,8 +101,9 @@ VoxelHit walk(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb) {
   const Grid& g = *mem.grid;
   mb.next_ray();
   double t_end = std::numeric_limits<double>::quiet_NaN();  // computed when first needed
-  for (DdaState s = Dda::start(g, ray.origin, ray.dir, 0.0, ray.t_max); !s.done;
-       Dda::advance(g, ray.origin, ray.dir, ray.t_max, s)) {
+  DdaState s = Dda::start(g, ray.origin, ray.dir, 0.0, ray.t_max);
+  std::array<double, 3> ahead = Dda::ahead(g, ray.origin, ray.dir, s);
+  for (; !s.done; Dda::advance_ahead(g, ray.origin, ray.dir, ray.t_max, s, ahead)) {
     ++c.voxel_steps;
     const int64_t v = g.index(s.cell[0], s.cell[1], s.cell[2]);
     if (!d.occupied.voxel(v)) {
@@ -116,7 +117,10 @@ VoxelHit walk(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb) {
           lo = rest_lo;
           hi = rest_hi;
         }
-        c.voxel_steps += uint64_t(Dda::skip_box(g, ray.origin, ray.dir, ray.t_max, s, lo, hi));
+        if (const int k = Dda::skip_box(g, ray.origin, ray.dir, ray.t_max, s, lo, hi)) {
+          c.voxel_steps += uint64_t(k);
+          ahead = Dda::ahead(g, ray.origin, ray.dir, s);
+        }
       }
       continue;
     }
