@@ -30,7 +30,9 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--out", r.out, "Image file, .png (8-bit, clamped) or .exr (float); default out/<scene>.png");
   render->add_option("--stats", r.stats, "Statistics JSON file; default beside the image");
   render->add_option("--id-map", r.id_map, "One-channel EXR: primitive number seen by each primary ray, -1 background");
-  render->add_option("--grid", r.grid, "Grid resolution: auto, N, or NxNyNz; default the scene's own (auto)");
+  render->add_option("--grid", r.grid,
+                      "Grid resolution: auto, machine (with --reference: the machine's automatic grid), N, or NxNyNz; "
+                      "default the scene's own (auto)");
   render->add_option("--threshold", r.threshold, "Branch-ray contribution threshold (overrides the scene)")
       ->check(CLI::Range(0.0, 1.0));
   render->add_option("--max-depth", r.max_depth, "Maximum ray generation, primary = 1 (overrides the scene)")

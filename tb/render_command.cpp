@@ -36,7 +36,7 @@ void parse_size(const std::string& text, int& w, int& h) {
 }
 
 std::array<int, 3> parse_grid(const std::string& text) {
-  if (text == "auto") return {0, 0, 0};
+  if (text == "auto" || text == "machine") return {0, 0, 0};
   std::smatch m;
   if (std::regex_match(text, m, std::regex(R"((\d{1,5}))"))) {
     const int n = std::stoi(m[1]);
@@ -46,7 +46,7 @@ std::array<int, 3> parse_grid(const std::string& text) {
     std::array<int, 3> n{std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3])};
     if (n[0] >= 1 && n[1] >= 1 && n[2] >= 1) return n;
   }
-  throw UsageError("--grid: expected auto, N or NxNyNz with N >= 1, got '" + text + "'");
+  throw UsageError("--grid: expected auto, machine, N or NxNyNz with N >= 1, got '" + text + "'");
 }
 
 std::string read_text(const std::string& path) {
@@ -271,7 +271,8 @@ int run_render(const RenderOptions& opt) {
       set_resolution(scene, w, h);
     }
     if (!opt.grid.empty()) scene.grid.resolution = parse_grid(opt.grid);
-    if (opt.reference) scene.grid.max_auto_axis = kCpuMaxAutoAxis;  // a CPU's grid, not a PE's
+    // The reference on its own sizes its automatic grid for a CPU, unless asked for the machine's.
+    if (opt.reference && opt.grid != "machine") scene.grid.max_auto_axis = kCpuMaxAutoAxis;
     if (opt.threshold) scene.threshold = *opt.threshold;
     if (opt.max_depth) scene.max_depth = *opt.max_depth;
     if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;

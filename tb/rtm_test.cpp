@@ -64,6 +64,22 @@ TEST(Cli, ReferenceRenderOfTheDefaultSceneWritesImageStatsAndIdMap) {
   EXPECT_GT(hit, 0);
 }
 
+// On its own the reference sizes its automatic grid for a CPU (finer than the machine's on a
+// "teapot in a stadium"); `--grid machine` gives it the machine's. The picture does not depend on it.
+TEST(Cli, ReferenceUsesACpuGridUnlessAskedForTheMachines) {
+  Tmp tmp;
+  const std::string scene = kScenes + "tree-3.nff --size 32x32";
+  const json cpu = render(tmp, "cpu", scene + " --reference");
+  const json machine_grid = render(tmp, "mg", scene + " --reference --grid machine");
+  const json machine = render(tmp, "m", scene + " --pes 1");
+  ASSERT_FALSE(cpu.is_null() || machine_grid.is_null() || machine.is_null());
+  EXPECT_EQ(machine_grid["grid"]["resolution"], machine["grid"]["resolution"]);
+  EXPECT_GT(cpu["grid"]["resolution"][0].get<int>(), machine["grid"]["resolution"][0].get<int>());
+  EXPECT_EQ(machine_grid["voxel_steps"], machine["voxel_steps"]);
+  EXPECT_EQ(rtm::read_image(tmp / "cpu.exr").rgb, rtm::read_image(tmp / "mg.exr").rgb);
+  EXPECT_EQ(rtm::read_id_map(tmp / "cpu-id.exr").ids, rtm::read_id_map(tmp / "mg-id.exr").ids);
+}
+
 TEST(Cli, MachineStatsHaveEveryDocumentedKey) {
   Tmp tmp;
   const json j = render(tmp, "m", kScenes + "balls-1.nff --size 24x24 --pes 2");
