@@ -608,9 +608,9 @@ void check_skips(const Grid& g, const Vec3& o, const Vec3& d, double t_max, std:
     for (;;) {
       DdaState next = stepped;
       Dda::advance(g, o, d, t_max, next);
-      if (next.done || !inside(next.cell, lo, hi)) {
-        if (next.done && !inside(next.cell, lo, hi)) break;  // left the grid through the box's face
-        if (next.done) steps = -1;                             // ends inside the box: no skip promised
+      if (!inside(next.cell, lo, hi)) break;  // leaves the box (or the grid, through the box's face)
+      if (next.done) {                        // ends inside the box: no skip promised
+        steps = -1;
         break;
       }
       stepped = next;
