@@ -1,137 +1,62 @@
+// image_io.h's image functions forward to the image library (render/image_library.h), loaded
+// once: on first use, or ahead of it on a thread of its own by preload_image_library.
 #include "render/image_io.h"
 
-#include <cstdio>
+#include <dlfcn.h>
+
 #include <filesystem>
 #include <fstream>
+#include <future>
+#include <mutex>
 #include <stdexcept>
-#include <unistd.h>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
+#include "render/atomic_file.h"
+#include "render/image_library.h"
 
 namespace rtm {
-namespace fs = std::filesystem;
 namespace {
 
-std::string extension(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
-
-/// A temporary name beside `path`, keeping its extension so OpenImageIO picks the same format.
-std::string temporary_beside(const std::string& path) {
-  const fs::path p(path);
-  return (p.parent_path() / ("." + p.stem().string() + ".partial-" + std::to_string(getpid()) + p.extension().string()))
-      .string();
-}
-
-void ensure_parent(const std::string& path) {
-  const fs::path parent = fs::path(path).parent_path();
+/// Beside the running program (rtm and the test programs are built into one directory), else
+/// where the build put it.
+std::string library_path() {
   std::error_code ec;
-  if (!parent.empty()) fs::create_directories(parent, ec);
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec && std::filesystem::exists(exe.parent_path() / kImageLibraryFile, ec))
+    return (exe.parent_path() / kImageLibraryFile).string();
+  return RTM_IMAGE_LIBRARY;
 }
 
-/// Writes with `write(tmp)` then renames over `path`; removes the temporary on any failure.
-template <class Fn>
-void commit_atomically(const std::string& path, Fn write) {
-  ensure_parent(path);
-  const std::string tmp = temporary_beside(path);
-  try {
-    write(tmp);
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) throw std::runtime_error(path + ": cannot write: " + ec.message());
-  } catch (...) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw;
-  }
+const ImageLibrary* load() {
+  const std::string path = library_path();
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) throw std::runtime_error(std::string("cannot load the image library: ") + dlerror());
+  using Entry = const ImageLibrary* (*)();
+  const auto entry = reinterpret_cast<Entry>(dlsym(handle, kImageLibrarySymbol));
+  if (!entry) throw std::runtime_error(path + ": not rtm's image library (it has no " + kImageLibrarySymbol + ")");
+  return entry();
 }
 
-void write_pixels(const std::string& final_path, const std::string& tmp, int w, int h, int channels,
-                  OIIO::TypeDesc type, const void* data) {
-  auto out = OIIO::ImageOutput::create(final_path);
-  if (!out) throw std::runtime_error(final_path + ": cannot write this image format: " + OIIO::geterror());
-  OIIO::ImageSpec spec(w, h, channels, type);
-  if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data) || !out->close())
-    throw std::runtime_error(final_path + ": cannot write: " + out->geterror());
+std::once_flag load_started;
+std::shared_future<const ImageLibrary*> loaded;  // waited for at exit if still loading
+
+void start_loading() {
+  std::call_once(load_started, [] { loaded = std::async(std::launch::async, load).share(); });
+}
+
+const ImageLibrary& library() {
+  start_loading();
+  return *loaded.get();
 }
 
 }  // namespace
 
-void write_image(const std::string& path, const Image& img) {
-  const std::string ext = extension(path);
-  if (ext != ".png" && ext != ".exr") throw std::runtime_error(path + ": output must be .png or .exr");
-  const bool png = ext == ".png";
-  std::vector<float> px(img.rgb.size() * 3);
-  for (size_t i = 0; i < img.rgb.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const double v = img.rgb[i][c];
-      px[i * 3 + size_t(c)] = float(png ? std::clamp(v, 0.0, 1.0) : v);
-    }
-  commit_atomically(path, [&](const std::string& tmp) {
-    write_pixels(path, tmp, img.width, img.height, 3, png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, px.data());
-  });
-}
+void preload_image_library() { start_loading(); }
 
-void write_id_map(const std::string& path, const Image& img) {
-  if (extension(path) != ".exr") throw std::runtime_error(path + ": the ID map must be an .exr file");
-  std::vector<float> px(img.ids.begin(), img.ids.end());
-  commit_atomically(path, [&](const std::string& tmp) {
-    write_pixels(path, tmp, img.width, img.height, 1, OIIO::TypeDesc::FLOAT, px.data());
-  });
-}
-
-namespace {
-OIIO::ImageBuf read_buf(const std::string& path) {
-  OIIO::ImageBuf buf(path);
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error(path + ": cannot read image: " + buf.geterror());
-  return buf;
-}
-}  // namespace
-
-Image read_image(const std::string& path) {
-  OIIO::ImageBuf buf = read_buf(path);
-  const OIIO::ImageSpec& spec = buf.spec();
-  Image img(spec.width, spec.height);
-  std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-  buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data());
-  for (size_t i = 0; i < img.rgb.size(); ++i)
-    for (int c = 0; c < 3; ++c) img.rgb[i][c] = px[i * size_t(spec.nchannels) + size_t(std::min(c, spec.nchannels - 1))];
-  return img;
-}
-
-Image read_id_map(const std::string& path) {
-  OIIO::ImageBuf buf = read_buf(path);
-  const OIIO::ImageSpec& spec = buf.spec();
-  if (spec.nchannels != 1) throw std::runtime_error(path + ": an ID map has one channel");
-  Image img(spec.width, spec.height);
-  std::vector<float> px(size_t(spec.width) * size_t(spec.height));
-  buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, px.data());
-  for (size_t i = 0; i < px.size(); ++i) img.ids[i] = int32_t(std::lround(px[i]));
-  return img;
-}
-
-ImageError compare_images(const Image& img, const Image& ref) {
-  if (img.width != ref.width || img.height != ref.height) throw std::invalid_argument("images differ in size");
-  auto to_buf = [](const Image& im) {
-    OIIO::ImageBuf b(OIIO::ImageSpec(im.width, im.height, 3, OIIO::TypeDesc::DOUBLE));
-    b.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::DOUBLE, im.rgb.data());
-    return b;
-  };
-  const OIIO::ImageBuf a = to_buf(img), b = to_buf(ref);
-  // CompareResults::error only says some pixel exceeded the threshold; nfail counts those pixels.
-  const auto r = OIIO::ImageBufAlgo::compare(a, b, float(1.0 / 255.0), float(1.0 / 255.0));
-  if (a.has_error() || b.has_error()) throw std::runtime_error("image comparison failed: " + a.geterror() + b.geterror());
-  ImageError e;
-  e.rmse = r.rms_error;
-  e.psnr_db = r.rms_error > 0 ? 20 * std::log10(1.0 / r.rms_error) : std::numeric_limits<double>::infinity();
-  e.max_abs = r.maxerror;
-  e.pixels_over_1_255 = r.nfail;
-  return e;
-}
+void write_image(const std::string& path, const Image& img) { library().write_image(path, img); }
+void write_id_map(const std::string& path, const Image& img) { library().write_id_map(path, img); }
+Image read_image(const std::string& path) { return library().read_image(path); }
+Image read_id_map(const std::string& path) { return library().read_id_map(path); }
+ImageError compare_images(const Image& img, const Image& ref) { return library().compare_images(img, ref); }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
   commit_atomically(path, [&](const std::string& tmp) {

@@ -1,4 +1,5 @@
-// Image files through OpenImageIO, written atomically; image comparison.
+// Image files through OpenImageIO, written atomically; image comparison. OpenImageIO is loaded
+// on first use (render/image_library.h); errors loading it are thrown as std::runtime_error.
 #pragma once
 
 #include <string>
@@ -26,6 +27,10 @@ struct ImageError {
   uint64_t pixels_over_1_255 = 0;  ///< pixels with some channel off by more than 1/255
 };
 ImageError compare_images(const Image& img, const Image& ref);
+
+/// Starts loading the image library on a thread of its own, so a program about to render does
+/// not wait for it at the end. Idempotent; the functions above wait for the load to finish.
+void preload_image_library();
 
 /// Writes text to path through a temporary file and a rename.
 void write_text_atomically(const std::string& path, const std::string& text);
