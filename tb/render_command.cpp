@@ -274,7 +274,7 @@ int run_render(const RenderOptions& opt) {
     }
     if (!opt.grid.empty()) scene.grid.resolution = parse_grid(opt.grid);
     // The reference on its own sizes its automatic grid for a CPU, unless asked for the machine's.
-    if (opt.reference && opt.grid != "machine") scene.grid.max_auto_axis = kCpuMaxAutoAxis;
+    if (opt.reference && opt.grid != "machine") size_for_cpu(scene.grid);
     if (opt.threshold) scene.threshold = *opt.threshold;
     if (opt.max_depth) scene.max_depth = *opt.max_depth;
     if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;

@@ -174,10 +174,30 @@ std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const A
     if (core.extent()[a] > 0 && nc[a] > 1) per_unit = std::max(per_unit, nc[a] / core.extent()[a]);
   if (!(per_unit > 0)) return auto_resolution(box, prims.size(), opt);
   const std::array<int, 3> whole = auto_resolution(box, prims.size(), opt);
-  std::array<int, 3> n{};
-  const int max_axis = std::max(1, opt.max_auto_axis);
-  for (int a = 0; a < 3; ++a)
-    n[a] = std::clamp(int(std::lround(std::min(box.extent()[a] * per_unit, double(max_axis)))), 1, max_axis);
+  // The core's edge on every axis, capped at `cap` voxels an axis, and (with an aspect limit) no
+  // edge shorter than 1/max_auto_aspect of the longest.
+  const Vec3 e = box.extent();
+  const double core_edge = 1 / per_unit, longest_extent = std::max({e.x, e.y, e.z});
+  auto laid = [&](double cap) {
+    const double floor = opt.max_auto_aspect > 0 ? std::max(core_edge, longest_extent / cap) / opt.max_auto_aspect : 0;
+    const double voxels_per_unit = std::min(per_unit, 1 / floor);  // per_unit without a limit
+    std::array<int, 3> n{};
+    for (int a = 0; a < 3; ++a)
+      n[a] = std::clamp(int(std::lround(std::min(e[a] * voxels_per_unit, cap))), 1, std::max(1, opt.max_auto_axis));
+    return n;
+  };
+  auto cells = [](const std::array<int, 3>& n) { return double(n[0]) * n[1] * n[2]; };
+  double cap = std::max(1, opt.max_auto_axis);
+  if (opt.max_auto_cells > 0 && cells(laid(cap)) > double(opt.max_auto_cells)) {
+    // The largest cap within the budget, by bisection (the count falls as the cap does).
+    double lo = 1;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = std::sqrt(lo * cap);
+      (cells(laid(mid)) > double(opt.max_auto_cells) ? cap : lo) = mid;
+    }
+    cap = lo;
+  }
+  std::array<int, 3> n = laid(cap);
   // Never coarser than the plain rule over the whole box.
   for (int a = 0; a < 3; ++a) n[a] = std::max(n[a], whole[a]);
   return n;

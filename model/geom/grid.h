@@ -15,12 +15,24 @@ struct GridOptions {
   /// Automatic resolution aims at this many voxels per primitive.
   double voxels_per_primitive = 4.0;
   /// Automatic resolution never exceeds this many voxels on an axis. The machine's 128 keeps
-  /// small the voxel data every PE receives (and walks one voxel per pass); the reference
-  /// renderer on its own runs on a CPU and crosses empty space in large steps, so it allows
-  /// kCpuMaxAutoAxis (docs/benchmarks.md).
+  /// small the voxel data every PE receives (and walks one voxel per pass).
   int max_auto_axis = 128;
+  /// With a budget (> 0), the cap on an axis is the largest (up to max_auto_axis) that keeps the
+  /// automatic grid within this many voxels (never below the plain rule over the whole box).
+  int64_t max_auto_cells = 0;
+  /// With a limit (> 0), no voxel edge is shorter than 1/max_auto_aspect of the longest: where
+  /// the cap lengthens some axes' voxels (a teapot in a stadium), the others coarsen with them.
+  double max_auto_aspect = 0;
 };
-constexpr int kCpuMaxAutoAxis = 384;
+
+/// The automatic grid of the reference renderer run on its own: a CPU that crosses empty space in
+/// large steps can afford more voxels than a PE; SPD tree-11 traces fastest with voxels at most
+/// 3:1 (docs/benchmarks.md, "The grid").
+inline void size_for_cpu(GridOptions& g) {
+  g.max_auto_axis = 1024;
+  g.max_auto_cells = 6'000'000;
+  g.max_auto_aspect = 3;
+}
 
 struct Grid {
   Aabb box;                      ///< the object space; voxels tile it exactly
@@ -49,7 +61,7 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
 /// The automatic resolution for a scene: cubic voxels sized by auto_resolution over the scene's
 /// dense core (the box spanned by the central 90% of primitive centres on each axis, grown by the
 /// median primitive size, and the primitives centred in it), then laid over the whole object
-/// space and clamped to max_auto_axis. A scene whose objects sit on a huge floor ("a teapot in
+/// space and capped per axis (GridOptions: max_auto_axis, max_auto_cells, max_auto_aspect). A scene whose objects sit on a huge floor ("a teapot in
 /// a stadium": SPD balls and tree) gets voxels fitted to its objects, not to the floor.
 std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
 

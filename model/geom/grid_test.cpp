@@ -478,5 +478,43 @@ TEST(GridSceneResolution, FitsVoxelsToTheClusterNotTheFloor) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(b[k], a[k], 0.25 * a[k] + 1);
 }
 
+// The same stadium under a voxel budget and an aspect limit: the long axes' cap is the largest the
+// budget allows, and the short axis coarsens with them to keep voxels within the aspect.
+TEST(GridSceneResolution, BudgetAndAspectLimitShapeTheStadiumsVoxels) {
+  std::vector<Primitive> prims;
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < 4000; ++i) prims.push_back(make_sphere({u(rng), u(rng), 2 * u(rng)}, 0.01));
+  prims.push_back(make_polygon({{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}}));
+  Aabb box;
+  for (const Primitive& p : prims) box.extend(p.bounds);
+  GridOptions capped;
+  capped.max_auto_axis = 1024;
+  const std::array<int, 3> free = scene_resolution(prims, box, capped);
+  GridOptions opt = capped;
+  opt.max_auto_cells = 2'000'000;
+  opt.max_auto_aspect = 3;
+  const std::array<int, 3> n = scene_resolution(prims, box, opt);
+  auto cells = [](const std::array<int, 3>& r) { return double(r[0]) * r[1] * r[2]; };
+  ASSERT_GT(cells(free), 2e6);  // the case under test: the budget binds
+  EXPECT_LE(cells(n), 2e6);
+  EXPECT_GT(cells(n), 0.8 * 2e6);  // and is spent
+  EXPECT_EQ(n[0], n[1]);
+  const Vec3 edge = box.extent() / Vec3(n[0], n[1], n[2]);
+  EXPECT_LE(edge.x / edge.z, 3 * 1.05);  // within rounding of the limit
+  EXPECT_GT(edge.x / edge.z, 3 * 0.95);  // which binds: the cluster alone would want cubes
+  EXPECT_LT(n[2], free[2]);
+
+  // Neither binds on a scene that fits: the per-axis rule's grid.
+  std::vector<Primitive> cloud(prims.begin(), prims.end() - 1);
+  Aabb cbox;
+  for (const Primitive& p : cloud) cbox.extend(p.bounds);
+  EXPECT_EQ(scene_resolution(cloud, cbox, opt), scene_resolution(cloud, cbox, capped));
+  // Without a budget or an aspect limit, nothing changes: GridOptions' defaults are the machine's.
+  GridOptions machine;
+  EXPECT_EQ(machine.max_auto_cells, 0);
+  EXPECT_EQ(machine.max_auto_aspect, 0);
+}
+
 }  // namespace
 }  // namespace rtm
