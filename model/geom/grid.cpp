@@ -179,8 +179,8 @@ std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const A
   const Vec3 e = box.extent();
   const double core_edge = 1 / per_unit, longest_extent = std::max({e.x, e.y, e.z});
   auto laid = [&](double cap) {
-    const double floor = opt.max_auto_aspect > 0 ? std::max(core_edge, longest_extent / cap) / opt.max_auto_aspect : 0;
-    const double voxels_per_unit = std::min(per_unit, 1 / floor);  // per_unit without a limit
+    const double shortest = opt.max_auto_aspect > 0 ? std::max(core_edge, longest_extent / cap) / opt.max_auto_aspect : 0;
+    const double voxels_per_unit = std::min(per_unit, 1 / shortest);  // per_unit without a limit
     std::array<int, 3> n{};
     for (int a = 0; a < 3; ++a)
       n[a] = std::clamp(int(std::lround(std::min(e[a] * voxels_per_unit, cap))), 1, std::max(1, opt.max_auto_axis));

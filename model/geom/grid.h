@@ -61,8 +61,9 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
 /// The automatic resolution for a scene: cubic voxels sized by auto_resolution over the scene's
 /// dense core (the box spanned by the central 90% of primitive centres on each axis, grown by the
 /// median primitive size, and the primitives centred in it), then laid over the whole object
-/// space and capped per axis (GridOptions: max_auto_axis, max_auto_cells, max_auto_aspect). A scene whose objects sit on a huge floor ("a teapot in
-/// a stadium": SPD balls and tree) gets voxels fitted to its objects, not to the floor.
+/// space and capped per axis (GridOptions: max_auto_axis, max_auto_cells, max_auto_aspect). A
+/// scene whose objects sit on a huge floor ("a teapot in a stadium": SPD balls and tree) gets
+/// voxels fitted to its objects, not to the floor.
 std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
 
 /// Conservative voxelisation: a primitive is listed in every voxel its clipped surface may touch.

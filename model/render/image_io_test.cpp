@@ -1,6 +1,8 @@
+// The image functions and the loading of the library behind them.
 #include "render/image_io.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -18,14 +20,15 @@ bool open_image_io_mapped() {
 
 // Each test is a process of its own (gtest_discover_tests), so nothing has loaded it before.
 TEST(ImageIo, OpenImageIOIsLoadedOnlyWhenImagesAreUsed) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("rtm_image_io_test_" + std::to_string(getpid()));
   EXPECT_FALSE(open_image_io_mapped());
-  write_text_atomically((std::filesystem::temp_directory_path() / "rtm_image_io_test.txt").string(), "x");
+  write_text_atomically((dir / "stats.json").string(), "{}");
   EXPECT_FALSE(open_image_io_mapped());
 
   Image img(3, 2);
   img.rgb[4] = Vec3(0.25, -1.5, 7.0);
   img.ids[4] = 41;
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("rtm_image_io_test_" + std::to_string(getpid()));
   write_image((dir / "rgb.exr").string(), img);
   write_id_map((dir / "ids.exr").string(), img);
   EXPECT_TRUE(open_image_io_mapped());
