@@ -6,16 +6,23 @@
 namespace rtm {
 namespace {
 
-void require(bool ok, const std::string& what) {
+void require(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(what);
 }
 
+// The messages are built only on failure: these run for every primitive of a scene.
 void require_finite(const Vec3& v, const char* what) {
-  require(all_finite(v), std::string(what) + " is not finite");
+  if (!all_finite(v)) throw std::invalid_argument(std::string(what) + " is not finite");
 }
 
 void require_positive(double x, const char* what) {
-  require(std::isfinite(x) && x > 0, std::string(what) + " must be a finite positive number");
+  if (!(std::isfinite(x) && x > 0)) throw std::invalid_argument(std::string(what) + " must be a finite positive number");
+}
+
+void require_finite_coefficients(const Quadric& q, const char* which) {
+  for (int i = 0; i < 10; ++i)
+    if (!std::isfinite(q.c[i]))
+      throw std::invalid_argument(std::string(which) + " coefficient " + "ABCDEFGHIJ"[i] + " is not finite");
 }
 
 /// Symmetric 4x4 matrix S with Q(p) = [p 1]ᵀ S [p 1].
@@ -304,8 +311,8 @@ void add_box_clips(Primitive& p, const Aabb& box) {
 }
 
 void require_box(const Aabb& box, const char* what) {
-  require(all_finite(box.lo) && all_finite(box.hi), std::string(what) + " box is not finite");
-  require(!box.empty(), std::string(what) + " box is empty (min must not exceed max)");
+  if (!(all_finite(box.lo) && all_finite(box.hi))) throw std::invalid_argument(std::string(what) + " box is not finite");
+  if (box.empty()) throw std::invalid_argument(std::string(what) + " box is empty (min must not exceed max)");
 }
 }  // namespace
 
@@ -394,19 +401,16 @@ void validate(const Primitive& p) {
           "primitive has no finite bound");
   require(max_abs(p.bounds.lo) <= kMaxCoordinate && max_abs(p.bounds.hi) <= kMaxCoordinate,
           "primitive lies too far from the origin: coordinates must be within +-1e150 so squared distances stay finite");
+  require_finite_coefficients(p.q, "quadric");
   bool any = false;
-  for (int i = 0; i < 10; ++i) {
-    require(std::isfinite(p.q.c[i]), std::string("quadric coefficient ") + "ABCDEFGHIJ"[i] + " is not finite");
-    if (i < kJ && p.q.c[i] != 0) any = true;
-  }
+  for (int i = 0; i < kJ; ++i) any = any || p.q.c[i] != 0;
   require(any, "quadric is degenerate: A..I are all zero, so it has no surface");
   for (const HalfSpace& h : p.clips) {
     require(all_finite(h.n) && std::isfinite(h.d), "clip half-space is not finite");
     require(max_abs(h.n) > 0, "clip half-space has a zero normal");
   }
   if (p.has_local) {
-    for (int i = 0; i < 10; ++i)
-      require(std::isfinite(p.local.c[i]), std::string("local quadric coefficient ") + "ABCDEFGHIJ"[i] + " is not finite");
+    require_finite_coefficients(p.local, "local quadric");
     require(all_finite(p.origin), "primitive origin is not finite");
   }
 }

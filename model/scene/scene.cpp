@@ -134,8 +134,8 @@ void validate(const Scene& s) {
   for (size_t i = 0; i < s.primitives.size(); ++i) {
     const Primitive& p = s.primitives[i];
     try {
-      require(p.material >= 0 && size_t(p.material) < s.materials.size(),
-              "material index " + std::to_string(p.material) + " is out of range");
+      if (p.material < 0 || size_t(p.material) >= s.materials.size())
+        throw std::invalid_argument("material index " + std::to_string(p.material) + " is out of range");
       validate(p);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("primitive " + std::to_string(i) + ": " + e.what());
