@@ -342,6 +342,21 @@ TEST(Machine, TheUnregulatedLoopDeadlocksAndIsReported) {
   EXPECT_FALSE(fs::exists(tmp / "z.png"));
 }
 
+// The image library is found before any work is done, so a missing one costs no render.
+TEST(Cli, MissingImageLibraryIsReportedBeforeRendering) {
+  Tmp tmp;
+  const std::string args = " render " + kScenes + "balls-1.nff --size 8x8 -q --out " + (tmp / "o.png");
+  const Proc missing = sh("RTM_IMAGE_LIBRARY=/nonexistent/librtm_image.so " + std::string(RTM_BINARY) + args, tmp);
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.err.find("/nonexistent/librtm_image.so"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  EXPECT_FALSE(fs::exists(tmp / "o.json"));
+  const std::string beside = (fs::path(RTM_BINARY).parent_path() / "librtm_image.so").string();
+  const Proc named = sh("RTM_IMAGE_LIBRARY=" + beside + " " + std::string(RTM_BINARY) + args, tmp);
+  EXPECT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_TRUE(fs::exists(tmp / "o.png"));
+}
+
 // Bad input: a clear message, a non-zero exit, no output file.
 struct BadCase {
   const char* name;

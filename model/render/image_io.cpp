@@ -4,6 +4,7 @@
 
 #include <dlfcn.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -16,18 +17,25 @@
 namespace rtm {
 namespace {
 
-/// Beside the running program (rtm and the test programs are built into one directory), else
-/// where the build put it.
+/// $RTM_IMAGE_LIBRARY if set; else beside the running program (rtm and the test programs are
+/// built into one directory); else where the build put it.
 std::string library_path() {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec && std::filesystem::exists(exe.parent_path() / kImageLibraryFile, ec))
-    return (exe.parent_path() / kImageLibraryFile).string();
-  return RTM_IMAGE_LIBRARY;
+  if (const char* set = std::getenv("RTM_IMAGE_LIBRARY")) {
+    if (!fs::exists(set, ec)) throw std::runtime_error(std::string("RTM_IMAGE_LIBRARY: no such file: ") + set);
+    return set;
+  }
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path beside = ec ? fs::path() : exe.parent_path() / kImageLibraryFile;
+  if (!beside.empty() && fs::exists(beside, ec)) return beside.string();
+  if (fs::exists(RTM_IMAGE_LIBRARY, ec)) return RTM_IMAGE_LIBRARY;
+  throw std::runtime_error(std::string("cannot find rtm's image library ") + kImageLibraryFile + ": it belongs beside " +
+                           (exe.empty() ? std::string("the rtm program") : exe.string()) + " (the build puts it at " +
+                           RTM_IMAGE_LIBRARY + "; RTM_IMAGE_LIBRARY=FILE names another place)");
 }
 
-const ImageLibrary* load() {
-  const std::string path = library_path();
+const ImageLibrary* load(const std::string& path) {
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) throw std::runtime_error(std::string("cannot load the image library: ") + dlerror());
   using Entry = const ImageLibrary* (*)();
@@ -39,8 +47,9 @@ const ImageLibrary* load() {
 std::once_flag load_started;
 std::shared_future<const ImageLibrary*> loaded;  // waited for at exit if still loading
 
+/// Finding the library is immediate, so a missing one is reported before any work is done.
 void start_loading() {
-  std::call_once(load_started, [] { loaded = std::async(std::launch::async, load).share(); });
+  std::call_once(load_started, [] { loaded = std::async(std::launch::async, load, library_path()).share(); });
 }
 
 const ImageLibrary& library() {

@@ -29,7 +29,8 @@ struct ImageError {
 ImageError compare_images(const Image& img, const Image& ref);
 
 /// Starts loading the image library on a thread of its own, so a program about to render does
-/// not wait for it at the end. Idempotent; the functions above wait for the load to finish.
+/// not wait for it at the end; throws at once if the library is missing. Idempotent; the
+/// functions above wait for the load to finish.
 void preload_image_library();
 
 /// Writes text to path through a temporary file and a rename.
