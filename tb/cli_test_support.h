@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -15,6 +16,21 @@
 #include <nlohmann/json.hpp>
 
 namespace rtm::test {
+
+/// Options for a random small machine whose loop cannot deadlock: 16x16 pixels, 1 to max_pes PEs,
+/// FIFOs no shallower than the search FIFO, loop credits within its depth. Draws from rng in a
+/// fixed order, so a seed always gives the same machines.
+inline std::string random_small_machine(std::mt19937& rng, int max_pes) {
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  const int depth = pick(1, 4);
+  std::ostringstream args;
+  args << " --size 16x16 --pes " << pick(1, max_pes) << " --search-units " << pick(1, 6)
+       << " --set search_fifo_depth=" << depth << " --set intersect_fifo_depth=" << pick(depth, 5)
+       << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
+       << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
+       << " --set loop_credits=" << pick(0, depth);
+  return args.str();
+}
 
 /// A fresh folder per test, removed afterwards.
 class Tmp {

@@ -93,13 +93,8 @@ TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
   auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
   const char* scenes[] = {"balls-1.nff", "mount-1.nff", "tree-2.nff", "rings-1.nff"};
   for (int i = 0; i < 6; ++i) {
-    const int depth = pick(1, 4);
     std::ostringstream args;
-    args << kScenes << scenes[i % 4] << " --size 16x16 --pes " << pick(1, 4) << " --search-units " << pick(1, 6)
-         << " --set search_fifo_depth=" << depth << " --set intersect_fifo_depth=" << pick(depth, 5)
-         << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
-         << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
-         << " --set loop_credits=" << pick(0, depth) << " --set fb_dispatch_cycles=" << pick(1, 3)
+    args << kScenes << scenes[i % 4] << random_small_machine(rng, 4) << " --set fb_dispatch_cycles=" << pick(1, 3)
          << " --set dda_step_cycles=" << pick(1, 3) << " --set spill_cycles=" << pick(0, 9)
          << " --set intersection_units=" << pick(1, 3);
     expect_engine_matches_modules(args.str());

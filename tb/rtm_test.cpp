@@ -301,16 +301,10 @@ TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
 TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {
   Tmp tmp;
   std::mt19937 rng(2026);
-  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
   const char* scenes[] = {"balls-1.nff", "mount-1.nff", "tree-2.nff"};
   for (int i = 0; i < 10; ++i) {
-    const int depth = pick(1, 4);
     std::ostringstream args;
-    args << kScenes << scenes[i % 3] << " --size 16x16 --pes " << pick(1, 5) << " --search-units " << pick(1, 6)
-         << " --set search_fifo_depth=" << depth << " --set intersect_fifo_depth=" << pick(depth, 5)
-         << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
-         << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
-         << " --set loop_credits=" << pick(0, depth) << " --partition " << (i % 2 ? "blocks" : "scanlines")
+    args << kScenes << scenes[i % 3] << random_small_machine(rng, 5) << " --partition " << (i % 2 ? "blocks" : "scanlines")
          << " --set arbitration=" << (i % 3 ? "kernel" : "ranked");
     const json j = render(tmp, "r" + std::to_string(i), args.str());
     ASSERT_FALSE(j.is_null()) << args.str();
