@@ -254,6 +254,29 @@ nlohmann::json error_json(const ImageError& e) {
           {"pixels_over_1_255", e.pixels_over_1_255}};
 }
 
+/// One flat object of the run's headline figures: exactly the metric columns of a sweep's
+/// results.csv (scripts/sweep-run reads it as it is).
+nlohmann::json summary_json(const nlohmann::json& j) {
+  nlohmann::json s = {{"cycles", j["cycles"]},
+                      {"wall_seconds", j["wall_seconds"]},
+                      {"sim_time_ns", j["sim_time_ns"]},
+                      {"voxel_steps", j["voxel_steps"]},
+                      {"intersection_tests", j["intersection_tests"]},
+                      {"mac_products", j["mac"]["products"]},
+                      {"mac_busy_cycles", j["mac"]["busy_cycles"]},
+                      {"link_busy_cycles", j["host"]["link_busy_cycles"]},
+                      {"load_imbalance", j["load_imbalance"]},
+                      {"bottleneck", j["bottleneck"]},
+                      {"mac_bound_cycles", j["mac_bound_cycles"]},
+                      {"cycles_over_mac_bound", j["cycles_over_mac_bound"]}};
+  for (const auto& [key, value] : j["error"].items()) s["error_" + key] = value;
+  for (const auto& [kind, n] : j["rays"].items()) s["rays_" + kind] = n;
+  for (const auto& [unit, u] : j["utilisation"].items()) s["util_" + unit] = u;
+  for (const auto& [unit, u] : j["pe_utilisation"].items()) s["pe_util_" + unit] = u;
+  for (const auto& [phase, cycles] : j["phases"].items()) s[phase] = cycles;
+  return s;
+}
+
 void print_rays(const TraceCounts& c) {
   std::printf("rays: %llu primary, %llu shadow, %llu reflected, %llu transmitted\n", (unsigned long long)c.rays[0],
               (unsigned long long)c.rays[1], (unsigned long long)c.rays[2], (unsigned long long)c.rays[3]);
@@ -350,6 +373,7 @@ int run_render(const RenderOptions& opt) {
     const bool counts_match = ref.counts.rays == m.counts.rays && ref.counts.voxel_steps == m.counts.voxel_steps &&
                               ref.counts.intersection_tests == m.counts.intersection_tests &&
                               ref.counts.clip_tests == m.counts.clip_tests;
+    j["summary"] = summary_json(j);
     j["reference"] = {{"wall_seconds", ref.wall_seconds},
                       {"cached", cache_hit},
                       {"rays_match", ref.counts.rays == m.counts.rays},
