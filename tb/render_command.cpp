@@ -147,10 +147,10 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.gather = (m.host.gathered - m.host.pes_done) / period;
   double window = 0, longest = 0, stall = 0;
   for (const PeCounters& p : m.per_pe) {
-    const double w = (p.finish - p.start) / period;
+    const double w = sc_core::sc_time::from_value(p.finish - p.start) / period;
     window += w;
     longest = std::max(longest, w);
-    stall += p.credit_stall / period;
+    stall += sc_core::sc_time::from_value(p.credit_stall) / period;
     f.search += double(p.search.busy_cycles) / c.search_units;
     f.mac += double(p.mac.busy_cycles) / c.intersection_units;
     f.root += double(p.root.busy_cycles) / c.intersection_units;
@@ -168,13 +168,14 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
   auto cyc = [&](const sc_core::sc_time& t) { return uint64_t(std::llround(t / period)); };
+  auto ticks = [&](uint64_t t) { return cyc(sc_core::sc_time::from_value(t)); };
   const FrameProfile f = profile(m, c);
   const double mac_bound = std::ceil(double(m.mac_products) / c.pes);
   nlohmann::json per_pe = nlohmann::json::array();
   for (const PeCounters& p : m.per_pe)
-    per_pe.push_back({{"cycles", cyc(p.finish)},
-                      {"start_cycle", cyc(p.start)},
-                      {"credit_stall_cycles", cyc(p.credit_stall)},
+    per_pe.push_back({{"cycles", ticks(p.finish)},
+                      {"start_cycle", ticks(p.start)},
+                      {"credit_stall_cycles", ticks(p.credit_stall)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
                       {"busy_cycles",

@@ -9,7 +9,7 @@ namespace rtm {
 using sc_core::sc_time;
 
 Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
-           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<PeBase*> pes,
+           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
            Timekeeper* keeper)
     : sc_module(name),
       image(s.camera.width, s.camera.height),
@@ -134,7 +134,7 @@ void Host::run() {
     }
   };
   if (config_.gather == MachineConfig::Gather::AfterAll) {
-    for (PeBase* pe : pes_)
+    for (Pe* pe : pes_)
       if (!pe->finished()) sc_core::wait(pe->finished_event);
     times.pes_done = sc_core::sc_time_stamp();
     for (int pe = 0; pe < n; ++pe) gather(pe);
@@ -161,7 +161,8 @@ void Host::run() {
       --left;
     }
     // The frame's PE phase ends with the last PE, whatever the link was doing then.
-    for (PeBase* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
+    for (Pe* pe : pes_)
+      times.pes_done = std::max(times.pes_done, sc_core::sc_time::from_value(pe->ctx.counters.finish));
   }
   times.gathered = sc_core::sc_time_stamp();
   done = true;

@@ -27,7 +27,7 @@ class Host : public sc_core::sc_module {
 
   SC_HAS_PROCESS(Host);
   Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
-       std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<PeBase*> pes,
+       std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
        Timekeeper* keeper);
 
   HostTimes times;
@@ -47,7 +47,7 @@ class Host : public sc_core::sc_module {
   const Grid& grid_;
   std::shared_ptr<const SceneImage> image_;
   std::vector<std::vector<uint32_t>> parts_;
-  std::vector<PeBase*> pes_;
+  std::vector<Pe*> pes_;
   Sleeper sleep_;  ///< rank 0: the host goes first in its cycle
 };
 

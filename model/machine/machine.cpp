@@ -1,6 +1,7 @@
 #include "machine/machine.h"
 
-#include "machine/engine_pe.h"
+#include "machine/engine_hosted_pe.h"
+#include "machine/modules_pe.h"
 #include "machine/partition.h"
 #include "render/scene_needs.h"
 
@@ -20,7 +21,7 @@ class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
   std::unique_ptr<Timekeeper> keeper;        ///< arbitration = ranked only
-  std::vector<std::unique_ptr<PeBase>> pes;
+  std::vector<std::unique_ptr<Pe>> pes;
   std::unique_ptr<Host> host;
   SceneNeeds needs;
   PeUnits units;
@@ -38,7 +39,7 @@ class Machine : public sc_core::sc_module {
     if (c.arbitration == MachineConfig::Arbitration::Ranked) keeper = std::make_unique<Timekeeper>("timekeeper");
     auto parts = partition_screen(s.camera.width, s.camera.height, c);
     auto image = std::make_shared<SceneImage>(s, g, c);
-    needs = c.precision == Precision::Fp32 ? analyse_scene(s, image->mem32.rams) : analyse_scene(s, image->mem64.rams);
+    needs = image->visit([&](const auto& mem) { return analyse_scene(s, mem.rams); });
     scene_bytes = image->bytes;
     if (c.leave_out) {
       units.shadow_rays = needs.shadow_rays;
@@ -46,14 +47,14 @@ class Machine : public sc_core::sc_module {
       units.refraction = needs.transmitted_rays;
       units.spawn_path = needs.spawns_rays();
     }
-    std::vector<PeBase*> raw;
+    std::vector<Pe*> raw;
     for (int i = 0; i < c.pes; ++i) {
       const std::string pe = "pe" + std::to_string(i);
       const size_t pixels = parts[size_t(i)].size();
       if (engine_unsupported.empty())
-        pes.push_back(std::make_unique<EnginePe>(pe.c_str(), i, c, units, pixels, keeper.get()));
+        pes.push_back(std::make_unique<EngineHostedPe>(pe.c_str(), i, c, units, pixels, keeper.get()));
       else
-        pes.push_back(std::make_unique<Pe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
+        pes.push_back(std::make_unique<ModulesPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
@@ -113,7 +114,7 @@ class Machine : public sc_core::sc_module {
   uint64_t total_pixels_ = 0;
 };
 
-std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<PeBase>>& pes, sc_time end) {
+std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
   std::map<std::string, FifoSummary> by_kind;
   std::map<std::string, int> count;
   for (auto& pe : pes)

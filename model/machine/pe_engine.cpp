@@ -17,41 +17,42 @@ std::string engine_unsupported(const MachineConfig& c, bool tracing) {
   return "";
 }
 
-PeEngine::Fifo::Fifo(std::string n, const char* kind, int depth, std::vector<Fifo*>* touched)
-    : name(std::move(n)), ring(size_t(depth)), meter(kind, depth), touched_list(touched) {}
+PeEngine::Fifo::Fifo(const FifoSpec& spec, int depth, std::vector<Fifo*>* touched)
+    : name(spec.name), ring(size_t(depth)), meter(spec.kind, depth), touched_list(touched) {}
 
-PeEngine::PeEngine(PeContext& ctx, std::vector<PixelSum>& frame, std::vector<int32_t>& ids,
-                   const std::vector<Ray>& rays, size_t rays_expected)
-    : ctx_(ctx),
+PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_t>& ids, const std::vector<Ray>& rays,
+                   size_t rays_expected)
+    : pe_(pe),
       frame_(frame),
       ids_(ids),
       rays_(rays),
-      rays_expected_(rays_expected),
-      cycle_(ctx.cycle.value()),
-      credits_(ctx.config.loop_credits_in_force()),
-      timing_(ctx.config),
-      search_fifo_("search_fifo", "search", ctx.config.search_fifo_depth, &touched_),
-      intersect_fifo_("intersect_fifo", "intersect", ctx.config.intersect_fifo_depth, &touched_),
-      shade_fifo_("shade_fifo", "shade", ctx.config.shade_fifo_depth, &touched_),
-      feedback_search_("feedback_search", "feedback", ctx.config.feedback_fifo_depth, &touched_),
-      feedback_intersect_("feedback_intersect", "feedback", ctx.config.feedback_fifo_depth, &touched_),
-      spawn_fifo_("spawn_fifo", "spawn", ctx.config.feedback_fifo_depth, &touched_),
-      ends_fifo_("ends_fifo", "ends", ctx.config.feedback_fifo_depth, &touched_),
-      spawn_path_(ctx.units.spawn_path),
-      lanes_(size_t(ctx.config.intersection_units)),
-      mac0_(kSearch + size_t(ctx.config.search_units)),
-      root0_(mac0_ + lanes_) {
+      cycle_(pe.cycle),
+      front_(pe, rays_expected),
+      shading_(pe),
+      lanes_(size_t(pe.config.intersection_units)),
+      mac0_(kSearch + size_t(pe.config.search_units)),
+      root0_(mac0_ + lanes_),
+      idle_macs_(pe.config.intersection_units) {
+  for (const FifoSpec& f : fifo_table()) {
+    if (!pe.units.has(f)) continue;
+    const int depth = pe.config.*f.depth;
+    if (f.per_lane) {
+      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&to_root_.emplace_back(f, depth, &touched_));
+    } else {
+      Fifo* fifo = fifos_by_id_[size_t(f.id)] = &fifos_.emplace_back(f, depth, &touched_);
+      in_order_.push_back(fifo);
+      if (f.payload == Payload::Ray && std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer))
+        front_inputs_.emplace_back(fifo, f.returns_credit);
+    }
+  }
   due_at_.assign(root0_ + lanes_, kNever);
   due_.resize(due_at_.size());
+  for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
   for (size_t u = mac0_; u-- > kSearch;) idle_search_.push_back(u);
   for (size_t lane = 0; lane < lanes_; ++lane) {
-    idle_macs_.insert(lane);
-    to_root_.emplace_back("to_root", "root", ctx.config.root_fifo_depth, &touched_);
+    macs_.emplace_back(pe, int(lane));
+    roots_.emplace_back(pe, int(lane));
   }
-  fifos_ = {&search_fifo_, &intersect_fifo_, &shade_fifo_, &feedback_search_, &feedback_intersect_};
-  if (spawn_path_) fifos_.push_back(&spawn_fifo_);
-  for (Fifo& f : to_root_) fifos_.push_back(&f);
-  fifos_.push_back(&ends_fifo_);
   front_loop(0);
 }
 
@@ -82,18 +83,18 @@ void PeEngine::run_before(uint64_t t) {
 }
 
 void PeEngine::rays_arrived(uint64_t t, size_t n) {
-  rays_visible_ = n;
+  front_.primaries_arrived(n);
   front_poked_ = true;
   pending_step_ = t;
 }
 
-void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Route route) {
+void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Output out) {
   // Root units go by their lane: each takes only its own MAC's results, and the modules rank
-  // them so (pe_context.h).
-  const Unit kind = unit_at(unit);
-  const uint64_t rank = uint64_t(kind) + (kind == Unit::Root ? unit - root0_ : 0);
+  // them so (machine/pe_context.h).
+  const UnitKind kind = kind_at(unit);
+  const uint64_t rank = uint64_t(kind) + (kind == UnitKind::Root ? unit - root0_ : 0);
   due_at_[unit] = at;
-  due_[unit] = {rank << 48 | seq_++, item, route};
+  due_[unit] = {rank << 48 | seq_++, item, out};
 }
 
 void PeEngine::step(uint64_t now) {
@@ -107,9 +108,9 @@ void PeEngine::step(uint64_t now) {
     due_at_[u] = kNever;
     wake(u, d, now);
   }
-  // What they wrote becomes visible.
-  const bool poked = front_poked_ || feedback_search_.written || feedback_intersect_.written || spawn_fifo_.written ||
-                     ends_fifo_.written;
+  // What they wrote becomes visible. The front buffer is poked by a write to any of its inputs.
+  bool poked = front_poked_ || fifo(FifoId::Ends).written;
+  for (const auto& [in, returns_credit] : front_inputs_) poked = poked || in->written;
   front_poked_ = false;
   for (Fifo* f : touched_) {
     f->visible = f->count;
@@ -118,8 +119,8 @@ void PeEngine::step(uint64_t now) {
   }
   // Idle units take it, and the front buffer drains its inputs if it was waiting.
   take_inputs(now);
-  if (front_ == Front::Waiting && poked) {
-    if (stalled_) ctx_.counters.credit_stall += sc_core::sc_time::from_value(now - waiting_since_);
+  if (front_waiting_ && !front_.finished() && poked) {
+    front_.woke(now);
     front_loop(now);
   }
   // Places freed by reads are there for the next instant's writers.
@@ -131,21 +132,19 @@ void PeEngine::step(uint64_t now) {
 }
 
 void PeEngine::take_inputs(uint64_t now) {
-  while (!idle_search_.empty() && search_fifo_.visible > 0) {
+  Fifo& search_in = fifo(FifoId::Search);
+  while (!idle_search_.empty() && search_in.visible > 0) {
     const size_t u = idle_search_.back();
     idle_search_.pop_back();
-    search_start(u, search_fifo_.read(now), now);
+    search_start(u, search_in.read(now), now);
   }
-  while (!idle_macs_.empty() && intersect_fifo_.visible > 0) {
-    const size_t lane = *idle_macs_.begin();
-    idle_macs_.erase(idle_macs_.begin());
-    mac_start(lane, intersect_fifo_.read(now), now);
-  }
+  Fifo& mac_in = fifo(FifoId::Intersect);
+  while (idle_macs_.any_idle() && mac_in.visible > 0) mac_start(size_t(idle_macs_.take()), mac_in.read(now), now);
   // A unit with nothing due is idle.
   for (size_t lane = 0; lane < lanes_; ++lane)
-    if (due_at_[root0_ + lane] == kNever && to_root_[lane].visible > 0)
-      root_start(lane, to_root_[lane].read(now), now);
-  if (due_at_[kShading] == kNever && shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
+    if (due_at_[root0_ + lane] == kNever && to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
+  Fifo& shade_in = fifo(FifoId::Shade);
+  if (due_at_[kShading] == kNever && shade_in.visible > 0) shade_start(shade_in.read(now), now);
 }
 
 // ---- rays ----
@@ -161,9 +160,18 @@ uint32_t PeEngine::new_ray(const MachineRay& r) {
   return s;
 }
 
-void PeEngine::end_ray(uint32_t slot, uint64_t now) {
-  ends_fifo_.write(slots_[slot].id, now);
-  free_slots_.push_back(slot);
+bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
+  Fifo& f = fifo(o.fifo);
+  if (f.full()) return false;
+  const uint32_t id = r.id;
+  if (o.what == Output::What::End) {
+    f.write(id, now);
+    if (slot != kNoSlot) free_slots_.push_back(slot);
+  } else {
+    f.write(slot != kNoSlot ? slot : new_ray(r), now);
+  }
+  record_put(pe_, now, kind, index, id, o);
+  return true;
 }
 
 // ---- the units: each writes its result when its work ends (one cycle later again while the
@@ -171,144 +179,125 @@ void PeEngine::end_ray(uint32_t slot, uint64_t now) {
 
 void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
   const uint64_t retry = now + cycle_;
-  switch (unit_at(unit)) {
-    case Unit::FrontBuffer:
-      if (front_ == Front::Aligning) {
+  switch (kind_at(unit)) {
+    case UnitKind::FrontBuffer: {
+      if (front_aligning_) {
+        front_aligning_ = false;
         primary(now);
         return;
       }
-      if (search_fifo_.full()) return schedule(kFront, retry);
-      search_fifo_.write(front_ray_, now);
+      const Output to_search{FifoId::Search, Output::What::Item};
+      if (!emit(to_search, slots_[front_ray_], front_ray_, UnitKind::FrontBuffer, 0, now)) return schedule(kFront, retry);
       front_loop(now);
       return;
+    }
 
-    case Unit::Search: {
-      Fifo& out = d.route == Route::Intersect ? intersect_fifo_
-                  : d.route == Route::Feedback ? feedback_search_
-                  : d.route == Route::Shade    ? shade_fifo_
-                                               : ends_fifo_;
-      if (out.full()) return schedule(unit, retry, d.item, d.route);
-      if (d.route == Route::End)
-        end_ray(d.item, now);
-      else
-        out.write(d.item, now);
-      if (search_fifo_.visible > 0)
-        search_start(unit, search_fifo_.read(now), now);
+    case UnitKind::Search: {
+      const size_t k = unit - kSearch;
+      if (!emit(d.out, slots_[d.item], d.item, UnitKind::Search, int(k), now))
+        return schedule(unit, retry, d.item, d.out);
+      Fifo& in = fifo(FifoId::Search);
+      if (in.visible > 0)
+        search_start(unit, in.read(now), now);
       else
         idle_search_.push_back(unit);
       return;
     }
 
-    case Unit::Mac: {
+    case UnitKind::Mac: {
       const size_t lane = unit - mac0_;
       Fifo& out = to_root_[lane];
-      if (out.full()) return schedule(unit, retry, d.item);
+      if (out.full()) return schedule(unit, retry, d.item, d.out);
       out.write(d.item, now);
-      if (intersect_fifo_.visible > 0)
-        mac_start(lane, intersect_fifo_.read(now), now);
+      record_put(pe_, now, UnitKind::Mac, int(lane), results_[d.item].r.id, d.out);
+      Fifo& in = fifo(FifoId::Intersect);
+      if (in.visible > 0)
+        mac_start(lane, in.read(now), now);
       else
-        idle_macs_.insert(lane);
+        idle_macs_.idle(int(lane));
       return;
     }
 
-    case Unit::Root: {
+    case UnitKind::Root: {
       const size_t lane = unit - root0_;
-      Fifo& out = d.route == Route::Shade ? shade_fifo_ : d.route == Route::Feedback ? feedback_intersect_ : ends_fifo_;
-      if (out.full()) return schedule(unit, retry, d.item, d.route);
-      const MachineRay& r = results_[d.item].r;
-      if (d.route == Route::End)
-        ends_fifo_.write(r.id, now);
-      else
-        out.write(new_ray(r), now);
+      if (!emit(d.out, results_[d.item].r, kNoSlot, UnitKind::Root, int(lane), now))
+        return schedule(unit, retry, d.item, d.out);
       free_results_.push_back(d.item);
       if (to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
       return;
     }
 
-    case Unit::Shading:
-      // The ray's end first, then the spawned rays in order; each is made (numbered) before
-      // it waits for room, as in the module.
-      for (; shade_next_ <= shade_out_.rays.size(); ++shade_next_) {
+    case UnitKind::Shading:
+      // Its outputs in order; a spawned ray is made (numbered) before it waits for room, as in
+      // the module.
+      for (; shade_next_ < shading_.outputs(); ++shade_next_) {
+        const Output o = shading_.output(shade_next_);
         if (shade_next_ == 0) {
-          if (ends_fifo_.full()) return schedule(kShading, retry);
-          ends_fifo_.write(slots_[shade_ray_].id, now);
+          if (!emit(o, slots_[shade_ray_], kNoSlot, UnitKind::Shading, 0, now)) return schedule(kShading, retry);
           continue;
         }
         if (!shade_child_made_) {
-          shade_child_ = new_ray(spawned_ray(ctx_, slots_[shade_ray_], shade_out_.rays[shade_next_ - 1]));
+          shade_child_ = new_ray(shading_.spawn(slots_[shade_ray_], shade_next_));
           shade_child_made_ = true;
         }
-        if (spawn_fifo_.full()) return schedule(kShading, retry);
-        spawn_fifo_.write(shade_child_, now);
+        if (!emit(o, slots_[shade_child_], shade_child_, UnitKind::Shading, 0, now)) return schedule(kShading, retry);
         shade_child_made_ = false;
       }
       free_slots_.push_back(shade_ray_);
-      if (shade_fifo_.visible > 0) shade_start(shade_fifo_.read(now), now);
+      if (fifo(FifoId::Shade).visible > 0) shade_start(fifo(FifoId::Shade).read(now), now);
       return;
   }
 }
 
 void PeEngine::front_loop(uint64_t now) {
-  while (ends_fifo_.visible > 0) {
-    ends_fifo_.read(now);
-    --in_flight_;
+  Fifo& ends = fifo(FifoId::Ends);
+  while (ends.visible > 0) {
+    ends.read(now);
+    front_.ended();
   }
-  for (Fifo* f : {&feedback_search_, &feedback_intersect_}) {
-    while (f->visible > 0) {
-      queue_.push_back(f->read(now));
-      --in_flight_;
+  for (const auto& [in, returns_credit] : front_inputs_)
+    while (in->visible > 0) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
+  using Next = FrontBufferPolicy<uint32_t>::Next;
+  front_waiting_ = false;
+  switch (front_.next()) {
+    case Next::Queued: {
+      uint64_t cycles = 0;
+      bool spilled = false;
+      const uint32_t slot = front_.pop_queued(cycles, spilled);
+      return dispatch(slot, cycles, spilled ? kFromSpill : kFromQueue, now);
     }
-  }
-  // Spawned rays are new: their parent's credit came back through the ends FIFO.
-  if (spawn_path_)
-    while (spawn_fifo_.visible > 0) queue_.push_back(spawn_fifo_.read(now));
-
-  if (in_flight_ < credits_) {
-    if (!queue_.empty()) {
-      const bool spilled = queue_.size() > size_t(ctx_.config.front_buffer_capacity);
-      if (spilled) ++ctx_.counters.spills;
-      const uint32_t slot = queue_.front();
-      queue_.pop_front();
-      return dispatch(slot, dispatch_cycles(ctx_.config, spilled, false), now);
-    }
-    if (next_primary_ < rays_visible_) {
+    case Next::Primary:
       // Rays from the host arrive between PE clock edges.
       if (const uint64_t off = now % cycle_) {
-        front_ = Front::Aligning;
+        front_aligning_ = true;
         return schedule(kFront, now + cycle_ - off);
       }
       return primary(now);
-    }
+    case Next::Finished:
+      return front_.finish(now);
+    case Next::Wait:
+      front_.wait(now);
+      front_waiting_ = true;
+      return;
   }
-  if (next_primary_ == rays_expected_ && queue_.empty() && in_flight_ == 0) {
-    front_ = Front::Done;
-    finish_ = now;
-    ctx_.counters.finish = sc_core::sc_time::from_value(now);
-    return;
-  }
-  stalled_ = !queue_.empty() || next_primary_ < rays_visible_;  // only credits hold them back
-  waiting_since_ = now;
-  front_ = Front::Waiting;
 }
 
 void PeEngine::primary(uint64_t now) {
-  if (next_primary_ == 0) ctx_.counters.start = sc_core::sc_time::from_value(now);
-  const uint32_t slot = new_ray(primary_ray(ctx_, rays_, next_primary_++));
-  dispatch(slot, dispatch_cycles(ctx_.config, false, true), now);
+  uint64_t cycles = 0;
+  const size_t i = front_.pop_primary(now, cycles);
+  const uint32_t slot = new_ray(primary_ray(pe_, rays_, i));
+  dispatch(slot, cycles, kFromHost, now);
 }
 
-void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint64_t now) {
-  ++in_flight_;
-  ctx_.counters.front.busy_cycles += cycles;
-  ++ctx_.counters.front.items;
+void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now) {
+  front_.dispatched(now, slots_[slot].id, cycles, from);
   front_ray_ = slot;
-  front_ = Front::Dispatching;
   schedule(kFront, now + cycles * cycle_);
 }
 
 void PeEngine::search_start(size_t unit, uint32_t slot, uint64_t now) {
-  const Routed w = search_work(ctx_, slots_[slot]);
-  schedule(unit, now + w.cycles * cycle_, slot, w.route);
+  const Work w = search_[unit - kSearch].take(slots_[slot], now);
+  schedule(unit, now + w.cycles * cycle_, slot, w.out);
 }
 
 void PeEngine::mac_start(size_t lane, uint32_t slot, uint64_t now) {
@@ -321,21 +310,19 @@ void PeEngine::mac_start(size_t lane, uint32_t slot, uint64_t now) {
   MacResult& m = results_[result];
   m.r = slots_[slot];
   free_slots_.push_back(slot);  // the ray travels with its MAC result now
-  schedule(mac0_ + lane, now + mac_work(ctx_, timing_, m) * cycle_, result);
+  const Work w = macs_[lane].take(m, now);
+  schedule(mac0_ + lane, now + w.cycles * cycle_, result, w.out);
 }
 
 void PeEngine::root_start(size_t lane, uint32_t result, uint64_t now) {
-  const Routed w = root_work(ctx_, results_[result], clips_);
-  schedule(root0_ + lane, now + w.cycles * cycle_, result, w.route);
+  const Work w = roots_[lane].take(results_[result], now);
+  schedule(root0_ + lane, now + w.cycles * cycle_, result, w.out);
 }
 
 void PeEngine::shade_start(uint32_t slot, uint64_t now) {
   shade_ray_ = slot;
   const MachineRay& r = slots_[slot];
-  const uint64_t cycles = shade_work(ctx_, r, frame_[r.slot], ids_[r.slot], shade_out_);
-  for (const Ray& child : shade_out_.rays)
-    if (!ctx_.units.generates(child.kind))
-      SC_REPORT_FATAL("rtm/pe/shading", "a left-out ray generator was needed: the scene analysis is wrong");
+  const uint64_t cycles = shading_.take(r, frame_[r.slot], ids_[r.slot], now);
   shade_next_ = 0;
   schedule(kShading, now + cycles * cycle_);
 }
@@ -344,16 +331,14 @@ void PeEngine::shade_start(uint32_t slot, uint64_t now) {
 
 std::vector<std::pair<std::string, const FifoStats*>> PeEngine::fifo_stats(uint64_t now) {
   std::vector<std::pair<std::string, const FifoStats*>> out;
-  for (Fifo* f : fifos_) {
-    out.emplace_back(f->name, &f->meter.close(now));
-  }
+  for (Fifo* f : in_order_) out.emplace_back(f->name, &f->meter.close(now));
   return out;
 }
 
 std::string PeEngine::occupancy_report() const {
   std::ostringstream s;
-  s << queue_.size() << " rays waiting in the front buffer, " << in_flight_ << " past it;";
-  for (const Fifo* f : fifos_) s << " " << f->name << " " << f->meter.occupancy << "/" << f->meter.stats.depth;
+  s << front_.waiting() << " rays waiting in the front buffer, " << front_.in_flight() << " past it;";
+  for (const Fifo* f : in_order_) s << " " << f->name << " " << f->meter.occupancy << "/" << f->meter.stats.depth;
   return s.str();
 }
 

@@ -11,7 +11,7 @@
 #include "render/camera.h"
 #include "render/pixel_sum.h"
 #include "render/shade.h"
-#include "render/trace.h"
+#include "render/voxel_test.h"
 
 namespace rtm {
 
@@ -94,8 +94,9 @@ void rest_box(const Grid& g, const Ray& r, double t_end, const std::array<int, 3
 }
 
 /// Walks one ray to its end; returns the hit that ends it (none: left the grid, or a shadow ray
-/// that reached its light). Same result as intersect_voxel on every occupied voxel: a memoised
-/// hit counts in a voxel exactly when first_hit_in_window would report it there.
+/// that reached its light). Same result as the machine's voxel test (render/voxel_test.h) on every
+/// occupied voxel: a memoised hit counts in a voxel exactly when first_hit_in_window would report
+/// it there.
 VoxelHit walk(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb) {
   const SceneMemory<double>& mem = d.mem;
   const Grid& g = *mem.grid;

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "render/trace.h"
+#include "render/voxel_test.h"
 
 namespace rtm {
 namespace {

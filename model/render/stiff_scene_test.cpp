@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "render/shade.h"
-#include "render/trace.h"
+#include "render/voxel_test.h"
 #include "geom/test_random.h"
 
 namespace rtm {

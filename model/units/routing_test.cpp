@@ -1,5 +1,5 @@
 // The routing of §4.2 and §5.1 on hand-built rays, without the kernel.
-#include "machine/routing.h"
+#include "units/routing.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // functions of a ray and what the stage found, so they can be checked without the kernel.
 #pragma once
 
-#include "machine/machine_ray.h"
-#include "render/trace.h"
+#include "units/machine_ray.h"
+#include "render/voxel_test.h"
 
 namespace rtm {
 
@@ -13,7 +13,6 @@ enum class Route {
   Shade,      ///< to the shading stage (a hit, a shadow ray that reached its light, a background miss)
   End,        ///< the ray leaves the loop
 };
-const char* route_name(Route r);
 
 /// One search-unit pass: set the walk up on the ray's first pass, examine the current voxel,
 /// step to the next one, and route by the examined voxel's occupancy. Returns whether a voxel

@@ -1,6 +1,6 @@
-// A PE whose macro-pipeline runs on the PE engine (pe_engine.h) instead of one SystemC process
-// per unit. To the host it is the same PE: a local memory on the link, the same counters, and
-// its finished event at the same simulated time.
+// A PE whose units the PE engine (pe_engine.h) schedules on its own event loop instead of one
+// SystemC process per unit. To the host it is the same PE: a local memory on the link, the same
+// counters, and its finished event at the same simulated time.
 #pragma once
 
 #include "machine/pe.h"
@@ -8,11 +8,11 @@
 
 namespace rtm {
 
-class EnginePe : public PeBase {
+class EngineHostedPe : public Pe {
  public:
-  SC_HAS_PROCESS(EnginePe);
-  EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-           Timekeeper* keeper);
+  SC_HAS_PROCESS(EngineHostedPe);
+  EngineHostedPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+                 Timekeeper* keeper);
 
   bool finished() const override { return finished_; }
   std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;

@@ -1,17 +1,17 @@
-#include "machine/engine_pe.h"
+#include "machine/engine_hosted_pe.h"
 
 namespace rtm {
 
-EnginePe::EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
-                   size_t pixels, Timekeeper* keeper)
-    : PeBase(name, index, c, units, pixels, keeper), engine_(ctx, memory.frame, memory.ids, memory.rays, pixels) {
+EngineHostedPe::EngineHostedPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+                               size_t pixels, Timekeeper* keeper)
+    : Pe(name, index, c, units, pixels, keeper), engine_(ctx, memory.frame, memory.ids, memory.rays, pixels) {
   SC_THREAD(run);
 }
 
-void EnginePe::run() {
+void EngineHostedPe::run() {
   // Only the host's rays reach a PE from outside, and they land in local memory: until all have
   // arrived the engine keeps behind SystemC time, afterwards it may run ahead.
-  const uint64_t quantum = ctx.cycle.value() * kQuantumCycles;
+  const uint64_t quantum = ctx.period.value() * kQuantumCycles;
   for (;;) {
     const uint64_t now = sc_core::sc_time_stamp().value();
     engine_.run_before(now);
@@ -32,13 +32,13 @@ void EnginePe::run() {
   finished_event.notify(sc_core::SC_ZERO_TIME);
 }
 
-std::vector<std::pair<std::string, const FifoStats*>> EnginePe::fifo_stats() {
+std::vector<std::pair<std::string, const FifoStats*>> EngineHostedPe::fifo_stats() {
   return engine_.fifo_stats(sc_core::sc_time_stamp().value());
 }
 
-std::string EnginePe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }
+std::string EngineHostedPe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }
 
-void EnginePe::trace(sc_core::sc_trace_file*) {
+void EngineHostedPe::trace(sc_core::sc_trace_file*) {
   SC_REPORT_ERROR("rtm/pe", "a PE on the engine has no signals to trace (waveforms select the modules)");
 }
 

@@ -1,42 +1,36 @@
-#include "machine/intersection_stage.h"
-
+#include "machine/intersection_module.h"
 
 namespace rtm {
 
-LaneDispatcher::LaneDispatcher(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int lanes)
-    : sc_module(name), in_(in) {
+LaneDispatchModule::LaneDispatchModule(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int lanes)
+    : sc_module(name), in_(in), lanes_(0) {
   for (int i = 0; i < lanes; ++i) wake_.push_back(std::make_unique<sc_core::sc_event>());
   SC_METHOD(dispatch);
   sensitive << in_.data_written_event();
   dont_initialize();
 }
 
-void LaneDispatcher::wait_for_ray(int lane) {
-  idle_.insert(lane);
+void LaneDispatchModule::wait_for_ray(int lane) {
+  lanes_.idle(lane);
   sc_core::wait(*wake_[size_t(lane)]);
 }
 
-void LaneDispatcher::dispatch() {
+void LaneDispatchModule::dispatch() {
   // Immediate notifications: the units run next, in the order notified, and each takes one ray.
-  for (int n = in_.num_available(); n > 0 && !idle_.empty(); --n) {
-    const int lane = *idle_.begin();
-    idle_.erase(idle_.begin());
-    wake_[size_t(lane)]->notify();
-  }
+  for (int n = in_.num_available(); n > 0 && lanes_.any_idle(); --n) wake_[size_t(lanes_.take())]->notify();
 }
 
-IntersectionStage::IntersectionStage(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
-                                     LaneDispatcher* lanes, int lane)
-    : sc_module(name),
-      ctx_(ctx),
-      mac_sleep_(ctx.sleeper(UnitRank::Mac)),
-      root_sleep_(ctx.sleeper(UnitRank::Root, lane)),
-      timing_(ctx.config),
+IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
+                                       LaneDispatchModule* lanes, int lane)
+    : UnitModule(name, ctx, {UnitKind::Mac, UnitKind::Root}),
+      mac_(ctx, lane),
+      root_(ctx, lane),
+      mac_sleep_(ctx.sleeper(UnitKind::Mac)),
+      root_sleep_(ctx.sleeper(UnitKind::Root, lane)),
       lanes_(lanes),
-      lane_(lane),
-      to_root_("to_root", ctx.config.root_fifo_depth, "root") {
+      to_root_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind) {
   if (clock) {
-    clocked_ = std::make_unique<ClockedMac>("mac_unit", timing_, ctx.config.precision, ctx.cycle);
+    clocked_ = std::make_unique<ClockedMac>("mac_unit", mac_.timing(), ctx.config.precision, ctx.period);
     clocked_->clk(*clock);
   }
   SC_THREAD(mac_thread);
@@ -79,66 +73,61 @@ void check_clocked(const std::vector<Abg<Real>>& fast, const std::vector<std::ar
 
 }  // namespace
 
-void IntersectionStage::mac_thread() {
+void IntersectionModule::mac_thread() {
   std::vector<std::array<double, 3>> sums;
   for (;;) {
     MacResult m;
     if (lanes_)
-      while (!rays_in->nb_read(m.r)) lanes_->wait_for_ray(lane_);
+      while (!rays_in(FifoId::Intersect)->nb_read(m.r)) lanes_->wait_for_ray(mac_.lane());
     else
-      m.r = rays_in->read();
+      m.r = rays_in(FifoId::Intersect)->read();
     mac_probe_.begin(m.r.id);
-    const uint64_t cycles = mac_work(ctx_, timing_, m);
+    const Work w = mac_.take(m, PeContext::now());
     if (clocked_) {
       const SceneImage& img = *ctx_.image;
       const DdaState& s = m.r.examined;
       const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
-      const bool fp32 = ctx_.config.precision == Precision::Fp32;
-      const MacJob job = fp32 ? make_job(img.mem32, m.r, v) : make_job(img.mem64, m.r, v);
+      const MacJob job = img.visit([&](const auto& mem) { return make_job(mem, m.r, v); });
       uint64_t ran;
       if (ctx_.keeper) {
         // Ranked order: the stage wakes exactly as in fast timing; the clocked unit has put
         // its last sums out half a cycle before.
         clocked_->start(job, sums);
-        (*mac_sleep_)(ctx_.cycles(cycles));
+        (*mac_sleep_)(ctx_.cycles(w.cycles));
         ran = clocked_->finish();
       } else {
         ran = clocked_->run(job, sums);
       }
-      if (fp32)
-        check_clocked(m.abg32, sums, cycles, ran);
+      if (img.mem32)
+        check_clocked(m.abg32, sums, w.cycles, ran);
       else
-        check_clocked(m.abg64, sums, cycles, ran);
+        check_clocked(m.abg64, sums, w.cycles, ran);
     } else {
-      (*mac_sleep_)(ctx_.cycles(cycles));
+      (*mac_sleep_)(ctx_.cycles(w.cycles));
     }
     mac_probe_.end();
     put(&to_root_, m, ctx_, *mac_sleep_);
+    record_put(ctx_, PeContext::now(), UnitKind::Mac, mac_.lane(), m.r.id, w.out);
   }
 }
 
-void IntersectionStage::root_thread() {
-  std::vector<uint32_t> clips;
+void IntersectionModule::root_thread() {
   for (;;) {
     MacResult m = to_root_.read();
     root_probe_.begin(m.r.id);
-    const Routed w = root_work(ctx_, m, clips);
+    const Work w = root_.take(m, PeContext::now());
     (*root_sleep_)(ctx_.cycles(w.cycles));
-    switch (w.route) {
-      case Route::Shade: put(hits_out, m.r, ctx_, *root_sleep_); break;
-      case Route::Feedback: put(feedback_out, m.r, ctx_, *root_sleep_); break;
-      case Route::End: put(ends_out, RayEnd{m.r.id}, ctx_, *root_sleep_); break;
-      case Route::Intersect: break;  // not a route out of this stage
-    }
+    write(w.out, m.r, UnitKind::Root, root_.lane(), *root_sleep_);
     root_probe_.end();
   }
 }
 
-void IntersectionStage::trace(sc_core::sc_trace_file* tf, const std::string& prefix) {
-  mac_probe_.trace(tf, prefix + ".mac", &ctx_.window);
-  root_probe_.trace(tf, prefix + ".root", &ctx_.window);
-  to_root_.trace(tf, prefix + ".to_root.occupancy", &ctx_.window);
-  if (clocked_) clocked_->trace(tf, prefix + ".mac_unit", &ctx_.window);
+void IntersectionModule::trace(sc_core::sc_trace_file* tf) {
+  const std::string scope = name();
+  mac_probe_.trace(tf, scope + ".mac", &ctx_.window);
+  root_probe_.trace(tf, scope + ".root", &ctx_.window);
+  to_root_.trace(tf, std::string(to_root_.name()) + ".occupancy", &ctx_.window);
+  if (clocked_) clocked_->trace(tf, clocked_->name(), &ctx_.window);
 }
 
 }  // namespace rtm

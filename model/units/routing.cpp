@@ -1,16 +1,6 @@
-#include "machine/routing.h"
+#include "units/routing.h"
 
 namespace rtm {
-
-const char* route_name(Route r) {
-  switch (r) {
-    case Route::Intersect: return "intersect";
-    case Route::Feedback: return "feedback";
-    case Route::Shade: return "shade";
-    case Route::End: return "end";
-  }
-  return "?";
-}
 
 namespace {
 /// A walk that ended without a hit: a shadow ray has reached its light; a primary or branch ray

@@ -1,0 +1,41 @@
+// A PE as SystemC modules, one per block of the paper's figure, joined by the FIFOs of the FIFO
+// table (units/fifo_table.h).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "machine/front_buffer_module.h"
+#include "machine/intersection_module.h"
+#include "machine/pe.h"
+#include "machine/search_module.h"
+#include "machine/shading_module.h"
+
+namespace rtm {
+
+class ModulesPe : public Pe {
+ public:
+  ModulesPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+            sc_core::sc_clock* clock, Timekeeper* keeper);
+
+  bool finished() const override { return front_->policy().finished(); }
+  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
+  std::string occupancy_report() override;
+  void trace(sc_core::sc_trace_file* tf) override;
+
+ private:
+  /// The modules that run units of this kind.
+  std::vector<UnitModule*> modules_of(UnitKind k);
+
+  // The channels, by FIFO (the table's per-lane to_root FIFOs live in the intersection units).
+  std::array<std::unique_ptr<MeteredFifo<MachineRay>>, kFifoCount> rays_;
+  std::unique_ptr<MeteredFifo<RayEnd>> ends_;
+
+  std::unique_ptr<FrontBufferModule> front_;
+  std::vector<std::unique_ptr<SearchModule>> search_;
+  std::unique_ptr<LaneDispatchModule> lanes_;  ///< with more than one intersection unit
+  std::vector<std::unique_ptr<IntersectionModule>> intersection_;  ///< the paper has one; more is an option
+  std::unique_ptr<ShadingModule> shading_;
+};
+
+}  // namespace rtm

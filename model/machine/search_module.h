@@ -1,0 +1,26 @@
+// One of the PE's replicated object-search units (paper §4) as a module: takes rays from the
+// FIFO all search units share and runs its unit (units/search_unit.h) on each.
+#pragma once
+
+#include <systemc>
+
+#include "machine/unit_module.h"
+#include "units/search_unit.h"
+
+namespace rtm {
+
+class SearchModule : public UnitModule {
+ public:
+  SC_HAS_PROCESS(SearchModule);
+  SearchModule(sc_core::sc_module_name name, PeContext& ctx, int index);
+  void trace(sc_core::sc_trace_file* tf) { probe_.trace(tf, name(), &ctx_.window); }
+
+ private:
+  void run();
+
+  SearchUnit unit_;
+  std::unique_ptr<Sleeper> sleep_;
+  UnitProbe probe_;
+};
+
+}  // namespace rtm

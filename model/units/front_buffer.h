@@ -1,0 +1,117 @@
+// The front buffer's policy (paper §4.2, and the flow control the paper does not give), apart
+// from time: which ray goes next, when the loop is full, when the PE is done. Both schedulers
+// drive it: they hand it what arrived on its inputs, ask what to do next, and do it.
+//
+// Arbitration: rays already in the loop (fed back or spawned) go first, in arrival order; a new
+// primary ray is admitted only when none is waiting. Flow control: a ray past the front buffer
+// holds one of `credits` credits until it comes back or ends, and every FIFO past the front
+// buffer is at least `credits` deep, so no stage ever waits on a full FIFO downstream; the
+// front buffer itself never refuses a ray (beyond its on-chip capacity rays spill to local
+// memory), so the feedback paths always drain. Hence no cycle of waits can form: no deadlock.
+//
+// `Item` is how the scheduler holds a ray: a MachineRay (the modules) or a slot number (the engine).
+#pragma once
+
+#include <deque>
+
+#include "units/pe_state.h"
+
+namespace rtm {
+
+template <class Item>
+class FrontBufferPolicy {
+ public:
+  enum class Next {
+    Queued,    ///< hand out pop_queued()'s ray
+    Primary,   ///< hand out the next primary ray (on a PE clock edge: host rays arrive between them)
+    Finished,  ///< every ray of the PE's part of the frame has ended
+    Wait,      ///< nothing to hand out until an input arrives
+  };
+
+  FrontBufferPolicy(PeState& pe, size_t rays_expected)
+      : pe_(pe), credits_(pe.config.loop_credits_in_force()), rays_expected_(rays_expected) {}
+
+  // What arrived on the inputs.
+  void ended() { --in_flight_; }  ///< a ray left the loop: its credit comes back
+  void returned(const Item& r) {  ///< fed back to walk on
+    --in_flight_;
+    queue_.push_back(r);
+  }
+  /// Spawned rays are new: their parent's credit came back with its end.
+  void spawned(const Item& r) { queue_.push_back(r); }
+  void primaries_arrived(size_t n) { primaries_ = n; }
+
+  Next next() const {
+    if (in_flight_ < credits_) {
+      if (!queue_.empty()) return Next::Queued;
+      if (next_primary_ < primaries_) return Next::Primary;
+    }
+    if (next_primary_ == rays_expected_ && queue_.empty() && in_flight_ == 0) return Next::Finished;
+    return Next::Wait;
+  }
+
+  /// The waiting ray that goes next; `cycles` receives its dispatch time, `spilled` whether it came
+  /// from the spill area (rays beyond the on-chip capacity live in local memory).
+  Item pop_queued(uint64_t& cycles, bool& spilled) {
+    spilled = queue_.size() > size_t(pe_.config.front_buffer_capacity);
+    if (spilled) ++pe_.counters.spills;
+    cycles = dispatch_cycles(spilled, false);
+    Item r = queue_.front();
+    queue_.pop_front();
+    return r;
+  }
+  /// The number of the next primary ray in local memory, handed out at `now`; `cycles` as above.
+  size_t pop_primary(uint64_t now, uint64_t& cycles) {
+    if (next_primary_ == 0) pe_.counters.start = now;
+    cycles = dispatch_cycles(false, true);
+    return next_primary_++;
+  }
+  /// A ray (`id`) goes past the front buffer: it takes a credit and `cycles` of the front buffer.
+  void dispatched(uint64_t now, uint32_t id, uint64_t cycles, uint8_t from) {
+    ++in_flight_;
+    pe_.counters.front.busy_cycles += cycles;
+    ++pe_.counters.front.items;
+    if (pe_.log) pe_.log->take(now, UnitKind::FrontBuffer, 0, id, cycles, from);
+  }
+  void finish(uint64_t now) {
+    finished_ = true;
+    pe_.counters.finish = now;
+  }
+
+  /// Stall accounting: the front buffer waits from `now`; only credits hold back rays it has.
+  void wait(uint64_t now) {
+    stalled_ = !queue_.empty() || next_primary_ < primaries_;
+    waiting_since_ = now;
+  }
+  void woke(uint64_t now) {
+    if (stalled_) pe_.counters.credit_stall += now - waiting_since_;
+  }
+
+  bool finished() const { return finished_; }
+  int in_flight() const { return in_flight_; }
+  size_t waiting() const { return queue_.size(); }
+  size_t primaries_known() const { return primaries_; }
+
+ private:
+  uint64_t dispatch_cycles(bool spilled, bool primary) const {
+    const MachineConfig& c = pe_.config;
+    const bool generate = primary && c.ray_generation == MachineConfig::RayGeneration::Pe;
+    return uint64_t(c.fb_dispatch_cycles) + (spilled ? uint64_t(c.spill_cycles) : 0) +
+           (generate ? uint64_t(c.pe_ray_cycles) : 0);
+  }
+
+  PeState& pe_;
+  const int credits_;
+  const size_t rays_expected_;
+  std::deque<Item> queue_;
+  size_t next_primary_ = 0, primaries_ = 0;
+  int in_flight_ = 0;
+  bool finished_ = false;
+  bool stalled_ = false;
+  uint64_t waiting_since_ = 0;
+};
+
+/// Where a ray handed out by the front buffer came from, for the event log.
+enum FrontSource : uint8_t { kFromQueue = 0, kFromSpill = 1, kFromHost = 2 };
+
+}  // namespace rtm

@@ -1,0 +1,71 @@
+#include "units/intersection.h"
+
+#include <algorithm>
+
+namespace rtm {
+
+Work MacUnit::take(MacResult& m, uint64_t now) {
+  const SceneImage& img = *pe_.image;
+  const DdaState& s = m.r.examined;
+  const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
+  const int n = int(img.grid->count(v));
+  std::vector<int>& counts = m.plan.counts;  // filled in place: a MacResult is reused
+  counts.clear();
+  int products = 0;
+  auto form = [&](const auto& mem, auto& abg) {
+    form_voxel_abg(mem, m.r.ray, v, abg, s.t_enter);
+    for (const uint32_t *it = img.grid->begin(v), *end = it + n; it != end; ++it) {
+      counts.push_back(mem.products(*it));
+      products += counts.back();
+    }
+  };
+  if (img.mem32)
+    form(*img.mem32, m.abg32);
+  else
+    form(*img.mem64, m.abg64);
+  timing_.plan(m.plan);
+  Work w;
+  w.cycles = m.plan.cycles();
+  w.out = {FifoId::Root, Output::What::Item};
+  PeCounters& k = pe_.counters;
+  k.mac_products += uint64_t(products);
+  k.mac_products_saved += uint64_t(n) * kMacProducts - uint64_t(products);
+  k.mac_cycles_saved += timing_.job_cycles(n) - w.cycles;
+  k.mac.busy_cycles += w.cycles;
+  ++k.mac.items;
+  if (pe_.log) pe_.log->take(now, UnitKind::Mac, lane_, m.r.id, w.cycles);
+  return w;
+}
+
+uint64_t back_end_cycles(const MachineConfig& c, const MacTiming::Job& mac, const std::vector<uint32_t>& clips) {
+  uint64_t unit_free = 0;
+  for (size_t p = 0; p < clips.size(); ++p) {
+    const uint64_t ready = mac.done(int(p)) + 1 + uint64_t(c.root_cycles());
+    unit_free = std::max(unit_free, ready) + clips[p] * uint64_t(c.clip_cycles) + uint64_t(c.sort_cycles);
+  }
+  return unit_free - mac.cycles();
+}
+
+Work RootUnit::take(MacResult& m, uint64_t now) {
+  MachineRay& r = m.r;
+  const SceneImage& img = *pe_.image;
+  const int64_t v = img.grid->index(r.examined.cell[0], r.examined.cell[1], r.examined.cell[2]);
+  const VoxelHit h = img.mem32 ? resolve_voxel(*img.mem32, r.ray, r.examined, v, m.abg32.data(), &clips_)
+                               : resolve_voxel(*img.mem64, r.ray, r.examined, v, m.abg64.data(), &clips_);
+  pe_.counters.counts.intersection_tests += h.tests;
+  pe_.counters.counts.clip_tests += h.clip_tests;
+  Work w;
+  w.cycles = back_end_cycles(pe_.config, m.plan, clips_);
+  pe_.counters.root.busy_cycles += w.cycles;
+  ++pe_.counters.root.items;
+  switch (intersection_route(*img.scene, r, h)) {
+    case Route::Shade: w.out = {FifoId::Shade, Output::What::Item}; break;
+    case Route::Feedback: w.out = {FifoId::FeedbackIntersect, Output::What::Item}; break;
+    case Route::End: w.out = {FifoId::Ends, Output::What::End}; break;
+    case Route::Intersect: break;  // not a route out of this unit
+  }
+  if (pe_.log) pe_.log->take(now, UnitKind::Root, lane_, r.id, w.cycles);
+  return w;
+}
+
+}  // namespace rtm

@@ -1,0 +1,40 @@
+// Where a unit's finished work goes: the FIFO (units/fifo_table.h) and what is written there.
+// The unit decides it once; each scheduler only writes it.
+#pragma once
+
+#include "units/fifo_table.h"
+#include "units/machine_ray.h"
+#include "units/pe_state.h"
+
+namespace rtm {
+
+struct Output {
+  FifoId fifo = FifoId::Ends;
+  /// Item: the ray (or MAC result) the unit worked on, or one it made (shading's spawned rays);
+  /// End: the end of the ray it worked on (RayEnd), which returns the ray's credit.
+  enum class What : uint8_t { Item, End } what = What::End;
+};
+
+/// A unit's work on one item: its cycles and where its result goes.
+struct Work {
+  uint64_t cycles = 0;
+  Output out;
+};
+
+/// Records that unit (kind, index) wrote `out` for ray `ray` at `now`: every scheduler calls it
+/// after each write, so their event logs agree.
+inline void record_put(PeState& pe, uint64_t now, UnitKind kind, int index, uint32_t ray, const Output& out) {
+  if (pe.log) pe.log->put(now, kind, index, ray, out.fifo);
+}
+
+/// The front buffer's next primary ray (pixel slot `slot`), numbered and counted.
+inline MachineRay primary_ray(PeState& pe, const std::vector<Ray>& rays, size_t slot) {
+  MachineRay m;
+  m.ray = rays[slot];
+  m.slot = uint32_t(slot);
+  m.id = pe.next_ray_id++;
+  ++pe.counters.counts.rays[size_t(RayKind::Primary)];
+  return m;
+}
+
+}  // namespace rtm

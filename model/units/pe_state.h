@@ -1,0 +1,64 @@
+// What the units of one PE share, apart from any scheduler: the configuration, the scene image
+// in local memory, the counters they fill in, ray numbering, and the event log.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "machine/config.h"
+#include "render/reference.h"
+#include "render/shade.h"
+#include "units/event_log.h"
+#include "units/scene_image.h"
+
+namespace rtm {
+
+/// Busy cycles and items of one unit.
+struct UnitStats {
+  uint64_t busy_cycles = 0;
+  uint64_t items = 0;
+};
+
+/// Times are in SystemC time-resolution units (ticks, sc_time::value()).
+struct PeCounters {
+  TraceCounts counts;
+  uint64_t mac_products = 0;
+  uint64_t mac_products_saved = 0;  ///< skipped by sparse schedules, against the paper's 28 per test
+  uint64_t mac_cycles_saved = 0;    ///< MAC busy cycles saved by sparse schedules
+  uint64_t spills = 0;
+  UnitStats front, search, mac, root, shade;  ///< search: summed over the replicated units
+  uint64_t start = 0;         ///< the first primary ray handed out
+  uint64_t finish = 0;        ///< the last ray ended
+  uint64_t credit_stall = 0;  ///< rays waiting but no credit to send them
+};
+
+/// Which optional units a PE elaborates (all of them unless the machine leaves out what the
+/// scene cannot use).
+struct PeUnits {
+  bool spawn_path = true;    ///< spawn FIFO from shading back to the front buffer
+  bool shadow_rays = true;   ///< shading's shadow-ray generator
+  bool reflection = true;    ///< shading's reflected-ray generator
+  bool refraction = true;    ///< shading's transmitted-ray generator
+
+  /// Whether the PE has this FIFO: the spawn path is left out when the scene spawns no rays.
+  bool has(const FifoSpec& f) const { return !f.spawn_path || spawn_path; }
+  /// Whether shading can spawn rays of this kind.
+  bool generates(RayKind k) const {
+    return k == RayKind::Shadow ? shadow_rays : k == RayKind::Reflected ? reflection : refraction;
+  }
+};
+
+struct PeState {
+  int pe = 0;
+  PeUnits units;
+  MachineConfig config;
+  uint64_t cycle = 1;  ///< the PE clock period in ticks
+  std::shared_ptr<const SceneImage> image;  ///< set when the scene transfer lands in local memory
+  PeCounters counters;
+  uint32_t next_ray_id = 0;
+  EventLog* log = nullptr;  ///< null: no event log
+
+  uint64_t cycles(uint64_t ticks) const { return ticks / cycle; }
+};
+
+}  // namespace rtm

@@ -1,0 +1,47 @@
+#include "units/shading_unit.h"
+
+#include <stdexcept>
+
+namespace rtm {
+
+uint64_t ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id, uint64_t now) {
+  const MachineConfig& c = pe_.config;
+  const Scene& s = *pe_.image->scene;
+  out_.rays.clear();
+  uint64_t cycles = 0;
+  switch (r.arrival) {
+    case MachineRay::Arrival::Hit:
+      if (r.ray.kind == RayKind::Primary) primary_id = int32_t(r.prim);
+      shade_hit(s, r.ray, r.t_hit, s.primitives[r.prim], out_);
+      pixel.add(out_.brightness);
+      cycles = uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles) * out_.rays.size();
+      break;
+    case MachineRay::Arrival::LightReached:
+      pixel.add(r.ray.brightness);
+      cycles = uint64_t(c.accumulate_cycles);
+      break;
+    case MachineRay::Arrival::Missed:
+      pixel.add(miss_brightness(s, r.ray));
+      cycles = uint64_t(c.accumulate_cycles);
+      break;
+  }
+  for (const Ray& child : out_.rays)
+    if (!pe_.units.generates(child.kind))
+      throw std::logic_error("a left-out ray generator was needed: the scene analysis is wrong");
+  pe_.counters.shade.busy_cycles += cycles;
+  ++pe_.counters.shade.items;
+  if (pe_.log) pe_.log->take(now, UnitKind::Shading, 0, r.id, cycles);
+  return cycles;
+}
+
+MachineRay ShadingUnit::spawn(const MachineRay& parent, size_t k) {
+  const Ray& child = out_.rays[k - 1];
+  MachineRay m;
+  m.ray = child;
+  m.slot = parent.slot;
+  m.id = pe_.next_ray_id++;
+  ++pe_.counters.counts.rays[size_t(child.kind)];
+  return m;
+}
+
+}  // namespace rtm
