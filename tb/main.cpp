@@ -56,6 +56,9 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
   render->add_option("--vcd-window", r.vcd_window, "Waveform window FROM:TO in PE cycles (either may be empty)");
   render->add_option("--vcd-pes", r.vcd_pes, "PEs to trace, comma-separated (default 0)");
+  render->add_option("--event-log", r.event_log,
+                     "Write every unit event (cycle, PE, unit, ray, what happened) to this file, one line each; "
+                     "the same for the PE engine and the modules (docs/architecture.md)");
 
   std::string config_file;
   std::vector<std::string> sets;

@@ -31,6 +31,7 @@ struct RenderOptions {
   std::string vcd;                   ///< waveform file
   std::string vcd_window;            ///< "FROM:TO" in PE cycles (either side may be empty)
   std::string vcd_pes;               ///< comma-separated PE numbers; default 0
+  std::string event_log;             ///< one line per unit event; empty: none
 };
 
 /// Runs `rtm render`; returns the process exit code.

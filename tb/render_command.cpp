@@ -88,6 +88,7 @@ MachineConfig machine_config(const RenderOptions& opt) {
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c) {
   MachineOptions m;
   m.vcd = opt.vcd;
+  m.event_log = opt.event_log;
   m.progress = !opt.quiet;
   if (!opt.vcd_window.empty()) {
     std::smatch w;

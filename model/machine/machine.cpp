@@ -3,12 +3,14 @@
 #include "machine/engine_hosted_pe.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
+#include "render/image_io.h"
 #include "render/scene_needs.h"
 
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <unistd.h>
 
 namespace rtm {
@@ -144,6 +146,9 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   const auto t0 = std::chrono::steady_clock::now();
   Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty());
 
+  std::vector<EventLog> logs(opt.event_log.empty() ? 0 : size_t(c.pes));
+  for (size_t pe = 0; pe < logs.size(); ++pe) top.pes[pe]->ctx.log = &logs[pe];
+
   sc_core::sc_trace_file* tf = nullptr;
   if (!opt.vcd.empty()) {
     std::string base = opt.vcd;
@@ -199,6 +204,11 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   }
   r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
   if (tf) sc_core::sc_close_vcd_trace_file(tf);
+  if (!logs.empty()) {
+    std::ostringstream text;
+    write_event_log(text, logs, top.pes[0]->ctx.cycle);
+    write_text_atomically(opt.event_log, text.str());
+  }
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

@@ -15,6 +15,7 @@ struct MachineOptions {
   uint64_t vcd_to_cycle = UINT64_MAX;
   std::vector<int> vcd_pes{0};      ///< PEs whose signals are traced
   bool progress = false;            ///< one-line progress display on stderr
+  std::string event_log;            ///< every unit event, one line each (units/event_log.h); empty: none
 };
 
 /// Per FIFO kind, over all PEs.

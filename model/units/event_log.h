@@ -6,9 +6,12 @@
 //   CYCLE PE UNIT RAY EVENT [DETAIL]     e.g.   215703 pe0 search2 ray17 put intersect_fifo
 //
 // EVENT is `take` (the unit accepted the ray; DETAIL its work's cycles, and for the front buffer
-// where the ray came from) or `put` (its result was written; DETAIL the FIFO). Lines are in the
-// order of (cycle, PE, unit rank, unit number, ray, event): the schedulers may act in a different
-// order within one instant without meaning anything, so the log does not record that order.
+// where the ray came from) or `put` (its result was written; DETAIL the FIFO). UNIT is the unit's
+// name, with its lane for intersection units (mac0, root1); search units are named `search`
+// alone: they are interchangeable, and which of them takes a ray is the scheduler's choice (in the
+// modules, SystemC's) and changes nothing else. Lines are in the order of (cycle, PE, unit rank,
+// lane, ray, event): the schedulers may act in a different order within one instant without
+// meaning anything, so the log does not record that order.
 #pragma once
 
 #include <cstdint>
@@ -37,11 +40,13 @@ struct UnitEvent {
 class EventLog {
  public:
   void take(uint64_t time, UnitKind u, int index, uint32_t ray, uint64_t cycles, uint8_t from = 0) {
-    events_.push_back({time, u, uint16_t(index), ray, UnitEvent::What::Take, from, FifoId::Search, cycles});
+    events_.push_back({time, u, logged(u, index), ray, UnitEvent::What::Take, from, FifoId::Search, cycles});
   }
   void put(uint64_t time, UnitKind u, int index, uint32_t ray, FifoId fifo) {
-    events_.push_back({time, u, uint16_t(index), ray, UnitEvent::What::Put, 0, fifo, 0});
+    events_.push_back({time, u, logged(u, index), ray, UnitEvent::What::Put, 0, fifo, 0});
   }
+  /// The number the log gives a unit: its lane, or none for the interchangeable search units.
+  static uint16_t logged(UnitKind u, int index) { return u == UnitKind::Mac || u == UnitKind::Root ? uint16_t(index) : 0; }
   std::vector<UnitEvent>& events() { return events_; }
 
  private:
