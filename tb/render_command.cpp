@@ -9,7 +9,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "machine/bottleneck.h"
 #include "machine/machine.h"
 #include "options.h"
 #include "reference_cache.h"
@@ -109,67 +108,54 @@ MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c)
   return m;
 }
 
-nlohmann::json counts_json(const TraceCounts& c) {
+// Each group of figures is spelled once: the nested objects and the flat summary use these.
+
+nlohmann::json rays_json(const TraceCounts& c) {
   nlohmann::json rays;
   for (int k = 0; k < kRayKinds; ++k) rays[ray_kind_name(RayKind(k))] = c.rays[size_t(k)];
-  return {{"rays", rays},
+  return rays;
+}
+
+nlohmann::json counts_json(const TraceCounts& c) {
+  return {{"rays", rays_json(c)},
           {"voxel_steps", c.voxel_steps},
           {"intersection_tests", c.intersection_tests},
           {"clip_tests", c.clip_tests}};
 }
 
-struct Utilisation {
-  double front, search, mac, root, shade;
-};
-
-/// Busy fraction of each stage over the frame (replicated units: per unit).
-Utilisation utilisation(const MachineResult& m, const MachineConfig& c) {
-  Utilisation u{};
-  const double cycles = double(m.cycles) * c.pes;
-  if (cycles <= 0) return u;
-  for (const PeCounters& p : m.per_pe) {
-    u.front += double(p.front.busy_cycles);
-    u.search += double(p.search.busy_cycles) / c.search_units;
-    u.mac += double(p.mac.busy_cycles) / c.intersection_units;
-    u.root += double(p.root.busy_cycles) / c.intersection_units;
-    u.shade += double(p.shade.busy_cycles);
-  }
-  return {u.front / cycles, u.search / cycles, u.mac / cycles, u.root / cycles, u.shade / cycles};
+nlohmann::json utilisation_json(const FrameUtilisation& u) {
+  return {{"front_buffer", u.front_buffer}, {"search", u.search}, {"mac", u.mac}, {"root", u.root}, {"shading", u.shading}};
 }
 
-/// Phases, unit utilisation over the PEs' working windows, and the bottleneck.
-FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
-  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
-  FrameProfile f;
-  f.total = double(m.cycles);
-  f.host_preprocess = m.host.rays / period;
-  f.transfer = (m.host.transfer - m.host.rays) / period;
-  f.gather = (m.host.gathered - m.host.pes_done) / period;
-  double window = 0, longest = 0, stall = 0;
-  for (const PeCounters& p : m.per_pe) {
-    const double w = (p.finish - p.start) / period;
-    window += w;
-    longest = std::max(longest, w);
-    stall += p.credit_stall / period;
-    f.search += double(p.search.busy_cycles) / c.search_units;
-    f.mac += double(p.mac.busy_cycles) / c.intersection_units;
-    f.root += double(p.root.busy_cycles) / c.intersection_units;
-    f.shading += double(p.shade.busy_cycles);
-    f.front_buffer += double(p.front.busy_cycles);
-  }
-  if (window > 0) {
-    for (double* u : {&f.search, &f.mac, &f.root, &f.shading, &f.front_buffer}) *u /= window;
-    f.credit_stall = stall / window;
-    f.imbalance = longest / (window / double(m.per_pe.size()));
-  }
-  return f;
+nlohmann::json pe_utilisation_json(const FrameProfile& f) {
+  return {{"front_buffer", f.front_buffer}, {"search", f.search},   {"mac", f.mac},
+          {"root", f.root},                 {"shading", f.shading}, {"credit_stall", f.credit_stall}};
 }
+
+nlohmann::json phases_json(const FrameProfile& f) {
+  return {{"host_preprocess_cycles", f.host_preprocess},
+          {"transfer_cycles", f.transfer},
+          {"pe_cycles", f.pe},
+          {"gather_cycles", f.gather}};
+}
+
+nlohmann::json error_json(const ImageError& e) {
+  return {{"rmse", e.rmse},
+          {"psnr_db", std::isfinite(e.psnr_db) ? nlohmann::json(e.psnr_db) : nlohmann::json("inf")},
+          {"max_abs", e.max_abs},
+          {"pixels_over_1_255", e.pixels_over_1_255}};
+}
+
+/// A simulated time in whole PE cycles.
+uint64_t whole_cycles(const sc_core::sc_time& t, const MachineConfig& c) {
+  return uint64_t(std::llround(t / sc_core::sc_time(c.clock_ns, sc_core::SC_NS)));
+}
+
+double sim_time_ns(const MachineResult& m) { return m.end.to_seconds() * 1e9; }
 
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
-  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
-  auto cyc = [&](const sc_core::sc_time& t) { return uint64_t(std::llround(t / period)); };
-  const FrameProfile f = profile(m, c);
-  const double mac_bound = std::ceil(double(m.mac_products) / c.pes);
+  auto cyc = [&](const sc_core::sc_time& t) { return whole_cycles(t, c); };
+  const FrameStats& s = m.stats;
   nlohmann::json per_pe = nlohmann::json::array();
   for (const PeCounters& p : m.per_pe)
     per_pe.push_back({{"cycles", cyc(p.finish)},
@@ -185,7 +171,6 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                         {"shading", p.shade.busy_cycles}}}});
   nlohmann::json fifo;
   for (const FifoSummary& f : m.fifos) fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
-  const Utilisation u = utilisation(m, c);
   nlohmann::json config;
   for (const ConfigKey& k : config_keys()) config[k.name] = k.get(c);
   return {{"pes", c.pes},
@@ -197,7 +182,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
            {{"engine", m.engine_unsupported.empty()},
             {"modules_because", m.engine_unsupported.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.engine_unsupported)}}},
           {"cycles", m.cycles},
-          {"sim_time_ns", m.end.to_seconds() * 1e9},
+          {"sim_time_ns", sim_time_ns(m)},
           {"mac", {{"products", m.mac_products}, {"busy_cycles", m.mac_busy_cycles}}},
           {"spills", m.spills},
           {"host",
@@ -208,24 +193,13 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
             {"gathered_cycle", cyc(m.host.gathered)},
             {"link_busy_cycles", cyc(m.host.link_busy)},
             {"scene_bytes", m.scene_bytes}}},
-          {"utilisation",
-           {{"front_buffer", u.front}, {"search", u.search}, {"mac", u.mac}, {"root", u.root}, {"shading", u.shade}}},
-          {"pe_utilisation",
-           {{"front_buffer", f.front_buffer},
-            {"search", f.search},
-            {"mac", f.mac},
-            {"root", f.root},
-            {"shading", f.shading},
-            {"credit_stall", f.credit_stall}}},
-          {"phases",
-           {{"host_preprocess_cycles", f.host_preprocess},
-            {"transfer_cycles", f.transfer},
-            {"pe_cycles", (m.host.pes_done - m.host.transfer) / period},
-            {"gather_cycles", f.gather}}},
-          {"load_imbalance", f.imbalance},
-          {"mac_bound_cycles", mac_bound},
-          {"cycles_over_mac_bound", mac_bound > 0 ? double(m.cycles) / mac_bound : 0.0},
-          {"bottleneck", bottleneck(f)},
+          {"utilisation", utilisation_json(s.utilisation)},
+          {"pe_utilisation", pe_utilisation_json(s.profile)},
+          {"phases", phases_json(s.profile)},
+          {"load_imbalance", s.profile.imbalance},
+          {"mac_bound_cycles", s.mac_bound_cycles},
+          {"cycles_over_mac_bound", s.cycles_over_mac_bound},
+          {"bottleneck", s.bottleneck},
           {"left_out",
            {{"units", m.left_out_units},
             {"mac_schedule", to_string(c.mac_schedule)},
@@ -247,34 +221,33 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
           {"config", config}};
 }
 
-nlohmann::json error_json(const ImageError& e) {
-  return {{"rmse", e.rmse},
-          {"psnr_db", std::isfinite(e.psnr_db) ? nlohmann::json(e.psnr_db) : nlohmann::json("inf")},
-          {"max_abs", e.max_abs},
-          {"pixels_over_1_255", e.pixels_over_1_255}};
+/// Copies an object's fields into `to`, each name prefixed.
+void flatten_into(nlohmann::json& to, const std::string& prefix, const nlohmann::json& from) {
+  for (const auto& [key, value] : from.items()) to[prefix + key] = value;
 }
 
 /// One flat object of the run's headline figures: exactly the metric columns of a sweep's
 /// results.csv (scripts/sweep-run reads it as it is).
-nlohmann::json summary_json(const nlohmann::json& j) {
-  nlohmann::json s = {{"cycles", j["cycles"]},
-                      {"wall_seconds", j["wall_seconds"]},
-                      {"sim_time_ns", j["sim_time_ns"]},
-                      {"voxel_steps", j["voxel_steps"]},
-                      {"intersection_tests", j["intersection_tests"]},
-                      {"mac_products", j["mac"]["products"]},
-                      {"mac_busy_cycles", j["mac"]["busy_cycles"]},
-                      {"link_busy_cycles", j["host"]["link_busy_cycles"]},
-                      {"load_imbalance", j["load_imbalance"]},
-                      {"bottleneck", j["bottleneck"]},
-                      {"mac_bound_cycles", j["mac_bound_cycles"]},
-                      {"cycles_over_mac_bound", j["cycles_over_mac_bound"]}};
-  for (const auto& [key, value] : j["error"].items()) s["error_" + key] = value;
-  for (const auto& [kind, n] : j["rays"].items()) s["rays_" + kind] = n;
-  for (const auto& [unit, u] : j["utilisation"].items()) s["util_" + unit] = u;
-  for (const auto& [unit, u] : j["pe_utilisation"].items()) s["pe_util_" + unit] = u;
-  for (const auto& [phase, cycles] : j["phases"].items()) s[phase] = cycles;
-  return s;
+nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, const ImageError& err) {
+  const FrameStats& s = m.stats;
+  nlohmann::json j = {{"cycles", m.cycles},
+                      {"wall_seconds", m.wall_seconds},
+                      {"sim_time_ns", sim_time_ns(m)},
+                      {"voxel_steps", m.counts.voxel_steps},
+                      {"intersection_tests", m.counts.intersection_tests},
+                      {"mac_products", m.mac_products},
+                      {"mac_busy_cycles", m.mac_busy_cycles},
+                      {"link_busy_cycles", whole_cycles(m.host.link_busy, c)},
+                      {"load_imbalance", s.profile.imbalance},
+                      {"bottleneck", s.bottleneck},
+                      {"mac_bound_cycles", s.mac_bound_cycles},
+                      {"cycles_over_mac_bound", s.cycles_over_mac_bound}};
+  flatten_into(j, "error_", error_json(err));
+  flatten_into(j, "rays_", rays_json(m.counts));
+  flatten_into(j, "util_", utilisation_json(s.utilisation));
+  flatten_into(j, "pe_util_", pe_utilisation_json(s.profile));
+  flatten_into(j, "", phases_json(s.profile));
+  return j;
 }
 
 void print_rays(const TraceCounts& c) {
@@ -373,7 +346,7 @@ int run_render(const RenderOptions& opt) {
     const bool counts_match = ref.counts.rays == m.counts.rays && ref.counts.voxel_steps == m.counts.voxel_steps &&
                               ref.counts.intersection_tests == m.counts.intersection_tests &&
                               ref.counts.clip_tests == m.counts.clip_tests;
-    j["summary"] = summary_json(j);
+    j["summary"] = summary_json(m, config, err);
     j["reference"] = {{"wall_seconds", ref.wall_seconds},
                       {"cached", cache_hit},
                       {"rays_match", ref.counts.rays == m.counts.rays},
@@ -381,7 +354,7 @@ int run_render(const RenderOptions& opt) {
     write_text_atomically(stats_path, j.dump(2) + "\n");
 
     if (!opt.quiet) {
-      const Utilisation u = utilisation(m, config);
+      const FrameStats& st = m.stats;
       std::printf("%s: %dx%d, %zu primitives, grid %dx%dx%d, %d PE%s (%s, %s, %s timing)\n", scene.name.c_str(),
                   scene.camera.width, scene.camera.height, scene.primitives.size(), grid.n[0], grid.n[1], grid.n[2],
                   config.pes, config.pes == 1 ? "" : "s", to_string(config.partition), to_string(config.precision),
@@ -391,10 +364,10 @@ int run_render(const RenderOptions& opt) {
       print_rays(m.counts);
       std::printf("rays per cycle: %.4f\n", double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));
       std::printf("utilisation: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading %.1f%%\n",
-                  100 * u.front, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shade);
-      const FrameProfile f = profile(m, config);
-      std::printf("bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n", bottleneck(f).c_str(),
-                  double(m.cycles) / std::max(1.0, std::ceil(double(m.mac_products) / config.pes)), f.imbalance);
+                  100 * st.utilisation.front_buffer, 100 * st.utilisation.search, 100 * st.utilisation.mac,
+                  100 * st.utilisation.root, 100 * st.utilisation.shading);
+      std::printf("bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n", st.bottleneck.c_str(),
+                  st.cycles_over_mac_bound, st.profile.imbalance);
       std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,
                   err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255);
       std::printf("wall time: %.3f s model (%s), %.3f s reference%s\n", m.wall_seconds,
