@@ -103,6 +103,29 @@ TEST(Cli, MachineStatsHaveEveryDocumentedKey) {
   EXPECT_TRUE(j["left_out"].contains("scene_needs"));
 }
 
+// The printed summary, the stats and their flat summary show the model's figures, the same ones.
+TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
+  Tmp tmp;
+  const Proc r = run_rtm("render " + kScenes + "balls-1.nff --size 16x16 --pes 2 --out " + (tmp / "m.png"), tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = stats(tmp / "m.json");
+  char line[200];
+  std::snprintf(line, sizeof line, "bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n",
+                j["bottleneck"].get<std::string>().c_str(), j["cycles_over_mac_bound"].get<double>(),
+                j["load_imbalance"].get<double>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  std::snprintf(line, sizeof line, "MAC %.1f%%", 100 * j["utilisation"]["mac"].get<double>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  const json& s = j["summary"];
+  for (const char* k : {"cycles", "load_imbalance", "bottleneck", "mac_bound_cycles", "cycles_over_mac_bound"})
+    EXPECT_EQ(s[k], j[k]) << k;
+  EXPECT_EQ(s["mac_products"], j["mac"]["products"]);
+  EXPECT_EQ(s["link_busy_cycles"], j["host"]["link_busy_cycles"]);
+  for (const auto& [unit, u] : j["utilisation"].items()) EXPECT_EQ(s["util_" + unit], u) << unit;
+  for (const auto& [unit, u] : j["pe_utilisation"].items()) EXPECT_EQ(s["pe_util_" + unit], u) << unit;
+  for (const auto& [phase, cycles] : j["phases"].items()) EXPECT_EQ(s[phase], cycles) << phase;
+}
+
 // The machine against the reference, several scenes and PE counts.
 struct SceneCase {
   const char* scene;

@@ -9,6 +9,7 @@ struct FrameProfile {
   double total = 0;             ///< the frame's cycles
   double host_preprocess = 0;   ///< voxel and primary-ray generation (overlapping transfers when streaming)
   double transfer = 0;          ///< scene and rays to the PEs, after pre-processing
+  double pe = 0;                ///< the PEs' work: transfer done to the last PE done
   double gather = 0;            ///< frame buffers back to the host
   /// Busy fraction of each PE unit over the PEs' working windows (search: per unit).
   double search = 0, mac = 0, root = 0, shading = 0, front_buffer = 0;

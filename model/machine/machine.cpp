@@ -203,6 +203,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     r.mac_cycles_saved += pe->ctx.counters.mac_cycles_saved;
   }
   r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
+  r.stats = frame_stats(r, c);
   if (tf) sc_core::sc_close_vcd_trace_file(tf);
   if (!logs.empty()) {
     std::ostringstream text;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "machine/frame_stats.h"
 #include "machine/host.h"
 #include "render/scene_needs.h"
 
@@ -36,6 +37,7 @@ struct MachineResult {
   uint64_t scene_bytes = 0;     ///< one PE's copy of the scene as the link carries it
   sc_core::sc_time end;
   uint64_t cycles = 0;          ///< the frame's simulated time in PE cycles
+  FrameStats stats;             ///< derived from the counters above (frame_stats.h)
   double wall_seconds = 0;
   SceneNeeds needs;                      ///< what the scene can use (render/scene_needs.h)
   std::vector<std::string> left_out_units;  ///< per PE, not elaborated

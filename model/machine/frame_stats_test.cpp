@@ -1,0 +1,118 @@
+#include "machine/frame_stats.h"
+
+#include <gtest/gtest.h>
+
+#include "machine/machine.h"
+
+namespace rtm {
+namespace {
+
+/// Two PEs with two MAC lanes each, clocked at 10 ns: the host pre-processes for 100 cycles and
+/// transfers for 50, the PEs work from cycle 150 (PE 0 for 1000 cycles, PE 1 for 500), the
+/// gather takes the last 50 of the frame's 1200 cycles.
+struct TwoPes {
+  MachineConfig config;
+  MachineResult result;
+
+  TwoPes() {
+    config.pes = 2;
+    config.clock_ns = 10;
+    config.search_units = 4;
+    config.intersection_units = 2;
+    auto at = [&](double cycle) { return sc_core::sc_time(config.clock_ns, sc_core::SC_NS) * cycle; };
+    auto ticks = [&](double cycle) { return at(cycle).value(); };  // PeCounters' times
+    MachineResult& m = result;
+    m.cycles = 1200;
+    m.mac_products = 2000;
+    m.host.rays = at(100);
+    m.host.transfer = at(150);
+    m.host.pes_done = at(1150);
+    m.host.gathered = at(1200);
+    m.per_pe.resize(2);
+    PeCounters& a = m.per_pe[0];
+    a.start = ticks(150);
+    a.finish = ticks(1150);
+    a.credit_stall = ticks(90);
+    a.front.busy_cycles = 300;
+    a.search.busy_cycles = 2000;
+    a.mac.busy_cycles = 1600;
+    a.root.busy_cycles = 400;
+    a.shade.busy_cycles = 240;
+    PeCounters& b = m.per_pe[1];
+    b.start = ticks(150);
+    b.finish = ticks(650);
+    b.credit_stall = ticks(60);
+    b.front.busy_cycles = 150;
+    b.search.busy_cycles = 1000;
+    b.mac.busy_cycles = 400;
+    b.root.busy_cycles = 200;
+    b.shade.busy_cycles = 60;
+  }
+};
+
+TEST(FrameStats, UtilisationOverTheFramePerUnit) {
+  const TwoPes t;
+  const FrameUtilisation u = frame_stats(t.result, t.config).utilisation;
+  // Busy cycles over the PEs' 2 x 1200 cycles; search over 4 units, MAC and root over 2 lanes.
+  EXPECT_DOUBLE_EQ(u.front_buffer, 450.0 / 2400);
+  EXPECT_DOUBLE_EQ(u.search, 750.0 / 2400);
+  EXPECT_DOUBLE_EQ(u.mac, 1000.0 / 2400);
+  EXPECT_DOUBLE_EQ(u.root, 300.0 / 2400);
+  EXPECT_DOUBLE_EQ(u.shading, 300.0 / 2400);
+}
+
+TEST(FrameStats, ProfileOverTheWorkingWindows) {
+  const TwoPes t;
+  const FrameProfile f = frame_stats(t.result, t.config).profile;
+  EXPECT_DOUBLE_EQ(f.total, 1200);
+  EXPECT_DOUBLE_EQ(f.host_preprocess, 100);
+  EXPECT_DOUBLE_EQ(f.transfer, 50);
+  EXPECT_DOUBLE_EQ(f.pe, 1000);
+  EXPECT_DOUBLE_EQ(f.gather, 50);
+  // The working windows add up to 1500 cycles.
+  EXPECT_DOUBLE_EQ(f.front_buffer, 450.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.search, 750.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.mac, 1000.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.root, 300.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.shading, 300.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.credit_stall, 150.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.imbalance, 1000.0 / 750);
+}
+
+TEST(FrameStats, TheBottleneckOfTheProfile) {
+  TwoPes t;
+  FrameStats s = frame_stats(t.result, t.config);
+  EXPECT_EQ(s.bottleneck, "mac") << "the MAC lanes are busy 2/3 of the working windows";
+  EXPECT_EQ(s.bottleneck, bottleneck(s.profile));
+  t.result.per_pe[0].mac.busy_cycles = 600;
+  t.result.per_pe[1].mac.busy_cycles = 200;
+  s = frame_stats(t.result, t.config);
+  EXPECT_EQ(s.bottleneck, "load_imbalance") << "nothing saturated, PE 0 works 1.33 x the mean";
+}
+
+TEST(FrameStats, MacBound) {
+  TwoPes t;
+  FrameStats s = frame_stats(t.result, t.config);
+  EXPECT_DOUBLE_EQ(s.mac_bound_cycles, 1000);
+  EXPECT_DOUBLE_EQ(s.cycles_over_mac_bound, 1.2);
+  t.result.mac_products = 2001;
+  s = frame_stats(t.result, t.config);
+  EXPECT_DOUBLE_EQ(s.mac_bound_cycles, 1001) << "rounded up: a PE can't do half a product";
+  t.result.mac_products = 0;
+  s = frame_stats(t.result, t.config);
+  EXPECT_DOUBLE_EQ(s.mac_bound_cycles, 0);
+  EXPECT_DOUBLE_EQ(s.cycles_over_mac_bound, 0) << "no MAC products: no bound to be over";
+}
+
+TEST(FrameStats, AnEmptyRunHasNoUtilisationAndNoImbalance) {
+  const MachineConfig c;
+  const MachineResult m;
+  const FrameStats s = frame_stats(m, c);
+  EXPECT_DOUBLE_EQ(s.utilisation.mac, 0);
+  EXPECT_DOUBLE_EQ(s.profile.mac, 0);
+  EXPECT_DOUBLE_EQ(s.profile.imbalance, 1);
+  EXPECT_EQ(s.bottleneck, "latency");
+}
+
+}  // namespace
+}  // namespace rtm

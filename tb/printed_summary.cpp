@@ -1,0 +1,57 @@
+#include "printed_summary.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace rtm {
+
+namespace {
+
+void print_rays(const TraceCounts& c) {
+  std::printf("rays: %llu primary, %llu shadow, %llu reflected, %llu transmitted\n", (unsigned long long)c.rays[0],
+              (unsigned long long)c.rays[1], (unsigned long long)c.rays[2], (unsigned long long)c.rays[3]);
+}
+
+void print_files(const RenderFiles& files) {
+  std::printf("image: %s\nstats: %s\n", files.image.c_str(), files.stats.c_str());
+  if (!files.id_map.empty()) std::printf("id map: %s\n", files.id_map.c_str());
+  if (!files.vcd.empty())
+    std::printf("waveform: %s (GTKWave: gtkwave %s)\n", files.vcd.c_str(), files.gtkw.c_str());
+}
+
+}  // namespace
+
+void print_reference_summary(const Scene& s, const Grid& g, const ReferenceResult& r, const RenderFiles& files) {
+  std::printf("%s: %dx%d, %zu primitives, grid %dx%dx%d\n", s.name.c_str(), s.camera.width, s.camera.height,
+              s.primitives.size(), g.n[0], g.n[1], g.n[2]);
+  print_rays(r.counts);
+  std::printf("wall time: %.3f s (reference renderer), %.2f M rays/s\n", r.wall_seconds,
+              double(r.counts.total_rays()) / r.wall_seconds / 1e6);
+  print_files(files);
+}
+
+void print_machine_summary(const Scene& s, const Grid& g, const MachineConfig& c, const MachineResult& m,
+                           const ImageError& err, const ReferenceResult& ref, bool ref_cached,
+                           const RenderFiles& files) {
+  const FrameStats& st = m.stats;
+  std::printf("%s: %dx%d, %zu primitives, grid %dx%dx%d, %d PE%s (%s, %s, %s timing)\n", s.name.c_str(),
+              s.camera.width, s.camera.height, s.primitives.size(), g.n[0], g.n[1], g.n[2], c.pes,
+              c.pes == 1 ? "" : "s", to_string(c.partition), to_string(c.precision), to_string(c.timing));
+  std::printf("cycles: %llu (%.3f ms simulated at %.4g ns)\n", (unsigned long long)m.cycles, m.end.to_seconds() * 1e3,
+              c.clock_ns);
+  print_rays(m.counts);
+  std::printf("rays per cycle: %.4f\n", double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));
+  const FrameUtilisation& u = st.utilisation;
+  std::printf("utilisation: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading %.1f%%\n",
+              100 * u.front_buffer, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shading);
+  std::printf("bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n", st.bottleneck.c_str(),
+              st.cycles_over_mac_bound, st.profile.imbalance);
+  std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,
+              err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255);
+  std::printf("wall time: %.3f s model (%s), %.3f s reference%s\n", m.wall_seconds,
+              m.engine_unsupported.empty() ? "PEs on the PE engine" : ("PEs as modules: " + m.engine_unsupported).c_str(),
+              ref.wall_seconds, ref_cached ? " (cached)" : "");
+  print_files(files);
+}
+
+}  // namespace rtm

@@ -1,0 +1,27 @@
+// What `rtm render` prints when it is done (not with --quiet): the run's headline figures and
+// where its files went.
+#pragma once
+
+#include <string>
+
+#include "machine/machine.h"
+#include "render/image_io.h"
+#include "render/reference.h"
+#include "scene/scene.h"
+
+namespace rtm {
+
+/// The files a render wrote; empty: not written.
+struct RenderFiles {
+  std::string image, stats, id_map, vcd, gtkw;
+};
+
+/// After a --reference render.
+void print_reference_summary(const Scene& s, const Grid& g, const ReferenceResult& r, const RenderFiles& files);
+
+/// After a machine render, compared with the reference.
+void print_machine_summary(const Scene& s, const Grid& g, const MachineConfig& c, const MachineResult& m,
+                           const ImageError& err, const ReferenceResult& ref, bool ref_cached,
+                           const RenderFiles& files);
+
+}  // namespace rtm

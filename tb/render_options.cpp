@@ -1,0 +1,111 @@
+#include "render_options.h"
+
+#include <array>
+#include <regex>
+#include <sstream>
+
+namespace rtm {
+
+namespace {
+
+void parse_size(const std::string& text, int& w, int& h) {
+  std::smatch m;
+  if (!std::regex_match(text, m, std::regex(R"((\d{1,6})x(\d{1,6}))")))
+    throw UsageError("--size: expected WxH, e.g. 320x240, got '" + text + "'");
+  w = std::stoi(m[1]);
+  h = std::stoi(m[2]);
+  if (w < 1 || h < 1) throw UsageError("--size: the image must have at least one pixel, got '" + text + "'");
+}
+
+std::array<int, 3> parse_grid(const std::string& text) {
+  if (text == "auto" || text == "machine") return {0, 0, 0};
+  std::smatch m;
+  if (std::regex_match(text, m, std::regex(R"((\d{1,5}))"))) {
+    const int n = std::stoi(m[1]);
+    if (n >= 1) return {n, n, n};
+  }
+  if (std::regex_match(text, m, std::regex(R"((\d{1,5})x(\d{1,5})x(\d{1,5}))"))) {
+    std::array<int, 3> n{std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3])};
+    if (n[0] >= 1 && n[1] >= 1 && n[2] >= 1) return n;
+  }
+  throw UsageError("--grid: expected auto, machine, N or NxNyNz with N >= 1, got '" + text + "'");
+}
+
+}  // namespace
+
+void apply_scene_options(const RenderOptions& opt, Scene& scene) {
+  if (!opt.size.empty()) {
+    int w = 0, h = 0;
+    parse_size(opt.size, w, h);
+    set_resolution(scene, w, h);
+  }
+  if (!opt.grid.empty()) scene.grid.resolution = parse_grid(opt.grid);
+  // The reference on its own sizes its automatic grid for a CPU, unless asked for the machine's.
+  if (opt.reference && opt.grid != "machine") size_for_cpu(scene.grid);
+  if (opt.threshold) scene.threshold = *opt.threshold;
+  if (opt.max_depth) scene.max_depth = *opt.max_depth;
+  if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;
+  if (!opt.spawn_policy.empty()) {
+    try {
+      scene.spawn_policy = parse_spawn_policy(opt.spawn_policy);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--spawn-policy: ") + e.what());
+    }
+  }
+}
+
+MachineConfig machine_config(const RenderOptions& opt) {
+  MachineConfig c;
+  if (!opt.config_file.empty()) load_config_file(c, opt.config_file);
+  auto set = [&](const std::string& key, const std::string& value, const char* flag) {
+    try {
+      set_config(c, key, value);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string(flag) + ": " + e.what());
+    }
+  };
+  for (const std::string& kv : opt.sets) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError("--set: expected KEY=VALUE, got '" + kv + "'");
+    set(kv.substr(0, eq), kv.substr(eq + 1), "--set");
+  }
+  if (opt.pes) set("pes", std::to_string(*opt.pes), "--pes");
+  if (!opt.timing.empty()) set("timing", opt.timing, "--timing");
+  if (!opt.precision.empty()) set("precision", opt.precision, "--precision");
+  if (!opt.partition.empty()) set("partition", opt.partition, "--partition");
+  if (!opt.mac_schedule.empty()) set("mac_schedule", opt.mac_schedule, "--mac-schedule");
+  if (opt.search_units) set("search_units", std::to_string(*opt.search_units), "--search-units");
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("machine configuration: ") + e.what());
+  }
+  return c;
+}
+
+MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c) {
+  MachineOptions m;
+  m.vcd = opt.vcd;
+  m.event_log = opt.event_log;
+  m.progress = !opt.quiet;
+  if (!opt.vcd_window.empty()) {
+    std::smatch w;
+    if (!std::regex_match(opt.vcd_window, w, std::regex(R"((\d*):(\d*))")))
+      throw UsageError("--vcd-window: expected FROM:TO in cycles, got '" + opt.vcd_window + "'");
+    if (w[1].length()) m.vcd_from_cycle = std::stoull(w[1]);
+    if (w[2].length()) m.vcd_to_cycle = std::stoull(w[2]);
+    if (m.vcd_to_cycle < m.vcd_from_cycle) throw UsageError("--vcd-window: TO is before FROM");
+  }
+  if (!opt.vcd_pes.empty()) {
+    m.vcd_pes.clear();
+    std::stringstream s(opt.vcd_pes);
+    for (std::string item; std::getline(s, item, ',');) {
+      if (!std::regex_match(item, std::regex(R"(\d{1,6})")) || std::stoi(item) >= c.pes)
+        throw UsageError("--vcd-pes: '" + item + "' is not a PE number below " + std::to_string(c.pes));
+      m.vcd_pes.push_back(std::stoi(item));
+    }
+  }
+  return m;
+}
+
+}  // namespace rtm

@@ -1,0 +1,26 @@
+// What `rtm render`'s options do: the scene overrides, the machine configuration and simulation
+// options they build, and the usage errors they can be.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "machine/machine.h"
+#include "options.h"
+#include "scene/scene.h"
+
+namespace rtm {
+
+/// A mistake on the command line (exit code 2), not a failure of the run.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Applies the scene overrides (size, grid, threshold, depth, spawning) to a loaded scene.
+void apply_scene_options(const RenderOptions& opt, Scene& scene);
+/// The configuration file, then --set, then the dedicated flags; validated.
+MachineConfig machine_config(const RenderOptions& opt);
+/// The waveform and progress options, checked against the configuration's PEs.
+MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c);
+
+}  // namespace rtm

@@ -1,0 +1,189 @@
+#include "stats_json.h"
+
+#include <cmath>
+
+namespace rtm {
+
+namespace {
+
+// Each group of figures is spelled once: the nested objects and the flat summary use these.
+
+nlohmann::json rays_json(const TraceCounts& c) {
+  nlohmann::json rays;
+  for (int k = 0; k < kRayKinds; ++k) rays[ray_kind_name(RayKind(k))] = c.rays[size_t(k)];
+  return rays;
+}
+
+nlohmann::json counts_json(const TraceCounts& c) {
+  return {{"rays", rays_json(c)},
+          {"voxel_steps", c.voxel_steps},
+          {"intersection_tests", c.intersection_tests},
+          {"clip_tests", c.clip_tests}};
+}
+
+nlohmann::json utilisation_json(const FrameUtilisation& u) {
+  return {{"front_buffer", u.front_buffer}, {"search", u.search}, {"mac", u.mac}, {"root", u.root}, {"shading", u.shading}};
+}
+
+nlohmann::json pe_utilisation_json(const FrameProfile& f) {
+  return {{"front_buffer", f.front_buffer}, {"search", f.search},   {"mac", f.mac},
+          {"root", f.root},                 {"shading", f.shading}, {"credit_stall", f.credit_stall}};
+}
+
+nlohmann::json phases_json(const FrameProfile& f) {
+  return {{"host_preprocess_cycles", f.host_preprocess},
+          {"transfer_cycles", f.transfer},
+          {"pe_cycles", f.pe},
+          {"gather_cycles", f.gather}};
+}
+
+nlohmann::json error_json(const ImageError& e) {
+  return {{"rmse", e.rmse},
+          {"psnr_db", std::isfinite(e.psnr_db) ? nlohmann::json(e.psnr_db) : nlohmann::json("inf")},
+          {"max_abs", e.max_abs},
+          {"pixels_over_1_255", e.pixels_over_1_255}};
+}
+
+/// A simulated time in whole PE cycles.
+uint64_t whole_cycles(const sc_core::sc_time& t, const MachineConfig& c) {
+  return uint64_t(std::llround(t / sc_core::sc_time(c.clock_ns, sc_core::SC_NS)));
+}
+
+double sim_time_ns(const MachineResult& m) { return m.end.to_seconds() * 1e9; }
+
+nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
+  auto cyc = [&](const sc_core::sc_time& t) { return whole_cycles(t, c); };
+  auto ticks = [&](uint64_t t) { return cyc(sc_core::sc_time::from_value(t)); };  // PeCounters' times
+  const FrameStats& s = m.stats;
+  nlohmann::json per_pe = nlohmann::json::array();
+  for (const PeCounters& p : m.per_pe)
+    per_pe.push_back({{"cycles", ticks(p.finish)},
+                      {"start_cycle", ticks(p.start)},
+                      {"credit_stall_cycles", ticks(p.credit_stall)},
+                      {"rays", p.counts.total_rays()},
+                      {"spills", p.spills},
+                      {"busy_cycles",
+                       {{"front_buffer", p.front.busy_cycles},
+                        {"search", p.search.busy_cycles},
+                        {"mac", p.mac.busy_cycles},
+                        {"root", p.root.busy_cycles},
+                        {"shading", p.shade.busy_cycles}}}});
+  nlohmann::json fifo;
+  for (const FifoSummary& f : m.fifos) fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
+  nlohmann::json config;
+  for (const ConfigKey& k : config_keys()) config[k.name] = k.get(c);
+  return {{"pes", c.pes},
+          {"timing", to_string(c.timing)},
+          {"precision", to_string(c.precision)},
+          {"partition", to_string(c.partition)},
+          {"search_units", c.search_units},
+          {"pe_simulation",
+           {{"engine", m.engine_unsupported.empty()},
+            {"modules_because", m.engine_unsupported.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.engine_unsupported)}}},
+          {"cycles", m.cycles},
+          {"sim_time_ns", sim_time_ns(m)},
+          {"mac", {{"products", m.mac_products}, {"busy_cycles", m.mac_busy_cycles}}},
+          {"spills", m.spills},
+          {"host",
+           {{"voxels_done_cycle", cyc(m.host.voxels)},
+            {"rays_done_cycle", cyc(m.host.rays)},
+            {"transfer_done_cycle", cyc(m.host.transfer)},
+            {"pes_done_cycle", cyc(m.host.pes_done)},
+            {"gathered_cycle", cyc(m.host.gathered)},
+            {"link_busy_cycles", cyc(m.host.link_busy)},
+            {"scene_bytes", m.scene_bytes}}},
+          {"utilisation", utilisation_json(s.utilisation)},
+          {"pe_utilisation", pe_utilisation_json(s.profile)},
+          {"phases", phases_json(s.profile)},
+          {"load_imbalance", s.profile.imbalance},
+          {"mac_bound_cycles", s.mac_bound_cycles},
+          {"cycles_over_mac_bound", s.cycles_over_mac_bound},
+          {"bottleneck", s.bottleneck},
+          {"left_out",
+           {{"units", m.left_out_units},
+            {"mac_schedule", to_string(c.mac_schedule)},
+            {"mac_products_saved", m.mac_products_saved},
+            {"mac_cycles_saved", m.mac_cycles_saved},
+            {"scene_needs",
+             {{"shadow_rays", m.needs.shadow_rays},
+              {"reflected_rays", m.needs.reflected_rays},
+              {"transmitted_rays", m.needs.transmitted_rays},
+              {"background", m.needs.background},
+              {"deepest_generation", m.needs.deepest_generation},
+              {"clipped_primitives", m.needs.clipped_primitives},
+              {"mac_products_per_test_full", kMacProducts},
+              {"mac_products_per_test_sparse",
+               m.needs.mac_ops.empty() ? 0.0 : double(m.needs.products_sparse) / double(m.needs.mac_ops.size())},
+              {"grid", m.needs.grid}}}}},
+          {"per_pe", per_pe},
+          {"fifo", fifo},
+          {"config", config}};
+}
+
+/// Copies an object's fields into `to`, each name prefixed.
+void flatten_into(nlohmann::json& to, const std::string& prefix, const nlohmann::json& from) {
+  for (const auto& [key, value] : from.items()) to[prefix + key] = value;
+}
+
+/// One flat object of the run's headline figures: exactly the metric columns of a sweep's
+/// results.csv (scripts/sweep-run reads it as it is).
+nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, const ImageError& err) {
+  const FrameStats& s = m.stats;
+  nlohmann::json j = {{"cycles", m.cycles},
+                      {"wall_seconds", m.wall_seconds},
+                      {"sim_time_ns", sim_time_ns(m)},
+                      {"voxel_steps", m.counts.voxel_steps},
+                      {"intersection_tests", m.counts.intersection_tests},
+                      {"mac_products", m.mac_products},
+                      {"mac_busy_cycles", m.mac_busy_cycles},
+                      {"link_busy_cycles", whole_cycles(m.host.link_busy, c)},
+                      {"load_imbalance", s.profile.imbalance},
+                      {"bottleneck", s.bottleneck},
+                      {"mac_bound_cycles", s.mac_bound_cycles},
+                      {"cycles_over_mac_bound", s.cycles_over_mac_bound}};
+  flatten_into(j, "error_", error_json(err));
+  flatten_into(j, "rays_", rays_json(m.counts));
+  flatten_into(j, "util_", utilisation_json(s.utilisation));
+  flatten_into(j, "pe_util_", pe_utilisation_json(s.profile));
+  flatten_into(j, "", phases_json(s.profile));
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json scene_json(const Scene& s, const Grid& g, double grid_seconds) {
+  return {{"scene", s.name},
+          {"width", s.camera.width},
+          {"height", s.camera.height},
+          {"primitives", s.primitives.size()},
+          {"grid", {{"resolution", g.n}, {"references", g.items.size()}, {"build_seconds", grid_seconds}}},
+          {"spawn", {{"offset", s.spawn_offset}, {"policy", to_string(s.spawn_policy)}}}};
+}
+
+nlohmann::json reference_render_json(const ReferenceResult& r) {
+  nlohmann::json j = counts_json(r.counts);
+  j["renderer"] = "reference";
+  j["wall_seconds"] = r.wall_seconds;
+  return j;
+}
+
+nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const ImageError& err,
+                                   const ReferenceResult& ref, bool ref_cached) {
+  nlohmann::json j = counts_json(m.counts);
+  j["renderer"] = "machine";
+  j["wall_seconds"] = m.wall_seconds;
+  j.update(machine_json(m, c));
+  j["error"] = error_json(err);
+  j["summary"] = summary_json(m, c, err);
+  // The same walk and tests as the machine's (at fp64 always; at fp32 unless a hit moved).
+  const bool counts_match = ref.counts.rays == m.counts.rays && ref.counts.voxel_steps == m.counts.voxel_steps &&
+                            ref.counts.intersection_tests == m.counts.intersection_tests &&
+                            ref.counts.clip_tests == m.counts.clip_tests;
+  j["reference"] = {{"wall_seconds", ref.wall_seconds},
+                    {"cached", ref_cached},
+                    {"rays_match", ref.counts.rays == m.counts.rays},
+                    {"counts_match", counts_match}};
+  return j;
+}
+
+}  // namespace rtm
