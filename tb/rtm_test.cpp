@@ -103,6 +103,24 @@ TEST(Cli, MachineStatsHaveEveryDocumentedKey) {
   EXPECT_TRUE(j["left_out"].contains("scene_needs"));
 }
 
+// A bad configuration file is bad input (exit 2, as a bad command line), named by file and line.
+TEST(Cli, ABadConfigFileExits2NamingFileAndLine) {
+  Tmp tmp;
+  spit(tmp / "bad.yaml", "pes: 2\ntiming: slow\n");
+  const Proc r = run_rtm("render " + kScenes + "balls-1.nff --size 8x8 -q --config " + (tmp / "bad.yaml") + " --out " +
+                             (tmp / "o.png"),
+                         tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(tmp / "bad.yaml" + ":2: timing: expected one of fast, clocked, got 'slow'"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  spit(tmp / "typo.yaml", "pes: 2\nsearch_unit: 3\n");
+  const Proc c = run_rtm("config --config " + (tmp / "typo.yaml"), tmp);
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_NE(c.err.find(tmp / "typo.yaml" + ":2: search_unit: unknown machine configuration key"), std::string::npos)
+      << c.err;
+}
+
 // The machine against the reference, several scenes and PE counts.
 struct SceneCase {
   const char* scene;

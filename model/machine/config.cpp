@@ -7,8 +7,6 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "scene/scene.h"
-
 namespace rtm {
 namespace {
 
@@ -194,24 +192,24 @@ void set_config(MachineConfig& c, const std::string& key, const std::string& val
 
 void load_config_file(MachineConfig& c, const std::string& path) {
   std::ifstream f(path);
-  if (!f) throw SceneError(path, 0, "cannot read the configuration file");
+  if (!f) throw ConfigError(path, 0, "cannot read the configuration file");
   std::stringstream text;
   text << f.rdbuf();
   YAML::Node root;
   try {
     root = YAML::Load(text.str());
   } catch (const YAML::Exception& e) {
-    throw SceneError(path, e.mark.line + 1, e.msg);
+    throw ConfigError(path, e.mark.line + 1, e.msg);
   }
   if (root.IsNull()) return;
-  if (!root.IsMap()) throw SceneError(path, root.Mark().line + 1, "expected a map of key: value");
+  if (!root.IsMap()) throw ConfigError(path, root.Mark().line + 1, "expected a map of key: value");
   for (const auto& kv : root) {
     const int line = kv.first.Mark().line + 1;
-    if (!kv.second.IsScalar()) throw SceneError(path, line, kv.first.Scalar() + ": expected a single value");
+    if (!kv.second.IsScalar()) throw ConfigError(path, line, kv.first.Scalar() + ": expected a single value");
     try {
       set_config(c, kv.first.Scalar(), kv.second.Scalar());
     } catch (const std::invalid_argument& e) {
-      throw SceneError(path, line, e.what());
+      throw ConfigError(path, line, e.what());
     }
   }
 }

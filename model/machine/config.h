@@ -4,6 +4,7 @@
 
 #include <climits>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -126,6 +127,20 @@ struct MachineConfig {
   void validate() const;
 };
 
+/// A configuration file problem: the message reads "file:line: key: what is wrong". Like a bad
+/// command line, it is the user's input at fault (rtm exits 2), not the scene's.
+class ConfigError : public std::runtime_error {
+ public:
+  ConfigError(const std::string& file, int line, const std::string& what)
+      : std::runtime_error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+
+ private:
+  std::string file_;
+  int line_;
+};
+
 /// A named configuration key: how users set it from a file, --set key=value, or a sweep.
 struct ConfigKey {
   std::string name;
@@ -138,7 +153,7 @@ const std::vector<ConfigKey>& config_keys();
 /// Sets one key from text; throws std::invalid_argument ("unknown key", "not a number", ...).
 void set_config(MachineConfig& c, const std::string& key, const std::string& value);
 /// Reads a YAML file holding one flat map of `key: value` pairs (the keys of config_keys()).
-/// Errors are "file:line: what is wrong".
+/// Throws ConfigError.
 void load_config_file(MachineConfig& c, const std::string& path);
 /// Every key with its value and documentation, one per line.
 std::string describe_config(const MachineConfig& c);
