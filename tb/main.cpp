@@ -59,7 +59,8 @@ int sc_main(int argc, char* argv[]) {
 
   std::string config_file;
   std::vector<std::string> sets;
-  CLI::App* config = app.add_subcommand("config", "List every machine configuration key with its value and meaning");
+  CLI::App* config = app.add_subcommand(
+      "config", "Print every machine configuration key with its value, meaning and range, as a YAML file --config reads");
   config->add_option("--config", config_file, "Start from this configuration file");
   config->add_option("--set", sets, "Override KEY=VALUE (repeatable)");
 
