@@ -147,6 +147,20 @@ TEST(Cli, ABadConfigFileExits2NamingFileAndLine) {
       << c.err;
 }
 
+// docs/machine.md's key table is `rtm config --markdown`; scripts/config-doc rewrites it.
+TEST(Cli, TheDocsKeyTableIsTheGeneratedOne) {
+  Tmp tmp;
+  const Proc r = run_rtm("config --markdown", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string doc = slurp(std::string(RTM_SOURCE_DIR) + "/docs/machine.md");
+  const std::string begin = "<!-- config-keys:begin -->\n", end = "<!-- config-keys:end -->";
+  const size_t from = doc.find(begin), to = doc.find(end);
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  EXPECT_EQ(doc.substr(from + begin.size(), to - from - begin.size()), r.out)
+      << "docs/machine.md's key table is out of date: run scripts/config-doc";
+}
+
 // The machine against the reference, several scenes and PE counts.
 struct SceneCase {
   const char* scene;

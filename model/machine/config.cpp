@@ -184,6 +184,13 @@ ConfigKey enum_key(const char* name, const char* meaning, E M::*m) {
   return k;
 }
 
+/// One cell of a Markdown table: a '|' would end it.
+std::string cell(const std::string& text) {
+  std::string s;
+  for (char ch : text) s += ch == '|' ? std::string("\\|") : std::string(1, ch);
+  return s;
+}
+
 }  // namespace
 
 const char* to_string(Partition p) { return name_of(p); }
@@ -337,6 +344,16 @@ std::string describe_config(const MachineConfig& c) {
     // A YAML comment runs to the end of the line, so any one-line meaning can follow the value.
     s << kv << std::string(width - kv.size() + 2, ' ') << "# " << k.meaning << " (" << k.accepted() << ")\n";
   }
+  return s.str();
+}
+
+std::string config_keys_markdown() {
+  const MachineConfig defaults;
+  std::ostringstream s;
+  s << "| key | default | accepts | meaning |\n|---|---|---|---|\n";
+  for (const ConfigKey& k : config_keys())
+    s << "| `" << k.name << "` | " << cell(k.get(defaults)) << " | " << cell(k.accepted()) << " | " << cell(k.meaning)
+      << " |\n";
   return s.str();
 }
 

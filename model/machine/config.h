@@ -1,7 +1,7 @@
 // The machine configuration: every timing parameter, FIFO depth and unit count in one place.
 // Plain data, parsed once by the testbench and handed to the modules' constructors. What each
 // member means and accepts is declared once, with its key, in config_keys() (config.cpp);
-// `rtm config` lists them. The defaults are the initialisers here.
+// `rtm config` and docs/machine.md list them. The defaults are the initialisers here.
 #pragma once
 
 #include <climits>
@@ -124,8 +124,8 @@ class ConfigError : public std::runtime_error {
 };
 
 /// A named configuration key: how users set it from a file, --set key=value, or a sweep. Each key
-/// is declared once, in config_keys(); parsing, validate()'s range checks and `rtm config` all
-/// read that declaration. Its default is MachineConfig{}'s.
+/// is declared once, in config_keys(); parsing, validate()'s range checks, `rtm config` and
+/// docs/machine.md's key table all read that declaration. Its default is MachineConfig{}'s.
 struct ConfigKey {
   enum class Type { Integer, Number, Flag, Choice };
   /// What a number may be: min..max, or above min when min itself is refused.
@@ -156,6 +156,8 @@ void set_config(MachineConfig& c, const std::string& key, const std::string& val
 void load_config_file(MachineConfig& c, const std::string& path);
 /// A YAML file load_config_file reads back as c: one `key: value  # meaning (accepted)` a line.
 std::string describe_config(const MachineConfig& c);
+/// docs/machine.md's table of every key: name, default, what it accepts, meaning.
+std::string config_keys_markdown();
 
 const char* to_string(Partition p);
 const char* to_string(Timing t);
