@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <systemc>
 
+#include "machine/config.h"
 #include "options.h"
 #include "pov_export.h"
 
@@ -62,9 +63,14 @@ int sc_main(int argc, char* argv[]) {
 
   std::string config_file;
   std::vector<std::string> sets;
-  CLI::App* config = app.add_subcommand("config", "List every machine configuration key with its value and meaning");
-  config->add_option("--config", config_file, "Start from this configuration file");
-  config->add_option("--set", sets, "Override KEY=VALUE (repeatable)");
+  bool markdown = false;
+  CLI::App* config = app.add_subcommand(
+      "config", "Print every machine configuration key with its value, meaning and range, as a YAML file --config reads");
+  CLI::Option* from = config->add_option("--config", config_file, "Start from this configuration file");
+  CLI::Option* set = config->add_option("--set", sets, "Override KEY=VALUE (repeatable)");
+  config->add_flag("--markdown", markdown, "Instead, docs/machine.md's table of the keys and their defaults (scripts/config-doc)")
+      ->excludes(from)
+      ->excludes(set);
 
   rtm::PovOptions pov_opt;
   CLI::App* pov = rtm::add_pov_command(app, pov_opt);
@@ -75,6 +81,10 @@ int sc_main(int argc, char* argv[]) {
     return app.exit(e);
   }
   if (render->parsed()) return rtm::run_render(r);
+  if (config->parsed() && markdown) {
+    std::cout << rtm::config_keys_markdown();
+    return 0;
+  }
   if (config->parsed()) return rtm::run_config(config_file, sets);
   if (pov->parsed()) return rtm::run_pov(pov_opt);
   return 2;

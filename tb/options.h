@@ -36,7 +36,7 @@ struct RenderOptions {
 
 /// Runs `rtm render`; returns the process exit code.
 int run_render(const RenderOptions& opt);
-/// Runs `rtm config`: prints every machine configuration key with its value and meaning.
+/// Runs `rtm config`: prints the machine configuration as a YAML file --config reads back.
 int run_config(const std::string& config_file, const std::vector<std::string>& sets);
 
 }  // namespace rtm

@@ -56,7 +56,13 @@ void apply_scene_options(const RenderOptions& opt, Scene& scene) {
 
 MachineConfig machine_config(const RenderOptions& opt) {
   MachineConfig c;
-  if (!opt.config_file.empty()) load_config_file(c, opt.config_file);
+  if (!opt.config_file.empty()) {
+    try {
+      load_config_file(c, opt.config_file);
+    } catch (const ConfigError& e) {
+      throw UsageError(e.what());
+    }
+  }
   auto set = [&](const std::string& key, const std::string& value, const char* flag) {
     try {
       set_config(c, key, value);

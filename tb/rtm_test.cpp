@@ -126,6 +126,64 @@ TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
   for (const auto& [phase, cycles] : j["phases"].items()) EXPECT_EQ(s[phase], cycles) << phase;
 }
 
+// `rtm config` prints a YAML file --config reads back: the same configuration, the same run.
+TEST(Cli, ConfigPrintsAFileThatLoadsBack) {
+  Tmp tmp;
+  const Proc defaults = run_rtm("config", tmp);
+  ASSERT_EQ(defaults.exit_code, 0) << defaults.err;
+  EXPECT_EQ(defaults.out.rfind("# ", 0), 0u) << "a header comment first";
+  EXPECT_NE(defaults.out.find("\npes: 1  "), std::string::npos) << defaults.out;
+  EXPECT_NE(defaults.out.find("# processing elements (an integer in 1..65536)\n"), std::string::npos) << defaults.out;
+  const std::string sets = " --set pes=3 --set partition=pixels --set clock_ns=2.5 --set broadcast=true";
+  const Proc changed = run_rtm("config" + sets, tmp);
+  ASSERT_EQ(changed.exit_code, 0) << changed.err;
+  spit(tmp / "cfg.yaml", changed.out);
+  const Proc again = run_rtm("config --config " + (tmp / "cfg.yaml"), tmp);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.out, changed.out);
+  EXPECT_NE(again.out, defaults.out);
+  // A render from the file is the render with the same --set options.
+  const std::string scene = kScenes + "balls-1.nff --size 12x12";
+  const json from_file = render(tmp, "file", scene + " --config " + (tmp / "cfg.yaml"));
+  const json from_sets = render(tmp, "sets", scene + sets);
+  ASSERT_FALSE(from_file.is_null() || from_sets.is_null());
+  EXPECT_EQ(from_file["config"], from_sets["config"]);
+  EXPECT_EQ(from_file["cycles"], from_sets["cycles"]);
+  EXPECT_EQ(from_file["config"]["clock_ns"], "2.5");
+}
+
+// A bad configuration file is bad input (exit 2, as a bad command line), named by file and line.
+TEST(Cli, ABadConfigFileExits2NamingFileAndLine) {
+  Tmp tmp;
+  spit(tmp / "bad.yaml", "pes: 2\nsearch_units: 300\n");
+  const Proc r = run_rtm("render " + kScenes + "balls-1.nff --size 8x8 -q --config " + (tmp / "bad.yaml") + " --out " +
+                             (tmp / "o.png"),
+                         tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(tmp / "bad.yaml" + ":2: search_units: expected an integer in 1..256, got 300"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  spit(tmp / "typo.yaml", "pes: 2\nsearch_unit: 3\n");
+  const Proc c = run_rtm("config --config " + (tmp / "typo.yaml"), tmp);
+  EXPECT_EQ(c.exit_code, 2);
+  EXPECT_NE(c.err.find(tmp / "typo.yaml" + ":2: search_unit: unknown machine configuration key"), std::string::npos)
+      << c.err;
+}
+
+// docs/machine.md's key table is `rtm config --markdown`; scripts/config-doc rewrites it.
+TEST(Cli, TheDocsKeyTableIsTheGeneratedOne) {
+  Tmp tmp;
+  const Proc r = run_rtm("config --markdown", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string doc = slurp(std::string(RTM_SOURCE_DIR) + "/docs/machine.md");
+  const std::string begin = "<!-- config-keys:begin -->\n", end = "<!-- config-keys:end -->";
+  const size_t from = doc.find(begin), to = doc.find(end);
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  EXPECT_EQ(doc.substr(from + begin.size(), to - from - begin.size()), r.out)
+      << "docs/machine.md's key table is out of date: run scripts/config-doc";
+}
+
 // The machine against the reference, several scenes and PE counts.
 struct SceneCase {
   const char* scene;

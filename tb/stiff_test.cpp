@@ -184,8 +184,8 @@ TEST(StiffFrames, DefaultsAreTheDocumentedOnes) {
   const int status = std::system((std::string(RTM_BINARY) + " config >" + out + " 2>/dev/null").c_str());
   ASSERT_EQ(WEXITSTATUS(status), 0);
   const std::string text = slurp(out);
-  for (const char* line : {"precision = fp32", "recentre = true", "discriminant = plain", "coef_scaling = pow2",
-                           "origin_latch = wide", "fma_discriminant_cycles = 2", "advance_cycles = 1"})
+  for (const char* line : {"precision: fp32", "recentre: true", "discriminant: plain", "coef_scaling: pow2",
+                           "origin_latch: wide", "fma_discriminant_cycles: 2", "advance_cycles: 1"})
     EXPECT_NE(text.find(std::string("\n") + line + " "), std::string::npos) << line;
 }
 

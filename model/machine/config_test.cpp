@@ -1,0 +1,245 @@
+// The configuration keys: each declared once, and parsing, range checks and the YAML that
+// `rtm config` prints all agree with that declaration. Plain C++, no simulation.
+#include "machine/config.h"
+
+#include <unistd.h>
+
+#include <climits>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace rtm {
+namespace {
+
+const ConfigKey& key(const std::string& name) {
+  for (const ConfigKey& k : config_keys())
+    if (k.name == name) return k;
+  throw std::invalid_argument("no key " + name);
+}
+
+/// The message set_config refuses `value` with, or "" if it takes it.
+std::string refusal(const std::string& name, const std::string& value) {
+  MachineConfig c;
+  try {
+    set_config(c, name, value);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string text(double x) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.17g", x);
+  return s;
+}
+
+/// Every key's value, by name.
+std::map<std::string, std::string> values(const MachineConfig& c) {
+  std::map<std::string, std::string> v;
+  for (const ConfigKey& k : config_keys()) v[k.name] = k.get(c);
+  return v;
+}
+
+/// A configuration with every key off its default (where it has another value), so a key that
+/// reads or writes the wrong member shows.
+MachineConfig off_default() {
+  MachineConfig c;
+  for (const ConfigKey& k : config_keys()) {
+    const std::string d = k.get(c);
+    switch (k.type) {
+      case ConfigKey::Type::Integer:
+      case ConfigKey::Type::Number:
+        set_config(c, k.name, text(k.range.min + 3));
+        break;
+      case ConfigKey::Type::Flag:
+      case ConfigKey::Type::Choice:
+        set_config(c, k.name, k.values.back() == d ? k.values.front() : k.values.back());
+        break;
+    }
+  }
+  return c;
+}
+
+TEST(ConfigKeys, NamesAreUniqueAndMeaningsOneLine) {
+  std::set<std::string> names;
+  for (const ConfigKey& k : config_keys()) {
+    EXPECT_TRUE(names.insert(k.name).second) << k.name;
+    EXPECT_FALSE(k.meaning.empty()) << k.name;
+    EXPECT_EQ(k.meaning.find('\n'), std::string::npos) << k.name;
+    EXPECT_EQ(k.values.empty(), k.type == ConfigKey::Type::Integer || k.type == ConfigKey::Type::Number) << k.name;
+  }
+}
+
+TEST(ConfigKeys, EveryKeyRoundTrips) {
+  for (const MachineConfig& c : {MachineConfig{}, off_default()}) {
+    for (const ConfigKey& k : config_keys()) {
+      MachineConfig d;
+      set_config(d, k.name, k.get(c));
+      EXPECT_EQ(k.get(d), k.get(c)) << k.name;
+    }
+  }
+  // Each key writes its own member: setting them all one by one gives the same values.
+  const MachineConfig c = off_default();
+  MachineConfig d;
+  for (const ConfigKey& k : config_keys()) set_config(d, k.name, k.get(c));
+  EXPECT_EQ(values(d), values(c));
+  EXPECT_NE(values(c), values(MachineConfig{}));
+}
+
+TEST(ConfigKeys, ANumberNeedingMoreThanSixDigitsReadsBackExactly) {
+  MachineConfig c;
+  c.clock_ns = 1.0 / 3;
+  MachineConfig d;
+  set_config(d, "clock_ns", key("clock_ns").get(c));
+  EXPECT_EQ(d.clock_ns, c.clock_ns);
+  // What fits six digits reads as it always did (the stats' config strings).
+  c.clock_ns = 2.5;
+  EXPECT_EQ(key("clock_ns").get(c), "2.5");
+  c.link_latency_ns = 1e6;
+  EXPECT_EQ(key("link_latency_ns").get(c), "1e+06");
+}
+
+/// The range's ends are taken; one past them is refused naming the key, the value and the range.
+TEST(ConfigKeys, EachRangeEndIsAcceptedAndOnePastItRefused) {
+  for (const ConfigKey& k : config_keys()) {
+    auto refused = [&](const std::string& v) {
+      const std::string why = refusal(k.name, v);
+      EXPECT_EQ(why.rfind(k.name + ": ", 0), 0u) << k.name << " = " << v << ": " << why;
+      EXPECT_NE(why.find(v), std::string::npos) << k.name << " = " << v << ": " << why;
+      return why;
+    };
+    const ConfigKey::Range r = k.range;
+    if (k.type == ConfigKey::Type::Integer) {
+      const long lo = long(r.min), hi = r.max == HUGE_VAL ? INT_MAX : long(r.max);
+      EXPECT_EQ(refusal(k.name, std::to_string(lo)), "") << k.name;
+      EXPECT_EQ(refusal(k.name, std::to_string(hi)), "") << k.name;
+      EXPECT_NE(refused(std::to_string(lo - 1)).find(k.accepted()), std::string::npos) << k.name;
+      const std::string past = refused(std::to_string(hi + 1));
+      if (r.max != HUGE_VAL) {
+        EXPECT_NE(past.find(k.accepted()), std::string::npos) << k.name;
+      }
+      refused("1.5");
+    } else if (k.type == ConfigKey::Type::Number) {
+      // No number key has an upper bound yet; the lower one is open (> 0) or closed (>= 0).
+      EXPECT_EQ(r.max, HUGE_VAL) << k.name;
+      const double inside = r.above_min ? r.min + 1e-300 : r.min;
+      const double past = r.above_min ? r.min : r.min - 1e-300;
+      EXPECT_EQ(refusal(k.name, text(inside)), "") << k.name;
+      EXPECT_NE(refused(text(past)).find(k.accepted()), std::string::npos) << k.name;
+      refused("inf");
+    } else {
+      for (const std::string& v : k.values) EXPECT_EQ(refusal(k.name, v), "") << k.name << " = " << v;
+      EXPECT_NE(refused("bogus").find(k.accepted()), std::string::npos) << k.name;
+    }
+  }
+}
+
+TEST(ConfigKeys, TheRangesAreTheOnesTheModelHasAlwaysTaken) {
+  EXPECT_EQ(key("pes").accepted(), "an integer in 1..65536");
+  EXPECT_EQ(key("search_units").accepted(), "an integer in 1..256");
+  EXPECT_EQ(key("intersection_units").accepted(), "an integer in 1..64");
+  EXPECT_EQ(key("shade_cycles").accepted(), "an integer >= 0");
+  EXPECT_EQ(key("root_latency").accepted(), "an integer >= 1");
+  EXPECT_EQ(key("feedback_fifo_depth").accepted(), "an integer >= 1");
+  EXPECT_EQ(key("clock_ns").accepted(), "a number > 0");
+  EXPECT_EQ(key("link_latency_ns").accepted(), "a number >= 0");
+  EXPECT_EQ(key("broadcast").accepted(), "true or false");
+  EXPECT_EQ(refusal("pes", "0"), "pes: expected an integer in 1..65536, got 0");
+}
+
+TEST(ConfigKeys, ValidateChecksEachRangeAndTheRulesAcrossKeys) {
+  MachineConfig c;
+  EXPECT_NO_THROW(c.validate());
+  auto refused = [](const MachineConfig& m) {
+    try {
+      m.validate();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  MachineConfig bad;
+  bad.pes = 65537;
+  EXPECT_EQ(refused(bad), "pes: expected an integer in 1..65536, got 65537");
+  bad = {};
+  bad.clock_ns = 0;
+  EXPECT_EQ(refused(bad), "clock_ns: expected a number > 0, got 0");
+  bad = {};
+  bad.link_latency_ns = -1;
+  EXPECT_EQ(refused(bad), "link_latency_ns: expected a number >= 0, got -1");
+  bad = {};
+  bad.root_fifo_depth = 3;
+  bad.loop_credits = 4;
+  EXPECT_EQ(refused(bad).rfind("loop_credits: must not exceed the smallest FIFO depth past the front buffer (3)", 0), 0u)
+      << refused(bad);
+}
+
+TEST(ConfigKeys, EveryEnumNameParsesToItsValueAndBack) {
+  MachineConfig c;
+  set_config(c, "partition", "pixels");
+  EXPECT_EQ(c.partition, Partition::Pixels);
+  set_config(c, "search_walk", "until_occupied");
+  EXPECT_EQ(c.search_walk, MachineConfig::SearchWalk::UntilOccupied);
+  set_config(c, "gather", "as_finished");
+  EXPECT_EQ(c.gather, MachineConfig::Gather::AsFinished);
+  set_config(c, "origin_latch", "advance");
+  EXPECT_EQ(c.origin_latch, OriginLatch::Advance);
+  EXPECT_STREQ(to_string(Partition::Scanlines), "scanlines");
+  EXPECT_STREQ(to_string(MachineConfig::SearchWalk::PerVoxel), "per_voxel");
+  EXPECT_STREQ(to_string(MachineConfig::Gather::AfterAll), "after_all");
+  for (const ConfigKey& k : config_keys()) {
+    if (k.type != ConfigKey::Type::Choice) continue;
+    std::set<std::string> seen;
+    for (const std::string& v : k.values) {
+      MachineConfig d;
+      set_config(d, k.name, v);
+      EXPECT_EQ(k.get(d), v) << k.name;
+      EXPECT_TRUE(seen.insert(v).second) << k.name << ": " << v << " twice";
+    }
+    EXPECT_GE(seen.size(), 2u) << k.name;
+  }
+}
+
+TEST(ConfigKeys, AnUnknownKeyIsRefusedWithWhereTheyAreListed) {
+  EXPECT_EQ(refusal("warp_drive", "1"), "warp_drive: unknown machine configuration key (rtm config lists them)");
+}
+
+class ConfigFile : public ::testing::Test {
+ protected:
+  // Each test runs in its own process, perhaps beside others.
+  std::string path = ::testing::TempDir() + "config_test_" + std::to_string(getpid()) + ".yaml";
+  void TearDown() override { std::remove(path.c_str()); }
+  void write(const std::string& text) { std::ofstream(path) << text; }
+};
+
+TEST_F(ConfigFile, TheDescriptionReadsBackAsTheSameConfiguration) {
+  const MachineConfig c = off_default();
+  write(describe_config(c));
+  MachineConfig d;
+  load_config_file(d, path);
+  EXPECT_EQ(values(d), values(c));
+}
+
+TEST_F(ConfigFile, ErrorsNameTheFileTheLineAndTheKey) {
+  write("pes: 4\n\nsearch_units: 0\n");
+  MachineConfig c;
+  try {
+    load_config_file(c, path);
+    FAIL() << "search_units: 0 was taken";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(std::string(e.what()), path + ":3: search_units: expected an integer in 1..256, got 0");
+  }
+  write("pes: 4\nwarp_drive: 9\n");
+  EXPECT_THROW(load_config_file(c, path), ConfigError);
+  EXPECT_THROW(load_config_file(c, path + ".missing"), ConfigError);
+}
+
+}  // namespace
+}  // namespace rtm
