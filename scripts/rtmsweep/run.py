@@ -219,6 +219,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(prog="sweep-run", description="Runs one sweep configuration (started by scripts/sweep).")
     ap.add_argument("--dir", required=True, help="the sweep's output folder")
     ap.add_argument("--rtm", required=True, help="the rtm executable")
+    # (Named when runs appended their rows to results.csv themselves; kept for the command line.)
     ap.add_argument("--no-append", action="store_true",
                     help="write the run's files, its row file included, to runs/RUN_ID.remote/ (for hosts "
                          "without the shared folder: GNU parallel brings that folder back, the sweep moves "
