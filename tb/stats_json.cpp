@@ -126,7 +126,7 @@ void flatten_into(nlohmann::json& to, const std::string& prefix, const nlohmann:
 }
 
 /// One flat object of the run's headline figures: exactly the metric columns of a sweep's
-/// results.csv (scripts/sweep-run reads it as it is).
+/// results.csv (scripts/rtmsweep reads its metrics from it alone).
 nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, const ImageError& err) {
   const FrameStats& s = m.stats;
   nlohmann::json j = {{"cycles", m.cycles},

@@ -1,0 +1,360 @@
+"""The plots of a sweep's results.csv (scripts/plot-sweep); failed runs are left out.
+
+    plot-sweep RESULTS.csv OUTDIR [--quiet]
+
+cycles.png          simulated frame cycles vs PE count, one panel per scene (log-log)
+speedup.png         speedup and parallel efficiency vs PE count
+utilisation.png     busy fraction of each PE stage over the frame vs PE count
+pe_utilisation.png  the same over the PEs' working windows (when the CSV has it)
+load_imbalance.png  longest PE working window / mean, per partitioning scheme
+phases.png          the frame split into host pre-processing, transfer, PE work and gather
+scaling.md          a table: cycles, speedup, parallel efficiency, phase shares, load imbalance
+                    and bottleneck per configuration and PE count
+
+A "configuration" (one line) is a scene with every other setting except the PE count; labels
+name only the settings that vary in the CSV.
+"""
+
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+
+from . import columns  # noqa: E402
+
+# Columns that are not configuration axes; anything else in front of the metrics (the spec's
+# `set` keys, `variant`) is one.
+KNOWN = {"run_id", "status", "error", "pes"} | set(columns.METRIC_COLUMNS)
+STAGES = [("front_buffer", "front buffer"), ("search", "object search (3DDDA)"), ("mac", "MAC"),
+          ("root", "root unit"), ("shading", "shading")]
+PHASES = [("host_preprocess_cycles", "host pre-processing", "#8c8c8c"),
+          ("transfer_cycles", "transfer", "#e6a23c"),
+          ("pe_cycles", "PE work", "#4c72b0"),
+          ("gather_cycles", "gather", "#55a868")]
+COLOURS = plt.get_cmap("tab10").colors
+MARKERS = "osD^v<>ph*"
+
+
+def num(v):
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return None
+    return x if math.isfinite(x) else None
+
+
+class Config:
+    """One line of the plots: the ok rows of one configuration, sorted by PE count."""
+
+    def __init__(self, key, label, rows, index):
+        self.key, self.label, self.index = key, label, index
+        self.rows = sorted(rows, key=lambda r: r["_pes"])
+        self.pes = [r["_pes"] for r in self.rows]
+        self.scene = key[0]
+        self.colour = COLOURS[index % len(COLOURS)]
+        self.marker = MARKERS[index // len(COLOURS) % len(MARKERS)]
+
+    def values(self, column):
+        """(pes, values) where the column has a number."""
+        pts = [(r["_pes"], num(r.get(column))) for r in self.rows]
+        pts = [(p, v) for p, v in pts if v is not None]
+        return [p for p, _ in pts], [v for _, v in pts]
+
+    def style(self):
+        return dict(color=self.colour, marker=self.marker, markersize=4, linewidth=1.4)
+
+
+def load(path):
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        header = reader.fieldnames or []
+        rows = list(reader)
+    for required in ("status", "scene", "pes", "cycles"):
+        if required not in header:
+            sys.exit(f"plot-sweep: {path}: no column {required!r} (is it a scripts/sweep results.csv?)")
+    ok = []
+    for r in rows:
+        if r.get("status") != "ok":
+            continue
+        pes, cycles = num(r.get("pes")), num(r.get("cycles"))
+        if pes is None or cycles is None:
+            continue
+        r["_pes"] = int(pes)
+        r["_size"] = f"{r.get('width', '')}x{r.get('height', '')}"
+        ok.append(r)
+    axes = ["scene", "_size"] + [c for c in header if c not in KNOWN and c not in ("scene", "width", "height")]
+    return rows, ok, axes
+
+
+def configurations(ok, axes):
+    varying = [a for a in axes[1:] if len({r.get(a, "") for r in ok}) > 1]
+    groups = {}
+    for r in ok:
+        key = tuple(r.get(a, "") for a in axes)
+        groups.setdefault(key, []).append(r)
+    configs = []
+    for i, key in enumerate(sorted(groups, key=lambda k: [str(x) for x in k])):
+        values = dict(zip(axes, key))
+        parts = [values["scene"]]
+        for a in varying:
+            v = values[a]
+            if a in ("partition", "timing", "precision", "_size", "variant"):
+                parts.append(str(v))
+            elif a == "search_units":
+                parts.append(f"{v} search units")
+            else:
+                parts.append(f"{a}={v}")
+        configs.append(Config(key, " ".join(parts), groups[key], i))
+    return configs, varying
+
+
+def grid(n, width=5.2, height=3.9, max_cols=3):
+    cols = min(max_cols, n)
+    rows = math.ceil(n / cols)
+    fig, axs = plt.subplots(rows, cols, figsize=(width * cols, height * rows + 0.6), squeeze=False)
+    flat = [a for row in axs for a in row]
+    for a in flat[n:]:
+        a.set_visible(False)
+    return fig, flat[:n]
+
+
+def pes_axis(ax, configs, log_y=False):
+    ax.set_xscale("log", base=2)
+    if log_y:
+        ax.set_yscale("log")
+    ticks = sorted({p for c in configs for p in c.pes})
+    if ticks:
+        ax.set_xticks(ticks)
+        ax.set_xticklabels([str(t) for t in ticks], fontsize=8)
+        ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    ax.set_xlabel("PEs")
+    ax.grid(True, which="major", alpha=0.3)
+
+
+def legend(ax, n):
+    if n:
+        ax.legend(fontsize="small" if n <= 8 else "x-small", loc="best")
+
+
+def save(fig, path, written, layout=True):
+    if layout:
+        fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    written.append(path)
+
+
+def plot_cycles(configs, scenes, out, written):
+    fig, axs = grid(len(scenes))
+    for ax, scene in zip(axs, scenes):
+        mine = [c for c in configs if c.scene == scene]
+        for c in mine:
+            p, y = c.values("cycles")
+            ax.plot(p, y, label=c.label, **c.style())
+            if len(p) > 1:  # ideal: the first point's cycles divided by the PE ratio
+                ax.plot(p, [y[0] * p[0] / q for q in p], color=c.colour, linestyle=":", linewidth=1)
+        pes_axis(ax, mine, log_y=True)
+        ax.set_ylabel("cycles (simulated frame)")
+        ax.set_title(scene)
+        legend(ax, len(mine))
+    fig.suptitle("Simulated frame cycles vs PE count (log-log; dotted: linear scaling)")
+    save(fig, os.path.join(out, "cycles.png"), written)
+
+
+def speedup_of(c):
+    """PE counts, speedups and parallel efficiencies of a configuration's runs, relative to its
+    first run (sorted by PE count: the 1-PE run when there is one)."""
+    p, y = c.values("cycles")
+    speedup = [y[0] / v for v in y]
+    return p, speedup, [s * p[0] / q for s, q in zip(speedup, p)]
+
+
+def plot_speedup(configs, out, written, notes):
+    fig, (ax_s, ax_e) = plt.subplots(1, 2, figsize=(12, 4.8))
+    bases, all_speedups = [], []
+    for c in configs:
+        p, speedup, efficiency = speedup_of(c)
+        if not p:
+            continue
+        p0 = p[0]
+        bases.append(p0)
+        all_speedups += speedup
+        label = c.label if p0 == 1 else f"{c.label} (vs {p0} PEs)"
+        ax_s.plot(p, speedup, label=label, **c.style())
+        ax_e.plot(p, efficiency, label=label, **c.style())
+    ticks = sorted({q for c in configs for q in c.pes})
+    if ticks:
+        for p0 in sorted(set(bases)):
+            xs = [q for q in ticks if q >= p0]
+            ax_s.plot(xs, [q / p0 for q in xs], color="black", linestyle=":", linewidth=1,
+                      label="linear" if p0 == min(bases) else None)
+    pes_axis(ax_s, configs, log_y=True)
+    if all_speedups:
+        lo = min(all_speedups + [1.0])
+        hi = max(all_speedups + [q / p0 for q in ticks for p0 in bases])
+        ax_s.set_yticks([2.0 ** k for k in range(math.floor(math.log2(lo)), math.ceil(math.log2(hi)) + 1)])
+        ax_s.set_ylim(lo / 1.25, hi * 1.25)
+    ax_s.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    ax_s.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    pes_axis(ax_e, configs)
+    ax_s.set_ylabel("speedup")
+    ax_e.set_ylabel("parallel efficiency")
+    ax_e.axhline(1.0, color="black", linestyle=":", linewidth=1)
+    ax_e.set_ylim(0, max(1.1, ax_e.get_ylim()[1]))
+    ax_s.set_title("Speedup")
+    ax_e.set_title("Parallel efficiency (speedup / PE ratio)")
+    legend(ax_s, len(configs))
+    if all(b == 1 for b in bases):
+        base_note = "relative to the 1-PE run of the same configuration"
+    elif not any(b == 1 for b in bases):
+        base_note = "no 1-PE runs: relative to each configuration's smallest PE count"
+    else:
+        base_note = "relative to the 1-PE run; '(vs N PEs)': no 1-PE run, relative to the smallest PE count"
+    if not all(b == 1 for b in bases):
+        notes.append("speedup.png: " + base_note)
+    fig.suptitle(f"Speedup and parallel efficiency vs PE count ({base_note})")
+    save(fig, os.path.join(out, "speedup.png"), written)
+
+
+def plot_utilisation(configs, out, written, prefix, what, filename):
+    columns = [(prefix + s, label) for s, label in STAGES]
+    if prefix == "pe_util_":
+        columns.append(("pe_util_credit_stall", "credit stall (front buffer waiting)"))
+    if not any(c.values(col)[0] for c in configs for col, _ in columns):
+        return False
+    fig, axs = grid(len(columns), width=4.6, height=3.6)
+    for ax, (column, label) in zip(axs, columns):
+        for c in configs:
+            p, y = c.values(column)
+            ax.plot(p, y, label=c.label, **c.style())
+        pes_axis(ax, configs)
+        ax.set_ylim(0, 1.05)
+        ax.set_ylabel("fraction of the time")
+        ax.set_title(label)
+    legend(axs[0], len(configs))
+    fig.suptitle(f"Per-stage utilisation vs PE count ({what}; mean over the PEs)")
+    save(fig, os.path.join(out, filename), written)
+    return True
+
+
+def plot_imbalance(configs, varying, scenes, out, written):
+    if not any(c.values("load_imbalance")[0] for c in configs):
+        return False
+    fig, axs = grid(len(scenes))
+    for ax, scene in zip(axs, scenes):
+        mine = [c for c in configs if c.scene == scene]
+        for c in mine:
+            p, y = c.values("load_imbalance")
+            label = c.label if "partition" in varying else f"{c.label} {c.rows[0].get('partition', '')}"
+            ax.plot(p, y, label=label, **c.style())
+        ax.axhline(1.0, color="black", linestyle=":", linewidth=1)
+        pes_axis(ax, mine)
+        ax.set_ylabel("longest PE window / mean")
+        ax.set_title(scene)
+        legend(ax, len(mine))
+    fig.suptitle("Load imbalance vs PE count by partitioning scheme (1 = perfectly balanced)")
+    save(fig, os.path.join(out, "load_imbalance.png"), written)
+    return True
+
+
+def plot_phases(configs, out, written):
+    if not any(c.values(PHASES[0][0])[0] for c in configs):
+        return False
+    fig, axs = grid(len(configs), width=5.0, height=3.8)
+    for ax, c in zip(axs, configs):
+        rows = [r for r in c.rows if all(num(r.get(col)) is not None for col, _, _ in PHASES)]
+        x = list(range(len(rows)))
+        totals = [sum(num(r[col]) for col, _, _ in PHASES) for r in rows]
+        bottom = [0.0] * len(rows)
+        for col, label, colour in PHASES:
+            share = [100.0 * num(r[col]) / t if t else 0.0 for r, t in zip(rows, totals)]
+            ax.bar(x, share, bottom=bottom, color=colour, label=label, width=0.75)
+            bottom = [b + s for b, s in zip(bottom, share)]
+        for i, t in enumerate(totals):
+            ax.text(i, 101, f"{t:.3g}", ha="center", va="bottom", fontsize=7)
+        ax.set_xticks(x)
+        ax.set_xticklabels([str(r["_pes"]) for r in rows], fontsize=8)
+        ax.set_ylim(0, 112)
+        ax.set_xlabel("PEs")
+        ax.set_ylabel("% of the frame's cycles")
+        ax.set_title(c.label, fontsize=10)
+    handles, labels = axs[0].get_legend_handles_labels()
+    fig.suptitle("Where the simulated frame time goes: host pre-processing, transfer, PE work, gather\n"
+                 "(stacked shares per PE count; total cycles above each bar)")
+    fig.tight_layout(rect=(0, 0.06 / math.ceil(len(configs) / 3), 1, 1))
+    fig.legend(handles, labels, loc="lower center", ncol=len(PHASES), fontsize="small", frameon=False)
+    save(fig, os.path.join(out, "phases.png"), written, layout=False)
+    return True
+
+
+def write_table(configs, out, written):
+    """scaling.md: per configuration and PE count, cycles, speedup and parallel efficiency, where
+    the frame went, and the bottleneck."""
+    lines = ["| configuration | PEs | cycles | speedup | efficiency | host % | transfer % "
+             "| PE work % | gather % | load imbalance | bottleneck |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    fmt = lambda v, f: (f % v) if v is not None else ""
+    for c in configs:
+        # Every ok row has its cycles (load), so the speedups line up with the rows.
+        _, speedups, efficiencies = speedup_of(c)
+        for r, speed, eff in zip(c.rows, speedups, efficiencies):
+            cyc, p = num(r.get("cycles")), r["_pes"]
+            shares = []
+            for col, _, _ in PHASES:
+                v = num(r.get(col))
+                shares.append(f"{100 * v / cyc:.1f}" if v is not None and cyc else "")
+            lines.append(f"| {c.label} | {p} | {int(cyc):,} | {fmt(speed, '%.1f')} | {fmt(eff, '%.2f')} | " +
+                         " | ".join(shares) +
+                         f" | {fmt(num(r.get('load_imbalance')), '%.3f')} | {r.get('bottleneck', '')} |")
+    path = os.path.join(out, "scaling.md")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    written.append(path)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="plot-sweep", description="Plots a scripts/sweep results.csv as PNG files.")
+    ap.add_argument("csv", help="results.csv written by scripts/sweep")
+    ap.add_argument("outdir", help="folder for the PNG files (created)")
+    ap.add_argument("--quiet", "-q", action="store_true", help="print only problems")
+    args = ap.parse_args(argv)
+
+    try:
+        rows, ok, axes = load(args.csv)
+    except OSError as e:
+        sys.exit(f"plot-sweep: cannot read {args.csv}: {e.strerror}")
+    if not ok:
+        sys.exit(f"plot-sweep: {args.csv}: no successful runs to plot ({len(rows)} rows)")
+    os.makedirs(args.outdir, exist_ok=True)
+    configs, varying = configurations(ok, axes)
+    scenes = sorted({c.scene for c in configs})
+    written, notes = [], []
+
+    plot_cycles(configs, scenes, args.outdir, written)
+    plot_speedup(configs, args.outdir, written, notes)
+    plot_utilisation(configs, args.outdir, written, "util_", "over the whole frame", "utilisation.png")
+    plot_utilisation(configs, args.outdir, written, "pe_util_", "over each PE's working window",
+                     "pe_utilisation.png")
+    if not plot_imbalance(configs, varying, scenes, args.outdir, written):
+        notes.append("load_imbalance.png: skipped, no load_imbalance values")
+    if not plot_phases(configs, args.outdir, written):
+        notes.append("phases.png: skipped, no phase columns")
+    write_table(configs, args.outdir, written)
+
+    if not args.quiet:
+        skipped = len(rows) - len(ok)
+        print(f"plot-sweep: {len(ok)} runs in {len(configs)} configurations"
+              + (f" ({skipped} failed row{'s' if skipped > 1 else ''} left out)" if skipped else ""))
+        for w in written:
+            print(f"  {w}")
+    for n in notes:
+        print(f"plot-sweep: {n}", file=sys.stderr if args.quiet else sys.stdout)
+    return 0
+

@@ -1,0 +1,87 @@
+"""scripts/plot-sweep on a hand-written CSV: all six plots and the table, failed rows left out."""
+
+import pytest
+
+from support import PLOT_SWEEP, PLOTS, check_png, sh
+from rtmsweep import columns, results
+
+COLUMNS = columns.header([])
+
+
+def sweep_row(scene, partition, pes, status):
+    v = {"run_id": f"{scene}-{partition}-p{pes}", "status": status, "scene": scene, "width": 64, "height": 64,
+         "pes": pes, "partition": partition, "search_units": 4, "timing": "fast", "precision": "fp32"}
+    if status != "ok":
+        v["error"] = "rtm: deadlock: the simulation stopped, with rays outstanding"
+        return v
+    work, host, transfer = 1e6 / pes * (1.1 if partition == "blocks" else 1.0), 2e5, 1e4 * pes
+    v.update(cycles=int(host + transfer + work + 5000), host_preprocess_cycles=int(host),
+             transfer_cycles=int(transfer), pe_cycles=int(work), gather_cycles=5000,
+             load_imbalance=1.0 + 0.02 * pes, pe_util_credit_stall=0.3, bottleneck="mac")
+    for stage in ("front_buffer", "search", "mac", "root", "shading"):
+        v[f"util_{stage}"] = 0.5 / (1 + 0.1 * pes)
+        v[f"pe_util_{stage}"] = 0.6 / (1 + 0.05 * pes)
+    return v
+
+
+@pytest.fixture
+def csv_rows():
+    rows = [sweep_row("balls-4", "scanlines", p, "ok") for p in (1, 2, 4, 8)]
+    rows += [sweep_row("balls-4", "blocks", p, "ok") for p in (1, 2, 4, 8)]
+    rows += [sweep_row("rings-7", "scanlines", p, "ok") for p in (2, 4, 8)]  # no 1-PE run
+    rows += [sweep_row("rings-7", "scanlines", 1, "deadlock"), sweep_row("rings-7", "blocks", 16, "failed")]
+    return rows
+
+
+def test_plot_sweep_writes_its_png_files_and_table(tmp_path, csv_rows):
+    (tmp_path / "results.csv").write_text(results.format_rows(COLUMNS, csv_rows))
+    r = sh(PLOT_SWEEP, tmp_path / "results.csv", tmp_path / "plots")
+    assert r.returncode == 0, r.stdout + r.stderr
+    ok = sum(row["status"] == "ok" for row in csv_rows)
+    assert f"{ok} runs in 3 configurations (2 failed rows left out)" in r.stdout
+    assert "relative to the smallest PE count" in r.stdout
+    for p in PLOTS:
+        check_png(tmp_path / "plots" / p)
+        assert str(tmp_path / "plots" / p) in r.stdout
+    # The scaling table: a header, a rule and one line per successful run, efficiency from the
+    # configuration's first run (balls-4 scanlines on 2 PEs: 1,215,000 / (2 · 725,000) = 0.84).
+    table = (tmp_path / "plots" / "scaling.md").read_text()
+    assert table.count("\n") == 2 + ok
+    assert "| balls-4 scanlines | 2 | 725,000 | 1.7 | 0.84 |" in table
+    assert "| rings-7 scanlines | 2 |" in table and "| rings-7 scanlines | 1 |" not in table
+
+
+def test_the_lines_are_named_by_the_settings_that_vary(tmp_path, csv_rows):
+    from rtmsweep import plot
+    head = columns.header(["variant", "loop_credits"])
+    for row in csv_rows:
+        row.update(variant="paper" if row["partition"] == "scanlines" else "improved", loop_credits=0)
+    (tmp_path / "results.csv").write_text(results.format_rows(head, csv_rows))
+    rows, ok, axes = plot.load(str(tmp_path / "results.csv"))
+    assert len(rows) == 13 and len(ok) == 11
+    assert axes == ["scene", "_size", "partition", "search_units", "timing", "precision", "variant", "loop_credits"]
+    configs, varying = plot.configurations(ok, axes)
+    assert varying == ["partition", "variant"]  # loop_credits is 0 throughout: not in the labels
+    assert [(c.label, c.pes) for c in configs] == [("balls-4 blocks improved", [1, 2, 4, 8]),
+                                                   ("balls-4 scanlines paper", [1, 2, 4, 8]),
+                                                   ("rings-7 scanlines paper", [2, 4, 8])]
+    _, speedup, efficiency = plot.speedup_of(configs[1])
+    assert speedup[0] == 1.0 and round(efficiency[1], 2) == 0.84
+
+
+def test_nothing_to_plot_is_an_error(tmp_path):
+    (tmp_path / "failed.csv").write_text(results.format_rows(COLUMNS, [sweep_row("a", "blocks", 1, "failed")]))
+    r = sh(PLOT_SWEEP, tmp_path / "failed.csv", tmp_path / "none")
+    assert r.returncode != 0
+    assert "no successful runs" in r.stderr
+    assert not (tmp_path / "none").exists()
+    (tmp_path / "other.csv").write_text("a,b\n1,2\n")
+    r = sh(PLOT_SWEEP, tmp_path / "other.csv", tmp_path / "none")
+    assert r.returncode != 0 and "no column 'status'" in r.stderr
+
+
+def test_the_axes_are_the_columns_before_the_metrics():
+    from rtmsweep import plot
+    head = columns.header(["variant", "loop_credits"])
+    assert [c for c in head if c not in plot.KNOWN] == columns.CONFIG_COLUMNS[:3] + columns.CONFIG_COLUMNS[4:] + [
+        "variant", "loop_credits"]

@@ -1,0 +1,78 @@
+"""Unit tests of one run: the rtm command line, the error message, the outcome, the row."""
+
+import json
+
+from rtmsweep import columns, run
+
+JOB = {"id": "balls-1-16x16-p2-01234567", "scene": "/scenes/balls-1.nff", "size": "16x16", "pes": 2,
+       "partition": "blocks", "set": {"ray_generation": "pe", "loop_credits": "0"},
+       "set_keys": ["variant", "loop_credits"], "variant": "improved", "images": True}
+
+
+def summary():
+    """A summary as rtm writes it: every metric, phases as floats."""
+    s = {key: i + 0.5 for i, key in enumerate(columns.SUMMARY_COLUMNS)}
+    s.update(cycles=1000, bottleneck="mac", error_psnr_db="inf", rays_primary=256,
+             host_preprocess_cycles=100.0, transfer_cycles=200.0, pe_cycles=650.0, gather_cycles=50.0)
+    return s
+
+
+def test_the_rtm_command_passes_every_setting():
+    job = dict(JOB, search_units=4, timing="clocked", precision="fp64", config="/m.yaml")
+    assert run.rtm_command("/bin/rtm", job, "o.png", "o.json") == [
+        "/bin/rtm", "render", "/scenes/balls-1.nff", "--size", "16x16", "--pes", "2", "--partition", "blocks",
+        "--search-units", "4", "--timing", "clocked", "--precision", "fp64", "--config", "/m.yaml",
+        "--set", "ray_generation=pe", "--set", "loop_credits=0", "--out", "o.png", "--stats", "o.json", "-q"]
+    assert run.rtm_command("rtm", {"scene": "s.nff"}, "a", "b") == ["rtm", "render", "s.nff", "--out", "a",
+                                                                    "--stats", "b", "-q"]
+
+
+def test_the_error_is_rtms_last_message():
+    assert run.error_line("warning\nrtm: first\nmore\nrtm: the one\ntrailing\n\n") == "rtm: the one"
+    assert run.error_line("Segmentation fault\n  \n") == "Segmentation fault"
+    assert run.error_line("") == ""
+
+
+def test_a_row_copies_the_summary():
+    stats = {"scene": "balls-1", "width": 16, "height": 16, "pes": 2, "partition": "blocks",
+             "search_units": 4, "timing": "fast", "precision": "fp32",
+             "config": {"loop_credits": 0, "ray_generation": "pe"}, "summary": summary(),
+             "cycles": 999999, "load_imbalance": 9.9}  # only the summary counts
+    row = run.build_row(JOB, "ok", "", 0, stats, host="node1")
+    head = columns.header(JOB["set_keys"])
+    assert set(row) == set(head)
+    for key in columns.SUMMARY_COLUMNS:
+        if key not in columns.INTEGER_COLUMNS:
+            assert row[key] == stats["summary"][key], key
+    assert row["cycles"] == 1000 and row["error_psnr_db"] == "inf"
+    # The phases are whole cycle counts: integers in the CSV.
+    assert [row[k] for k in columns.INTEGER_COLUMNS] == [100, 200, 650, 50]
+    assert all(isinstance(row[k], int) for k in columns.INTEGER_COLUMNS)
+    assert row["host"] == "node1" and row["exit_code"] == 0 and row["scene_file"] == "/scenes/balls-1.nff"
+    # The configuration: the job's settings, else what the run used.
+    assert (row["width"], row["height"], row["pes"], row["partition"]) == (16, 16, 2, "blocks")
+    assert (row["search_units"], row["timing"], row["precision"]) == (4, "fast", "fp32")
+    assert (row["variant"], row["loop_credits"]) == ("improved", "0")
+
+
+def test_a_failed_row_has_no_metrics():
+    row = run.build_row(JOB, "failed", "rtm: bad", 2, None, host="h")
+    assert row["scene"] == "balls-1" and row["error"] == "rtm: bad" and row["exit_code"] == 2
+    assert all(row.get(key) is None for key in columns.SUMMARY_COLUMNS)
+    assert row["search_units"] is None  # neither the job nor statistics say
+
+
+def test_the_outcome_of_a_run(tmp_path):
+    stats = tmp_path / "s.json"
+    assert run.outcome(1, True, 5, "x", stats) == ("timeout", "timed out after 5 s", None)
+    assert run.outcome(3, False, None, "rtm: deadlock", stats) == ("deadlock", "rtm: deadlock", None)
+    assert run.outcome(2, False, None, "rtm: no", stats) == ("failed", "rtm: no", None)
+    assert run.outcome(-11, False, None, "", stats) == ("failed", "rtm crashed (SIGSEGV)", None)
+    assert run.outcome(-6, False, None, "boom", stats) == ("failed", "rtm crashed (SIGABRT): boom", None)
+    status, message, _ = run.outcome(0, False, None, "", stats)
+    assert status == "failed" and message.startswith("no readable statistics")
+    stats.write_text(json.dumps({"cycles": 5}))
+    status, message, got = run.outcome(0, False, None, "", stats)
+    assert status == "failed" and "no summary" in message and got == {"cycles": 5}
+    stats.write_text(json.dumps({"summary": {"cycles": 5}}))
+    assert run.outcome(0, False, None, "ignored", stats) == ("ok", "", {"summary": {"cycles": 5}})
