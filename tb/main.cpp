@@ -8,6 +8,7 @@
 #include "machine/config.h"
 #include "options.h"
 #include "pov_export.h"
+#include "render/ray.h"
 
 namespace {
 // The kernel's banner would land in the middle of rtm's own output. It is printed before
@@ -37,7 +38,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--threshold", r.threshold, "Branch-ray contribution threshold (overrides the scene)")
       ->check(CLI::Range(0.0, 1.0));
   render->add_option("--max-depth", r.max_depth, "Maximum ray generation, primary = 1 (overrides the scene)")
-      ->check(CLI::Range(1, 255));
+      ->check(CLI::Range(1, rtm::kMaxRayDepth));
   render->add_option("--spawn-offset", r.spawn_offset,
                      "Spawned rays start this far off the surface, relative to max(1, |hit point|) (overrides the scene)")
       ->check(CLI::Range(0.0, 1.0));
@@ -47,12 +48,13 @@ int sc_main(int argc, char* argv[]) {
   render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
-  render->add_option("--pes", r.pes, "Processing elements")->check(CLI::Range(1, 65536));
+  // --pes and --search-units are checked as their configuration keys (machine/config.cpp).
+  render->add_option("--pes", r.pes, "Processing elements");
   render->add_option("--timing", r.timing,
                      "fast (default: the MAC by formula, the PEs on the PE engine) or clocked (the MAC on a clock, every unit a SystemC process); the same cycles either way");
   render->add_option("--precision", r.precision, "MAC arithmetic: fp32 (default) or fp64");
   render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks, strips or pixels");
-  render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE")->check(CLI::Range(1, 256));
+  render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
   render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
   render->add_option("--vcd-window", r.vcd_window, "Waveform window FROM:TO in PE cycles (either may be empty)");

@@ -1,6 +1,11 @@
 // Reliability of the whole program (docs/reliability.md): every accepted input finishes or is
 // refused up front with exit 2, error figures that cannot lie, a checked reference cache, and
 // interrupted runs that leave nothing half-written under a final name.
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -67,6 +72,213 @@ TEST(Reliability, AHugeSceneGridIsRefusedWithoutOverflow) {
   EXPECT_NE(r.err.find("g.yaml:3:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("too many voxels"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("4194304x4194304x4194304"), std::string::npos) << r.err;
+}
+
+// ---- Every accepted value works, or is refused up front ----
+
+/// A box of six mirrors round a sphere, threshold 0: every ray is reflected until max_depth (and,
+/// with `glass`, transmitted too: a tree). The camera's ray hits the sphere first.
+std::string mirror_box(long max_depth, bool glass = false) {
+  std::ostringstream y;
+  y << "name: mirror-box\n"
+       "camera: {eye: [0, 0, 0.5], look_at: [0.3, 0.2, -0.3], up: [0, 1, 0], fov: 40, resolution: [2, 2]}\n"
+       "lights: [{position: [0.5, 0.8, 0.5], color: [1, 1, 1]}]\n"
+       "materials:\n"
+       "  mirror: {color: [1, 1, 1], ambient: 0, diffuse: 0, specular: 1}\n"
+       "  ball: {color: [1, 0.5, 0.2], ambient: 0.2, diffuse: 0.8, specular: 1"
+    << (glass ? ", transmission: 1, ior: 1.5" : "") << "}\n"
+    << "render: {threshold: 0, max_depth: " << max_depth << "}\n"
+    << "primitives:\n";
+  const char* walls[] = {"[1, 0, 0], d: 1, box: {min: [-1.1, -1.1, -1.1], max: [-0.9, 1.1, 1.1]}",
+                         "[-1, 0, 0], d: 1, box: {min: [0.9, -1.1, -1.1], max: [1.1, 1.1, 1.1]}",
+                         "[0, 1, 0], d: 1, box: {min: [-1.1, -1.1, -1.1], max: [1.1, -0.9, 1.1]}",
+                         "[0, -1, 0], d: 1, box: {min: [-1.1, 0.9, -1.1], max: [1.1, 1.1, 1.1]}",
+                         "[0, 0, 1], d: 1, box: {min: [-1.1, -1.1, -1.1], max: [1.1, 1.1, -0.9]}",
+                         "[0, 0, -1], d: 1, box: {min: [-1.1, -1.1, 0.9], max: [1.1, 1.1, 1.1]}"};
+  for (const char* w : walls) y << "  - {plane: {normal: " << w << "}, material: mirror}\n";
+  y << "  - {sphere: {center: [0.3, 0.2, -0.3], radius: 0.3}, material: ball}\n";
+  return y.str();
+}
+
+/// rtm under `timeout`: a run that would never finish fails the test (exit 124) instead of hanging it.
+Proc run_rtm_within(int seconds, const std::string& args, const Tmp& tmp) {
+  return sh("timeout " + std::to_string(seconds) + " " + std::string(RTM_BINARY) + " " + args, tmp);
+}
+
+// Ray::depth is 8 bits: at max_depth 256 a mirror box's rays wrapped round to depth 0 and were
+// reflected for ever, and at 2^31 - 1 the scene analysis itself looped. 255 is the largest accepted.
+TEST(Reliability, TheMirrorBoxFinishesAtTheDeepestAcceptedDepthAndBeyondItIsRefused) {
+  Tmp tmp;
+  spit(tmp / "box255.yaml", mirror_box(255));
+  const auto t0 = std::chrono::steady_clock::now();
+  const Proc ok = run_rtm_within(60, "render " + (tmp / "box255.yaml") + " -q --out " + (tmp / "o.png"), tmp);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const json j = json::parse(slurp(tmp / "o.json"));
+  EXPECT_EQ(j["left_out"]["scene_needs"]["deepest_generation"], 255);
+  EXPECT_GT(j["rays"]["reflected"].get<uint64_t>(), 4u * 250) << "every pixel's ray is reflected to the last generation";
+  EXPECT_LT(seconds, 30);
+  for (long depth : {256L, 1000L, 2147483647L}) {
+    spit(tmp / "box.yaml", mirror_box(depth));
+    const Proc r = run_rtm_within(20, "render " + (tmp / "box.yaml") + " -q --out " + (tmp / "x.png"), tmp);
+    EXPECT_EQ(r.exit_code, 1) << depth << ": a bad scene\n" << r.err;
+    EXPECT_NE(r.err.find("box.yaml:7:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("max_depth must be in 1..255"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("got " + std::to_string(depth)), std::string::npos) << r.err;
+  }
+  const Proc flag = run_rtm_within(20, "render " + (tmp / "box255.yaml") + " --max-depth 256 -q --out " + (tmp / "x.png"), tmp);
+  EXPECT_EQ(flag.exit_code, 2) << flag.err;
+  EXPECT_NE(flag.err.find("--max-depth"), std::string::npos) << flag.err;
+  EXPECT_NE(flag.err.find("256"), std::string::npos) << flag.err;
+  EXPECT_FALSE(fs::exists(tmp / "x.png"));
+}
+
+/// Each number key's range as `rtm config` prints it ("(an integer in 1..16384)"): the test follows
+/// the declarations, so a new key is covered as soon as it is declared.
+struct KeyRange {
+  std::string min, max;
+};
+std::map<std::string, KeyRange> key_ranges(const Tmp& tmp) {
+  const Proc r = run_rtm("config", tmp);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::map<std::string, KeyRange> ranges;
+  const std::regex line(R"(^(\w+): \S+ +# .*\((?:an integer|a number) in ([-0-9.e+]+)\.\.([-0-9.e+]+)(?:, a multiple of [0-9.e+-]+)?\)$)");
+  std::istringstream in(r.out);
+  for (std::string l; std::getline(in, l);) {
+    std::smatch m;
+    if (std::regex_match(l, m, line)) ranges[m[1]] = {m[2], m[3]};
+  }
+  return ranges;
+}
+
+/// The value one step past an end: the next integer, or for a number 1% beyond (or below 0).
+std::string past(const std::string& end, bool above, bool integer) {
+  if (integer) return std::to_string(std::stol(end) + (above ? 1 : -1));
+  const double x = std::stod(end);
+  std::ostringstream s;
+  s.precision(17);
+  s << (above ? x * 1.01 : x == 0 ? -0.001 : x * 0.99);
+  return s.str();
+}
+
+// One past either end of every key is refused naming the key, the value and the range, exit 2;
+// so are the values the issue found hanging or overflowing.
+TEST(Reliability, OnePastEitherEndOfEveryKeyIsRefusedNamingKeyValueAndRange) {
+  Tmp tmp;
+  const auto ranges = key_ranges(tmp);
+  ASSERT_GE(ranges.size(), 30u);
+  std::vector<std::pair<std::string, std::string>> refused;
+  for (const auto& [key, r] : ranges) {
+    const bool integer = r.min.find_first_of(".e") == std::string::npos && r.max.find_first_of(".e") == std::string::npos;
+    refused.push_back({key, past(r.min, false, integer)});
+    refused.push_back({key, past(r.max, true, integer)});
+  }
+  for (const char* kv : {"clock_ns=1e-300", "clock_ns=1e300", "host_clock_ns=1e300", "link_bandwidth_mb_s=1e-300",
+                         "link_latency_ns=1e300", "mul_latency=1073741824", "mul_latency=2147483647",
+                         "search_fifo_depth=2147483647", "clock_ns=0.0015"}) {
+    const std::string s(kv);
+    refused.push_back({s.substr(0, s.find('=')), s.substr(s.find('=') + 1)});
+  }
+  for (const auto& [key, value] : refused) {
+    const Proc r = run_rtm("config --set " + key + "=" + value, tmp);
+    EXPECT_EQ(r.exit_code, 2) << key << "=" << value;
+    EXPECT_NE(r.err.find(key + ": expected "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("got " + value), std::string::npos) << r.err;
+    if (ranges.count(key)) {
+      EXPECT_NE(r.err.find(" in " + ranges.at(key).min + ".." + ranges.at(key).max), std::string::npos) << r.err;
+    }
+  }
+  // rtm render reads the same declarations.
+  const Proc r = run_rtm("render --set mul_latency=2147483647 -q --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("mul_latency: expected an integer in 1..1024, got 2147483647"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+}
+
+/// `--set key=value` for every key at one end of its range (`pes` left out: its own test).
+std::string every_key_at(const std::map<std::string, KeyRange>& ranges, bool max,
+                         const std::map<std::string, std::string>& except = {}) {
+  std::string args;
+  for (const auto& [key, r] : ranges) {
+    if (key == "pes") continue;
+    const auto e = except.find(key);
+    args += " --set " + key + "=" + (e != except.end() ? e->second : max ? r.max : r.min);
+  }
+  return args;
+}
+
+// Every key at the low end of its range in one frame, then every key at the high end, in fast
+// timing; in clocked timing the ends that change it (the clock, the MAC latencies, the lanes),
+// which must give the fast timing's cycles. Each finishes in seconds, matching the reference.
+TEST(Reliability, EveryKeyAtEitherEndOfItsRangeRendersAFrame) {
+  Tmp tmp;
+  const auto ranges = key_ranges(tmp);
+  const std::string scene = kSpd + "balls-1.nff --size 2x2";
+  auto frame = [&](const std::string& name, const std::string& args) {
+    const Proc r = run_rtm_within(60, "render " + scene + args + " -q --out " + (tmp / (name + ".png")), tmp);
+    EXPECT_EQ(r.exit_code, 0) << name << "\n" << r.err;
+    if (r.exit_code != 0) return json();
+    const json j = json::parse(slurp(tmp / (name + ".json")));
+    EXPECT_EQ(j["error"]["pixels_over_1_255"], 0) << name;
+    EXPECT_GT(j["cycles"].get<uint64_t>(), 0u) << name;
+    return j;
+  };
+  const json defaults = frame("defaults", "");
+  const json low = frame("low", every_key_at(ranges, false));
+  const json high = frame("high", every_key_at(ranges, true));
+  // The clocked MAC steps every cycle: its low end with the fast link (the slow one is the
+  // low end above), its high end with the MAC's own keys and the lanes at their maxima.
+  const json clocked_low = frame("clocked-low", every_key_at(ranges, false, {{"link_bandwidth_mb_s", ranges.at("link_bandwidth_mb_s").max}}) + " --timing clocked");
+  const std::string mac_high = " --set mul_latency=" + ranges.at("mul_latency").max + " --set add_latency=" +
+                               ranges.at("add_latency").max + " --set clock_ns=" + ranges.at("clock_ns").max +
+                               " --set intersection_units=" + ranges.at("intersection_units").max +
+                               " --set search_units=" + ranges.at("search_units").max;
+  const json clocked_high = frame("clocked-high", mac_high + " --timing clocked");
+  const json fast_high = frame("fast-high", mac_high);
+  ASSERT_FALSE(defaults.is_null() || high.is_null() || clocked_high.is_null() || fast_high.is_null());
+  EXPECT_GT(high["cycles"].get<uint64_t>(), defaults["cycles"].get<uint64_t>());
+  EXPECT_EQ(clocked_high["cycles"], fast_high["cycles"]);
+  EXPECT_EQ(clocked_high["mac"], fast_high["mac"]);
+}
+
+// mul_latency = 2^31 - 1 once overflowed the MAC's pipeline depth and reported fewer cycles than
+// the default; at its largest accepted value every MAC job takes longer, so the frame does.
+TEST(Reliability, TheLongestMacLatencyGivesMoreCyclesNotFewer) {
+  Tmp tmp;
+  const std::string scene = kSpd + "balls-1.nff --size 4x4";
+  const json base = render(tmp, "base", scene);
+  const json slow = render(tmp, "slow", scene + " --set mul_latency=1024");
+  ASSERT_FALSE(base.is_null() || slow.is_null());
+  // Each test's α, β, γ leave the adder 2 · 1023 cycles later than at latency 1.
+  EXPECT_GE(slow["mac"]["busy_cycles"].get<uint64_t>(),
+            base["mac"]["busy_cycles"].get<uint64_t>() + 2 * 1023 * base["intersection_tests"].get<uint64_t>() / 28);
+  EXPECT_GT(slow["cycles"].get<uint64_t>(), base["cycles"].get<uint64_t>());
+}
+
+// The documented maximum of PEs runs (one SystemC thread each on the PE engine); one more is
+// refused. With one thread per unit (pe_simulation = modules) as many PEs would need more memory
+// maps than the host allows: refused before elaborating, naming the limit.
+TEST(Reliability, TheMostPesRunAndMoreThreadsThanTheHostAllowsAreRefusedUpFront) {
+  Tmp tmp;
+  const std::string args = "render " + kSpd + "balls-1.nff --size 1x1 -q";
+  const Proc most = run_rtm_within(120, args + " --pes 16384 --out " + (tmp / "o.png"), tmp);
+  ASSERT_EQ(most.exit_code, 0) << most.err;
+  const json j = json::parse(slurp(tmp / "o.json"));
+  EXPECT_EQ(j["per_pe"].size(), 16384u);
+  EXPECT_TRUE(j["pe_simulation"]["engine"].get<bool>());
+  const Proc more = run_rtm(args + " --pes 16385 --out " + (tmp / "x.png"), tmp);
+  EXPECT_EQ(more.exit_code, 2);
+  EXPECT_NE(more.err.find("pes: expected an integer in 1..16384, got 16385"), std::string::npos) << more.err;
+  long limit = 0;
+  std::ifstream("/proc/sys/vm/max_map_count") >> limit;
+  if (limit <= 0 || limit > 2 * 8 * 16384 + 10000) GTEST_SKIP() << "this host maps enough threads for 16384 modules PEs";
+  const auto t0 = std::chrono::steady_clock::now();
+  const Proc modules = run_rtm(args + " --pes 16384 --set pe_simulation=modules --out " + (tmp / "x.png"), tmp);
+  EXPECT_EQ(modules.exit_code, 2) << modules.err;
+  EXPECT_NE(modules.err.find("vm.max_map_count"), std::string::npos) << modules.err;
+  EXPECT_NE(modules.err.find("pes: 16384 PEs need"), std::string::npos) << modules.err;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10) << "refused up front";
+  EXPECT_FALSE(fs::exists(tmp / "x.png"));
 }
 
 }  // namespace

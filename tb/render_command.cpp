@@ -86,6 +86,9 @@ int run_render(const RenderOptions& opt) {
   } catch (const UsageError& e) {
     std::cerr << "rtm: " << e.what() << "\n";
     return 2;
+  } catch (const MachineLimitError& e) {
+    std::cerr << "rtm: machine configuration: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "rtm: " << e.what() << "\n";
     return 1;

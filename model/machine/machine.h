@@ -1,6 +1,7 @@
 // The whole machine: the host, N PEs and the link between them, run for one frame.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,12 @@ struct MachineResult {
   std::string engine_unsupported;  ///< why the PEs ran as modules; empty: on the PE engine
   bool deadlock = false;
   std::string deadlock_report;  ///< every FIFO's occupancy when the simulation stalled
+};
+
+/// A valid configuration that is more than this host can run (rtm exits 2, as for a bad
+/// configuration): e.g. more SystemC threads than the process may map stacks for.
+struct MachineLimitError : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 /// Elaborates and simulates the machine. SystemC elaborates once per process: call it once.
