@@ -70,7 +70,15 @@ int run_render(const RenderOptions& opt) {
     }
     bool cache_hit = false;
     const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit);
-    const ImageError err = compare_images(m.image, ref.image);
+    ImageError err;
+    try {
+      err = compare_images(m.image, ref.image);
+    } catch (const NonFiniteImage& e) {
+      // Nothing is written: no figure of this run would mean anything.
+      std::cerr << "rtm: the machine's image cannot be compared with the reference: " << e.what()
+                << "; no image written\n";
+      return 1;
+    }
 
     write_image(files.image, m.image);
     if (!opt.id_map.empty()) write_id_map(opt.id_map, m.image);
