@@ -8,6 +8,7 @@
 #include "machine/config.h"
 #include "options.h"
 #include "pov_export.h"
+#include "reference_cache.h"
 #include "render/ray.h"
 
 namespace {
@@ -74,6 +75,13 @@ int sc_main(int argc, char* argv[]) {
       ->excludes(from)
       ->excludes(set);
 
+  std::string cache_action;
+  CLI::App* cache = app.add_subcommand(
+      "cache", "The reference cache ($RTM_CACHE_DIR, else $XDG_CACHE_HOME/rtm, else ~/.cache/rtm; capped at $RTM_CACHE_SIZE, default 2G)");
+  cache->add_option("action", cache_action, "info (entries, size, cap, partial files) or clean (remove them all)")
+      ->required()
+      ->check(CLI::IsMember({"info", "clean"}));
+
   rtm::PovOptions pov_opt;
   CLI::App* pov = rtm::add_pov_command(app, pov_opt);
 
@@ -91,5 +99,6 @@ int sc_main(int argc, char* argv[]) {
   }
   if (config->parsed()) return rtm::run_config(config_file, sets);
   if (pov->parsed()) return rtm::run_pov(pov_opt);
+  if (cache->parsed()) return rtm::run_cache(cache_action);
   return 2;
 }

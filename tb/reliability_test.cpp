@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -279,6 +281,129 @@ TEST(Reliability, TheMostPesRunAndMoreThreadsThanTheHostAllowsAreRefusedUpFront)
   EXPECT_NE(modules.err.find("pes: 16384 PEs need"), std::string::npos) << modules.err;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10) << "refused up front";
   EXPECT_FALSE(fs::exists(tmp / "x.png"));
+}
+
+// ---- The reference cache ----
+
+/// rtm with its own cache folder (and optionally a size cap).
+Proc run_cached(const Tmp& tmp, const std::string& args, const std::string& env = "") {
+  return sh("RTM_CACHE_DIR=" + (tmp / "cache") + " " + env + " " + std::string(RTM_BINARY) + " " + args, tmp);
+}
+
+std::vector<fs::path> cache_entries(const Tmp& tmp) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(tmp / "cache", ec))
+    if (e.path().extension() == ".ref" && e.path().filename().string()[0] != '.') out.push_back(e.path());
+  return out;
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// The case: 64 flipped bytes in a cache entry once gave cached: true, rmse null, psnr "inf"
+// and 5 pixels off. Now a damaged, truncated or mismatched entry is reported once, deleted and
+// rendered again, and the figures are the undamaged run's.
+TEST(Reliability, ADamagedCacheEntryIsReportedOnceDeletedAndRenderedAgain) {
+  Tmp tmp;
+  const std::string frame = "render " + kSpd + "rings-1.nff --pes 2 --size 32x32 -q --out " + (tmp / "o.png");
+  auto figures = [&](const std::string& extra = "") {
+    const Proc r = run_cached(tmp, frame + extra);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    json j = r.exit_code == 0 ? json::parse(slurp(tmp / "o.json")) : json();
+    j["stderr"] = r.err;
+    return j;
+  };
+  const json first = figures();
+  ASSERT_EQ(first["reference"]["cached"], false);
+  const std::vector<fs::path> entries = cache_entries(tmp);
+  ASSERT_EQ(entries.size(), 1u);
+  const fs::path entry = entries[0];
+  const std::string good = slurp(entry.string());
+
+  auto damaged = [&](const std::string& bytes, const std::string& why) {
+    spit(entry.string(), bytes);
+    const json again = figures();
+    EXPECT_EQ(again["reference"]["cached"], false) << why;
+    EXPECT_EQ(count(again["stderr"], "rtm: reference cache: "), 1u) << again["stderr"];
+    EXPECT_NE(again["stderr"].get<std::string>().find(why), std::string::npos) << again["stderr"];
+    EXPECT_EQ(again["error"], first["error"]) << why;
+    EXPECT_EQ(again["reference"]["counts_match"], first["reference"]["counts_match"]) << why;
+    // Stored again whole: the next run takes it, silently.
+    const json third = figures();
+    EXPECT_EQ(third["reference"]["cached"], true) << why;
+    EXPECT_EQ(third["stderr"], "") << why;
+    EXPECT_EQ(third["error"], first["error"]) << why;
+    EXPECT_EQ(slurp(entry.string()).size(), good.size());
+  };
+  std::string flipped = good;
+  for (size_t i = 0; i < 64; ++i) flipped[flipped.size() / 2 + i] = char(~flipped[flipped.size() / 2 + i]);
+  damaged(flipped, "is damaged (its checksum does not match its contents)");
+  damaged(good.substr(0, good.size() - 100), "bytes, not the " + std::to_string(good.size()));
+  // Another setting's entry, whole and valid, under this key's name.
+  const json other = figures(" --threshold 0.5");
+  ASSERT_EQ(cache_entries(tmp).size(), 2u);
+  for (const fs::path& e : cache_entries(tmp))
+    if (e != entry) damaged(slurp(e.string()), "was made for another scene or setting");
+}
+
+// Two runs filling the same entry at once (two sweeps) both succeed and leave one whole entry and
+// no temporaries; the size cap evicts the least recently used entries and never stores one larger
+// than itself; `rtm cache info|clean` report and empty the cache; temporaries of writers that are
+// gone are removed, those of running writers kept.
+TEST(Reliability, TheCacheIsSafeForConcurrentWritersCappedAndCleaned) {
+  Tmp tmp;
+  const std::string frame = "render " + kSpd + "balls-1.nff --size 24x24 -q";
+  const std::string rtm = "RTM_CACHE_DIR=" + (tmp / "cache") + " " + std::string(RTM_BINARY) + " " + frame;
+  const Proc both = sh("(" + rtm + " --out " + (tmp / "a.png") + " & " + rtm + " --out " + (tmp / "b.png") +
+                           " & wait %1 && wait %2)",
+                       tmp);
+  EXPECT_EQ(both.exit_code, 0) << both.err;
+  EXPECT_EQ(both.err, "");
+  ASSERT_EQ(cache_entries(tmp).size(), 1u);
+  const uint64_t entry_bytes = fs::file_size(cache_entries(tmp)[0]);
+  for (const auto& e : fs::directory_iterator(tmp / "cache"))
+    EXPECT_EQ(e.path().filename().string().find("partial"), std::string::npos) << e.path();
+  const Proc hit = run_cached(tmp, frame + " --out " + (tmp / "c.png"));
+  EXPECT_EQ(json::parse(slurp(tmp / "c.json"))["reference"]["cached"], true) << hit.err;
+
+  // A cap of 1.5 entries: each new entry evicts the older one.
+  const std::string cap = "RTM_CACHE_SIZE=" + std::to_string(entry_bytes * 3 / 2);
+  for (const char* t : {"0.1", "0.2"}) EXPECT_EQ(run_cached(tmp, frame + " --threshold " + t + " --out " + (tmp / "d.png"), cap).exit_code, 0);
+  ASSERT_EQ(cache_entries(tmp).size(), 1u);
+  EXPECT_EQ(run_cached(tmp, frame + " --threshold 0.2 --out " + (tmp / "d.png"), cap).exit_code, 0);
+  EXPECT_EQ(json::parse(slurp(tmp / "d.json"))["reference"]["cached"], true) << "the last one stored is kept";
+  EXPECT_EQ(run_cached(tmp, frame + " --threshold 0.3 --out " + (tmp / "d.png"), "RTM_CACHE_SIZE=1K").exit_code, 0);
+  EXPECT_EQ(cache_entries(tmp).size(), 1u) << "an entry larger than the cap is not stored";
+
+  // Temporaries: a dead writer's on this host, a running one's (this test), another host's old and new.
+  const Proc dead = sh("sh -c 'echo $$'", tmp);
+  const std::string host = [] {
+    char h[256] = "";
+    gethostname(h, sizeof h - 1);
+    return std::string(h);
+  }();
+  const std::string dead_tmp = tmp / ("cache/.x.partial-" + host + "-" + std::to_string(std::stol(dead.out)) + ".ref");
+  const std::string live_tmp = tmp / ("cache/.y.partial-" + host + "-" + std::to_string(getpid()) + ".ref");
+  const std::string old_tmp = tmp / "cache/.z.partial-elsewhere-12.ref", new_tmp = tmp / "cache/.w.partial-elsewhere-13.ref";
+  for (const std::string& f : {dead_tmp, live_tmp, old_tmp, new_tmp}) spit(f, "partial");
+  fs::last_write_time(old_tmp, fs::file_time_type::clock::now() - std::chrono::hours(48));
+  const Proc info = run_cached(tmp, "cache info");
+  EXPECT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("entries: 1, "), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("partial files: 4 (2 left by writers that are gone)"), std::string::npos) << info.out;
+  const Proc clean = run_cached(tmp, "cache clean");
+  EXPECT_EQ(clean.exit_code, 0) << clean.err;
+  EXPECT_NE(clean.out.find("removed 1 entries"), std::string::npos) << clean.out;
+  EXPECT_TRUE(cache_entries(tmp).empty());
+  EXPECT_FALSE(fs::exists(dead_tmp));
+  EXPECT_FALSE(fs::exists(old_tmp));
+  EXPECT_TRUE(fs::exists(live_tmp));
+  EXPECT_TRUE(fs::exists(new_tmp));
+  EXPECT_EQ(run_cached(tmp, "cache frobnicate").exit_code, 2);
 }
 
 }  // namespace
