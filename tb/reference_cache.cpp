@@ -15,6 +15,7 @@
 
 #include "byte_size.h"
 #include "render/atomic_file.h"
+#include "render/partial_files.h"
 
 namespace rtm {
 namespace fs = std::filesystem;
@@ -203,6 +204,7 @@ void store(const fs::path& p, uint64_t digest, const ReferenceResult& r) {
   // Concurrent writers (two sweeps) each write a temporary of their own and rename it: the entry is
   // always one writer's whole file.
   try {
+    const PartialFile partial(temporary_beside(p.string()));  // a signal removes it
     commit_atomically(p.string(), [&](const std::string& tmp) {
       std::ofstream f(tmp, std::ios::binary);
       f.write(data.data(), std::streamsize(data.size()));

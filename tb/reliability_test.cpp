@@ -9,7 +9,12 @@
 #include <string>
 #include <vector>
 
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -404,6 +409,89 @@ TEST(Reliability, TheCacheIsSafeForConcurrentWritersCappedAndCleaned) {
   EXPECT_TRUE(fs::exists(live_tmp));
   EXPECT_TRUE(fs::exists(new_tmp));
   EXPECT_EQ(run_cached(tmp, "cache frobnicate").exit_code, 2);
+}
+
+// ---- Interruption ----
+
+/// Starts rtm with `args` (split at spaces), stdout and stderr into `log`; returns its PID.
+pid_t start_rtm(const std::string& args, const std::string& log) {
+  std::vector<std::string> words{RTM_BINARY};
+  std::istringstream in(args);
+  for (std::string w; in >> w;) words.push_back(w);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::vector<char*> argv;
+    for (std::string& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    if (!freopen(log.c_str(), "w", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(127);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// The names in a folder.
+std::vector<std::string> names_in(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) out.push_back(e.path().filename().string());
+  return out;
+}
+
+/// Waits (up to a minute) until rtm is writing its waveform's temporary, then a little longer.
+bool wait_for_partial(const std::string& dir) {
+  for (int i = 0; i < 600; ++i) {
+    for (const std::string& n : names_in(dir))
+      if (n.find(".partial-") != std::string::npos) {
+        usleep(300 * 1000);
+        return true;
+      }
+    usleep(100 * 1000);
+  }
+  return false;
+}
+
+// SIGINT or SIGTERM in the middle of a clocked render writing a waveform: rtm removes its
+// temporaries and dies of the signal (a shell reports 130 or 143). Nothing is left under a final
+// name, and the earlier run's outputs at the same paths were removed when this one began.
+// SIGKILL cannot be caught: it leaves only the temporary, named as partial, which the next run
+// writing the same waveform removes.
+TEST(Reliability, AnInterruptedRenderLeavesNoFinalNamedPartialFile) {
+  Tmp tmp;
+  const std::string out = tmp / "out";
+  const std::string args = "render " + kSpd + "balls-1.nff --size 256x256 --timing clocked -q --vcd " + out +
+                           "/w.vcd --vcd-window 0:2000 --out " + out + "/o.png --id-map " + out + "/id.exr";
+  for (int sig : {SIGINT, SIGTERM, SIGKILL}) {
+    fs::create_directories(out);
+    for (const char* old : {"o.png", "o.json", "id.exr", "w.vcd", "w.gtkw"}) spit(out + "/" + old, "an earlier run's");
+    const pid_t pid = start_rtm(args, tmp / "log.txt");
+    ASSERT_TRUE(wait_for_partial(out)) << sig << ": no waveform being written; " << slurp(tmp / "log.txt");
+    kill(pid, sig);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFSIGNALED(status)) << sig << ": exit " << WEXITSTATUS(status) << "; " << slurp(tmp / "log.txt");
+    EXPECT_EQ(WTERMSIG(status), sig);
+    const std::vector<std::string> left = names_in(out);
+    if (sig == SIGKILL) {
+      ASSERT_EQ(left.size(), 1u) << "only the temporary the kill interrupted";
+      EXPECT_EQ(left[0].rfind(".w.partial-", 0), 0u) << left[0];
+    } else {
+      EXPECT_TRUE(left.empty()) << sig << ": " << left.size() << " files left, the first " << left[0];
+      EXPECT_NE(slurp(tmp / "log.txt").find(sig == SIGINT ? "rtm: interrupted (SIGINT); its partial output files are removed"
+                                                          : "rtm: terminated (SIGTERM); its partial output files are removed"),
+                std::string::npos)
+          << slurp(tmp / "log.txt");
+    }
+  }
+  // The next run writing the same waveform removes the abandoned temporary and writes it whole.
+  const Proc again = run_rtm("render " + kSpd + "balls-1.nff --size 8x8 --timing clocked -q --vcd " + out +
+                                 "/w.vcd --out " + out + "/o.png",
+                             tmp);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  std::vector<std::string> left = names_in(out);
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"o.json", "o.png", "w.gtkw", "w.vcd"}));
+  EXPECT_NE(slurp(out + "/w.vcd").find("$enddefinitions"), std::string::npos);
 }
 
 }  // namespace

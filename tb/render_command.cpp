@@ -10,7 +10,9 @@
 #include "options.h"
 #include "printed_summary.h"
 #include "reference_cache.h"
+#include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/partial_files.h"
 #include "render/reference.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -28,9 +30,24 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
+/// Removes what an earlier run left at the paths this one writes, and temporaries beside them
+/// whose writers are gone: if this run fails, nothing there looks as if it came from it.
+void clear_outputs(const std::vector<std::string>& paths) {
+  namespace fs = std::filesystem;
+  for (const std::string& p : paths) {
+    if (p.empty()) continue;
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(p, ec);
+    if (fs::is_regular_file(st) || fs::is_symlink(st)) fs::remove(p, ec);
+    remove_abandoned_partials(p);
+  }
+}
+
 }  // namespace
 
 int run_render(const RenderOptions& opt) {
+  // Outputs are written under temporary names and renamed; a signal removes the temporaries.
+  remove_partial_files_on_signals();
   try {
     // Its ~0.2 s of loading overlaps parsing and rendering instead of following them.
     preload_image_library();
@@ -46,6 +63,12 @@ int run_render(const RenderOptions& opt) {
     files.stats =
         opt.stats.empty() ? (std::filesystem::path(files.image).replace_extension(".json")).string() : opt.stats;
     files.id_map = opt.id_map;
+    if (!opt.reference && !opt.vcd.empty()) {
+      files.vcd = vcd_file(opt.vcd);
+      files.gtkw = std::filesystem::path(files.vcd).replace_extension(".gtkw").string();
+    }
+    // The statistics are written last: an image without them is from a run that did not finish.
+    clear_outputs({files.image, files.stats, files.id_map, files.vcd, files.gtkw, opt.reference ? "" : opt.event_log});
 
     const auto t0 = std::chrono::steady_clock::now();
     const Grid grid = build_grid(scene.primitives, scene.grid);
@@ -82,11 +105,7 @@ int run_render(const RenderOptions& opt) {
 
     write_image(files.image, m.image);
     if (!opt.id_map.empty()) write_id_map(opt.id_map, m.image);
-    if (!opt.vcd.empty()) {
-      files.vcd = opt.vcd;
-      files.gtkw = std::filesystem::path(opt.vcd).replace_extension(".gtkw").string();
-      write_gtkw(files.gtkw, opt.vcd, config, m.units, mopt.vcd_pes);
-    }
+    if (!files.vcd.empty()) write_gtkw(files.gtkw, files.vcd, config, m.units, mopt.vcd_pes);
     stats.update(machine_render_json(m, config, err, ref, cache_hit));
     write_text_atomically(files.stats, stats.dump(2) + "\n");
     if (!opt.quiet) print_machine_summary(scene, grid, config, m, err, ref, cache_hit, files);

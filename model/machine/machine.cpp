@@ -4,7 +4,9 @@
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
 #include "machine/sim_time.h"
+#include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/partial_files.h"
 #include "render/scene_needs.h"
 
 #include <algorithm>
@@ -260,6 +262,10 @@ void check_threads_fit(size_t threads, const MachineConfig& c) {
 
 }  // namespace
 
+std::string vcd_file(const std::string& vcd) {
+  return vcd.size() > 4 && vcd.substr(vcd.size() - 4) == ".vcd" ? vcd : vcd + ".vcd";
+}
+
 MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt) {
   c.validate();
   // The kernel's informational notes (the machine stopping itself when the frame is gathered,
@@ -275,10 +281,11 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   for (size_t pe = 0; pe < logs.size(); ++pe) top.pes[pe]->ctx.log = &logs[pe];
 
   sc_core::sc_trace_file* tf = nullptr;
+  std::unique_ptr<PartialFile> vcd;  // written under a temporary name, renamed once closed
   if (!opt.vcd.empty()) {
-    std::string base = opt.vcd;
-    if (base.size() > 4 && base.substr(base.size() - 4) == ".vcd") base.resize(base.size() - 4);
-    tf = sc_core::sc_create_vcd_trace_file(base.c_str());
+    const std::string tmp = temporary_beside(vcd_file(opt.vcd));
+    vcd = std::make_unique<PartialFile>(tmp);
+    tf = sc_core::sc_create_vcd_trace_file(tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
     tf->set_time_unit(1, sc_core::SC_NS);
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     for (int pe : opt.vcd_pes) {
@@ -335,7 +342,10 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   }
   r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
   r.stats = frame_stats(r, c);
-  if (tf) sc_core::sc_close_vcd_trace_file(tf);
+  if (tf) {
+    sc_core::sc_close_vcd_trace_file(tf);
+    vcd->commit(vcd_file(opt.vcd));
+  }
   if (!logs.empty()) {
     std::ostringstream text;
     write_event_log(text, logs, top.pes[0]->ctx.cycle);

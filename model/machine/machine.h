@@ -58,6 +58,9 @@ struct MachineLimitError : std::runtime_error {
 /// Elaborates and simulates the machine. SystemC elaborates once per process: call it once.
 MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt);
 
+/// The file a waveform option names: SystemC's trace files end in ".vcd", added if missing.
+std::string vcd_file(const std::string& vcd);
+
 /// Writes a GTKWave save file for a VCD written by run_machine: signals grouped by PE and stage.
 void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const MachineConfig& c,
                 const PeUnits& units, const std::vector<int>& pes);

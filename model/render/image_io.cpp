@@ -15,6 +15,7 @@
 
 #include "render/atomic_file.h"
 #include "render/image_library.h"
+#include "render/partial_files.h"
 
 namespace rtm {
 namespace {
@@ -63,8 +64,16 @@ const ImageLibrary& library() {
 
 void preload_image_library() { start_loading(); }
 
-void write_image(const std::string& path, const Image& img) { library().write_image(path, img); }
-void write_id_map(const std::string& path, const Image& img) { library().write_id_map(path, img); }
+// The library writes through commit_atomically's temporary: registered here, where a signal
+// handler can see it (the library is a module of its own).
+void write_image(const std::string& path, const Image& img) {
+  const PartialFile tmp(temporary_beside(path));
+  library().write_image(path, img);
+}
+void write_id_map(const std::string& path, const Image& img) {
+  const PartialFile tmp(temporary_beside(path));
+  library().write_id_map(path, img);
+}
 Image read_image(const std::string& path) { return library().read_image(path); }
 Image read_id_map(const std::string& path) { return library().read_id_map(path); }
 namespace {
@@ -107,6 +116,7 @@ ImageError compare_images(const Image& img, const Image& ref) {
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
+  const PartialFile partial(temporary_beside(path));
   commit_atomically(path, [&](const std::string& tmp) {
     std::ofstream f(tmp, std::ios::binary);
     f << text;
