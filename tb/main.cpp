@@ -47,6 +47,9 @@ int sc_main(int argc, char* argv[]) {
                      "How --spawn-offset is applied: relative (x max(1, |hit point|)) or bound (x an error bound of the hit point; docs/numerics.md)");
   render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
+  render->add_option("--max-memory", r.max_memory,
+                     "Memory budget, e.g. 512M or 4G (default 3/4 of the machine's): a render estimated to need more is "
+                     "refused before it starts, and one whose ray trees outgrow it is stopped");
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
   // --pes and --search-units are checked as their configuration keys (machine/config.cpp).

@@ -494,4 +494,69 @@ TEST(Reliability, AnInterruptedRenderLeavesNoFinalNamedPartialFile) {
   EXPECT_NE(slurp(out + "/w.vcd").find("$enddefinitions"), std::string::npos);
 }
 
+// ---- The memory budget ----
+
+// A 16384x16384 frame (the largest a scene may ask for) once reached 12 GB as a reference render
+// and was OOM-killed as a machine render. Below what it needs it is refused before anything
+// frame-sized is allocated, naming the part that is too big; exit 2, nothing written.
+TEST(Reliability, TheMemoryBudgetRefusesTheLargestFrameBelowWhatItNeeds) {
+  Tmp tmp;
+  const std::string scene = kSpd + "balls-1.nff --size 16384x16384 -q --out " + (tmp / "o.png");
+  struct Case {
+    std::string args, part;
+  };
+  for (const Case& c : {Case{" --reference --max-memory 4G", "the largest part is the image: "},
+                        Case{" --max-memory 16G", "the largest part is the primary rays: "},
+                        Case{" --pes 64 --max-memory 512M", "the largest part is the primary rays: "}}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Proc r = run_rtm_within(60, "render " + scene + c.args, tmp);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find("--max-memory: this render needs about "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.part), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("16384x16384 pixels"), std::string::npos) << r.err;
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10) << "refused up front";
+    EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  }
+  // The default budget is a share of this machine's memory; an NFF asking for the largest frame
+  // exceeds it on any machine with less than about 127 GiB.
+  spit(tmp / "big.nff", "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 16384 16384\n"
+                        "f 1 0 0 1 0 1 0 1\ns 0 0 0 1\n");
+  const Proc nff = run_rtm_within(60, "render " + (tmp / "big.nff") + " -q --out " + (tmp / "o.png"), tmp);
+  if (sysconf(_SC_PHYS_PAGES) * double(sysconf(_SC_PAGESIZE)) < 100.0 * (1ull << 30)) {
+    EXPECT_EQ(nff.exit_code, 2) << nff.err;
+    EXPECT_NE(nff.err.find("(the default, 3/4 of the "), std::string::npos) << nff.err;
+  }
+  for (const char* bad : {"12Q", "0", "-1G", "G"}) {
+    const Proc r = run_rtm("render --size 4x4 -q --max-memory " + std::string(bad) + " --out " + (tmp / "o.png"), tmp);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("--max-memory: expected a size such as 512M or 4G"), std::string::npos) << r.err;
+  }
+  const Proc fits = run_rtm("render " + kSpd + "balls-1.nff --size 16x16 -q --max-memory 1G --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(fits.exit_code, 0) << fits.err;
+}
+
+// Within the command line's limits a box of mirrors round a transmitting sphere, threshold 0,
+// max_depth 255, grows its ray tree without a bound a render could reach. rtm says so before it
+// starts, and stops the simulation once the rays waiting in the front buffers outgrow the budget.
+TEST(Reliability, ARayTreeThatGrowsWithoutBoundIsStoppedAtTheMemoryBudget) {
+  Tmp tmp;
+  std::string box = mirror_box(255, true);
+  box.replace(box.find("resolution: [2, 2]"), 18, "resolution: [1, 1]");
+  spit(tmp / "glass.yaml", box);
+  const Proc r = run_rtm_within(60, "render " + (tmp / "glass.yaml") + " -q --max-memory 220M --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("rtm: note: one primary ray can grow into up to 1.16e+77 rays (max_depth 255, threshold 0)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("more than its memory budget of 220.0 MiB (--max-memory)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rays waiting in the front buffers grow with the ray tree"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  EXPECT_FALSE(fs::exists(tmp / "o.json"));
+  // The mirrors alone make one ray a generation: no note.
+  spit(tmp / "mirrors.yaml", mirror_box(255));
+  const Proc m = run_rtm_within(60, "render " + (tmp / "mirrors.yaml") + " -q --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(m.exit_code, 0) << m.err;
+  EXPECT_EQ(m.err.find("note:"), std::string::npos) << m.err;
+}
+
 }  // namespace

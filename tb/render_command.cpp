@@ -3,10 +3,13 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
+#include "byte_size.h"
 #include "machine/machine.h"
+#include "memory_budget.h"
 #include "options.h"
 #include "printed_summary.h"
 #include "reference_cache.h"
@@ -49,6 +52,12 @@ int run_render(const RenderOptions& opt) {
   // Outputs are written under temporary names and renamed; a signal removes the temporaries.
   remove_partial_files_on_signals();
   try {
+    uint64_t budget = 0;
+    try {
+      budget = opt.max_memory.empty() ? default_memory_budget() : parse_byte_size(opt.max_memory);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--max-memory: ") + e.what());
+    }
     // Its ~0.2 s of loading overlaps parsing and rendering instead of following them.
     preload_image_library();
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene);
@@ -56,7 +65,8 @@ int run_render(const RenderOptions& opt) {
     apply_scene_options(opt, scene);
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
-    const MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
+    MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
+    mopt.max_memory = budget;
 
     RenderFiles files;
     files.image = opt.out.empty() ? "out/" + scene.name + ".png" : opt.out;
@@ -74,6 +84,15 @@ int run_render(const RenderOptions& opt) {
     const Grid grid = build_grid(scene.primitives, scene.grid);
     const double grid_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     nlohmann::json stats = scene_json(scene, grid, grid_seconds);
+
+    // Before any frame-sized allocation: what it will need, against the budget.
+    check_memory_budget(estimate_memory(scene, grid, opt.reference ? nullptr : &config, !opt.vcd.empty()), budget,
+                        !opt.max_memory.empty());
+    if (const double tree = rays_per_primary_bound(scene); tree > 1e6)
+      std::cerr << "rtm: note: one primary ray can grow into up to " << std::setprecision(3) << tree
+                << " rays (max_depth " << scene.max_depth << ", threshold " << scene.threshold
+                << "): the render may not finish; " << (opt.reference ? "" : "it stops if its ray trees outgrow --max-memory, and ")
+                << "Ctrl-C stops it cleanly\n";
 
     if (opt.reference) {
       const ReferenceResult r = render_reference(scene, grid, opt.threads);

@@ -23,6 +23,14 @@ using sc_core::sc_time;
 
 namespace {
 
+/// The process's resident size now (/proc/self/statm); 0 where it cannot be read.
+uint64_t resident_bytes() {
+  std::ifstream f("/proc/self/statm");
+  uint64_t size = 0, resident = 0;
+  if (!(f >> size >> resident)) return 0;
+  return resident * uint64_t(sysconf(_SC_PAGESIZE));
+}
+
 class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
@@ -37,8 +45,12 @@ class Machine : public sc_core::sc_module {
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
 
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
-          bool tracing)
-      : sc_module(name), engine_unsupported(rtm::engine_unsupported(c, tracing)), config_(c), progress_(progress) {
+          bool tracing, uint64_t max_memory)
+      : sc_module(name),
+        engine_unsupported(rtm::engine_unsupported(c, tracing)),
+        config_(c),
+        progress_(progress),
+        max_memory_(max_memory) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
@@ -91,6 +103,7 @@ class Machine : public sc_core::sc_module {
 
  private:
   static constexpr double kMonitorStepCycles = 4096;
+  static constexpr std::chrono::milliseconds kMeasureEvery{50};
 
   /// An upper bound on the PE cycles any unit can spend on one item (a ray's pass through the
   /// front buffer or a search unit, a MAC and root job on the fullest voxel, a shading) without
@@ -117,7 +130,7 @@ class Machine : public sc_core::sc_module {
   /// long simulated time costs few wake-ups.
   void monitor() {
     const auto start = std::chrono::steady_clock::now();
-    auto last_draw = start;
+    auto last_draw = start, last_measured = start;
     const sc_time base = sc_time(config_.clock_ns, sc_core::SC_NS) * kMonitorStepCycles;
     const sc_time longest_step = std::max(base, quiet_window_ / 8.0);
     sc_time step = base, quiet_since = sc_core::SC_ZERO_TIME;
@@ -131,6 +144,15 @@ class Machine : public sc_core::sc_module {
         overran = true;
         sc_core::sc_stop();
         return;
+      }
+      // Rays waiting in the front buffers grow with the ray tree: hold the process to the budget.
+      if (const auto wall = std::chrono::steady_clock::now(); max_memory_ && wall - last_measured > kMeasureEvery) {
+        last_measured = wall;
+        if (const uint64_t rss = resident_bytes(); rss > max_memory_) {
+          over_budget = rss;
+          sc_core::sc_stop();
+          return;
+        }
       }
       // The host's own phase (sending every PE its scene, say) is no stall: look again when it
       // ends, without summing every PE's counters on each transfer.
@@ -184,9 +206,10 @@ class Machine : public sc_core::sc_module {
         primaries += pe->ctx.counters.counts.rays[0];
         rays += pe->ctx.counters.counts.total_rays();
       }
-      std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles   ", (unsigned long long)rays,
-                   100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
-                   sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS));
+      std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles, %.3g GiB   ",
+                   (unsigned long long)rays, 100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
+                   sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS),
+                   double(resident_bytes()) / double(1 << 30));
       std::fflush(stderr);
       drew = true;
     }
@@ -202,7 +225,11 @@ class Machine : public sc_core::sc_module {
   bool fixed_schedule_ = false;  ///< wake every kMonitorStepCycles, whatever happens
   MachineConfig config_;
   bool progress_;
+  uint64_t max_memory_;
   uint64_t total_pixels_ = 0;
+
+ public:
+  uint64_t over_budget = 0;  ///< the resident size the monitor stopped the simulation at; 0: it did not
 };
 
 std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
@@ -273,7 +300,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
   check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
-  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty());
+  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory);
 
   check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 
@@ -301,6 +328,27 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_start();
   if (top.drew) std::fprintf(stderr, "\r%80s\r", "");
 
+  if (top.over_budget) {
+    uint64_t rays = 0;
+    for (auto& pe : top.pes) rays += pe->ctx.counters.counts.total_rays();
+    auto text = [](uint64_t bytes) {
+      char t[32];
+      std::snprintf(t, sizeof t, bytes < (uint64_t(1) << 30) ? "%.1f MiB" : "%.2f GiB",
+                    double(bytes) / double(bytes < (uint64_t(1) << 30) ? 1 << 20 : 1 << 30));
+      return std::string(t);
+    };
+    const std::string held = text(top.over_budget), budget = text(opt.max_memory);
+    throw std::runtime_error("the simulation stopped holding " + held + ", more than its memory budget of " +
+                             budget + " (--max-memory), at cycle " +
+                             std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
+                             " with " + std::to_string(rays) + " rays traced: the rays waiting in the front buffers " +
+                             "grow with the ray tree (max_depth " + std::to_string(s.max_depth) + ", threshold " +
+                             [&] {
+                               std::ostringstream t;
+                               t << s.threshold;
+                               return t.str();
+                             }() + ")");
+  }
   if (top.overran)
     throw std::runtime_error("the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
                              std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +

@@ -18,6 +18,9 @@ struct MachineOptions {
   std::vector<int> vcd_pes{0};      ///< PEs whose signals are traced
   bool progress = false;            ///< one-line progress display on stderr
   std::string event_log;            ///< every unit event, one line each (units/event_log.h); empty: none
+  /// The memory budget: the simulation stops with an error once the process holds more (what
+  /// grows with the ray tree cannot be known before it runs). 0: none.
+  uint64_t max_memory = 0;
 };
 
 /// Per FIFO kind, over all PEs.
