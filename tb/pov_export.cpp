@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "render/image_io.h"
+#include "render/partial_files.h"
 #include "scene/scene.h"
 
 namespace rtm {
@@ -166,6 +167,7 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
 }
 
 int run_pov(const PovOptions& opt) {
+  remove_partial_files_on_signals();  // the .pov file is written under a temporary name
   try {
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene);
     if (!opt.size.empty()) {

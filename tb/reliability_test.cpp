@@ -48,6 +48,9 @@ TEST(Reliability, EveryBadCommandLineExits2NamingTheOption) {
       {"render --size 20000x10", "--size"},           // past the 16384 a side scenes allow (was exit 1)
       {"render --pes 0", "--pes"},
       {"render --threshold 2", "--threshold"},
+      {"render --threshold nan", "--threshold"},                    // CLI11's range check lets NaN through
+      {"render --spawn-offset nan", "--spawn-offset"},
+      {"render --vcd-window 99999999999999999999999:", "--vcd-window"},  // was exit 1, "stoull"
       {"render --no-such-option", "--no-such-option"},
       {"render --pes", "--pes"},                      // a missing value
       {"", "subcommand"},                             // no command at all
