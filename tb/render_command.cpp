@@ -76,8 +76,7 @@ int run_render(const RenderOptions& opt) {
     if (!opt.id_map.empty()) write_id_map(opt.id_map, m.image);
     if (!opt.vcd.empty()) {
       files.vcd = opt.vcd;
-      files.gtkw = std::filesystem::path(opt.vcd).replace_extension(".gtkw").string();
-      write_gtkw(files.gtkw, opt.vcd, config, m.units, mopt.vcd_pes);
+      files.gtkw = mopt.gtkw;
     }
     stats.update(machine_render_json(m, config, err, ref, cache_hit));
     write_text_atomically(files.stats, stats.dump(2) + "\n");

@@ -1,6 +1,7 @@
 #include "render_options.h"
 
 #include <array>
+#include <filesystem>
 #include <regex>
 #include <sstream>
 
@@ -92,6 +93,7 @@ MachineConfig machine_config(const RenderOptions& opt) {
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c) {
   MachineOptions m;
   m.vcd = opt.vcd;
+  if (!opt.vcd.empty()) m.gtkw = std::filesystem::path(opt.vcd).replace_extension(".gtkw").string();
   m.event_log = opt.event_log;
   m.progress = !opt.quiet;
   if (!opt.vcd_window.empty()) {

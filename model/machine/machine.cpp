@@ -1,6 +1,7 @@
 #include "machine/machine.h"
 
 #include "machine/engine_hosted_pe.h"
+#include "machine/gtkw.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
 #include "render/image_io.h"
@@ -150,11 +151,13 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   for (size_t pe = 0; pe < logs.size(); ++pe) top.pes[pe]->ctx.log = &logs[pe];
 
   sc_core::sc_trace_file* tf = nullptr;
+  std::unique_ptr<Waveform> wave;
   if (!opt.vcd.empty()) {
     std::string base = opt.vcd;
     if (base.size() > 4 && base.substr(base.size() - 4) == ".vcd") base.resize(base.size() - 4);
     tf = sc_core::sc_create_vcd_trace_file(base.c_str());
     tf->set_time_unit(1, sc_core::SC_NS);
+    wave = std::make_unique<Waveform>(tf);
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     for (int pe : opt.vcd_pes) {
       if (pe < 0 || pe >= c.pes) continue;
@@ -162,7 +165,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
       ctx.window.enabled = true;
       ctx.window.from = period * double(opt.vcd_from_cycle);
       if (opt.vcd_to_cycle != UINT64_MAX) ctx.window.to = period * double(opt.vcd_to_cycle);
-      top.pes[size_t(pe)]->trace(tf);
+      top.pes[size_t(pe)]->trace(*wave);
     }
   }
 
@@ -205,6 +208,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
   r.stats = frame_stats(r, c);
   if (tf) sc_core::sc_close_vcd_trace_file(tf);
+  if (wave && !opt.gtkw.empty()) write_gtkw(opt.gtkw, opt.vcd, *wave);
   if (!logs.empty()) {
     std::ostringstream text;
     write_event_log(text, logs, top.pes[0]->ctx.cycle);

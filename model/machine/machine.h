@@ -12,6 +12,7 @@ namespace rtm {
 
 struct MachineOptions {
   std::string vcd;                  ///< waveform file; empty: none
+  std::string gtkw;                 ///< GTKWave save file for it, naming every signal traced; empty: none
   uint64_t vcd_from_cycle = 0;      ///< waveform window, in PE cycles
   uint64_t vcd_to_cycle = UINT64_MAX;
   std::vector<int> vcd_pes{0};      ///< PEs whose signals are traced
@@ -50,9 +51,5 @@ struct MachineResult {
 
 /// Elaborates and simulates the machine. SystemC elaborates once per process: call it once.
 MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt);
-
-/// Writes a GTKWave save file for a VCD written by run_machine: signals grouped by PE and stage.
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const MachineConfig& c,
-                const PeUnits& units, const std::vector<int>& pes);
 
 }  // namespace rtm

@@ -11,6 +11,7 @@
 #include <systemc>
 
 #include "machine/trace_window.h"
+#include "machine/waveform.h"
 
 namespace rtm {
 
@@ -85,9 +86,9 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
   /// Closes the time integral at the end of simulation.
   const FifoStats& stats() { return meter_.close(sc_core::sc_time_stamp().value()); }
   /// Traces the occupancy; only changes inside the waveform window reach the file.
-  void trace(sc_core::sc_trace_file* tf, const std::string& name, const TraceWindow* window) {
+  void trace(Waveform& wave, const std::string& name, const TraceWindow* window) {
     window_ = window;
-    sc_core::sc_trace(tf, traced_, name);
+    wave.trace(traced_, name);
   }
 
  private:

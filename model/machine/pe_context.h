@@ -10,6 +10,7 @@
 
 #include "machine/timekeeper.h"
 #include "machine/trace_window.h"
+#include "machine/waveform.h"
 #include "units/pe_state.h"
 
 namespace rtm {
@@ -56,10 +57,10 @@ class UnitProbe {
     if (window_ && window_->now()) busy_ = false;
   }
   /// Traces both under `scope` (the unit's hierarchical name): scope.busy, scope.ray_id.
-  void trace(sc_core::sc_trace_file* tf, const std::string& scope, const TraceWindow* w) {
+  void trace(Waveform& wave, const std::string& scope, const TraceWindow* w) {
     window_ = w;
-    sc_core::sc_trace(tf, busy_, scope + ".busy");
-    sc_core::sc_trace(tf, ray_id_, scope + ".ray_id");
+    wave.trace(busy_, scope + ".busy");
+    wave.trace(ray_id_, scope + ".ray_id");
   }
 
  private:

@@ -37,7 +37,7 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
     if (!pe.units.has(f)) continue;
     const int depth = pe.config.*f.depth;
     if (f.per_lane) {
-      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&to_root_.emplace_back(f, depth, &touched_));
+      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&root_fifo_.emplace_back(f, depth, &touched_));
     } else {
       Fifo* fifo = fifos_by_id_[size_t(f.id)] = &fifos_.emplace_back(f, depth, &touched_);
       in_order_.push_back(fifo);
@@ -142,7 +142,7 @@ void PeEngine::take_inputs(uint64_t now) {
   while (idle_macs_.any_idle() && mac_in.visible > 0) mac_start(size_t(idle_macs_.take()), mac_in.read(now), now);
   // A unit with nothing due is idle.
   for (size_t lane = 0; lane < lanes_; ++lane)
-    if (due_at_[root0_ + lane] == kNever && to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
+    if (due_at_[root0_ + lane] == kNever && root_fifo_[lane].visible > 0) root_start(lane, root_fifo_[lane].read(now), now);
   Fifo& shade_in = fifo(FifoId::Shade);
   if (due_at_[kShading] == kNever && shade_in.visible > 0) shade_start(shade_in.read(now), now);
 }
@@ -206,7 +206,7 @@ void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
 
     case UnitKind::Mac: {
       const size_t lane = unit - mac0_;
-      Fifo& out = to_root_[lane];
+      Fifo& out = root_fifo_[lane];
       if (out.full()) return schedule(unit, retry, d.item, d.out);
       out.write(d.item, now);
       record_put(pe_, now, UnitKind::Mac, int(lane), results_[d.item].r.id, d.out);
@@ -223,7 +223,7 @@ void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
       if (!emit(d.out, results_[d.item].r, kNoSlot, UnitKind::Root, int(lane), now))
         return schedule(unit, retry, d.item, d.out);
       free_results_.push_back(d.item);
-      if (to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
+      if (root_fifo_[lane].visible > 0) root_start(lane, root_fifo_[lane].read(now), now);
       return;
     }
 

@@ -10,10 +10,10 @@ ShadingModule::ShadingModule(sc_core::sc_module_name name, PeContext& ctx, Local
   SC_THREAD(run);
 }
 
-void ShadingModule::trace(sc_core::sc_trace_file* tf) {
-  probe_.trace(tf, name(), &ctx_.window);
+void ShadingModule::trace(Waveform& wave) {
+  probe_.trace(wave, name(), &ctx_.window);
   for (auto& g : generators_)
-    if (g) g->probe.trace(tf, g->name(), &ctx_.window);
+    if (g) g->probe.trace(wave, g->name(), &ctx_.window);
 }
 
 void ShadingModule::run() {
