@@ -20,7 +20,6 @@ struct FifoStats {
   int depth = 0;
   int peak = 0;
   double occupancy_time = 0;  ///< ∫ occupancy dt, in seconds
-  uint64_t writes = 0;
 };
 
 /// A FIFO's occupancy as it changes over time, and the statistics it gives; times in SystemC
@@ -40,7 +39,6 @@ struct FifoMeter {
     last_change = now;
     occupancy += delta;
     if (occupancy > stats.peak) stats.peak = occupancy;
-    if (delta > 0) stats.writes += uint64_t(delta);
   }
   /// The statistics, with the time integral closed at `now`.
   const FifoStats& close(uint64_t now) {
