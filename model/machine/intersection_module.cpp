@@ -82,7 +82,7 @@ void IntersectionModule::mac_thread() {
     else
       m.r = rays_in(FifoId::Intersect)->read();
     mac_probe_.begin(m.r.id);
-    const Work w = mac_.take(m, PeContext::now());
+    const Work w = mac_.take(m, ctx_.log_time());
     if (clocked_) {
       const SceneImage& img = *ctx_.image;
       const DdaState& s = m.r.examined;
@@ -107,7 +107,7 @@ void IntersectionModule::mac_thread() {
     }
     mac_probe_.end();
     put(&root_fifo_, m, ctx_, *mac_sleep_);
-    record_put(ctx_, PeContext::now(), UnitKind::Mac, mac_.lane(), m.r.id, w.out);
+    record_put(ctx_, ctx_.log_time(), UnitKind::Mac, mac_.lane(), m.r.id, w.out);
   }
 }
 
@@ -115,7 +115,7 @@ void IntersectionModule::root_thread() {
   for (;;) {
     MacResult m = root_fifo_.read();
     root_probe_.begin(m.r.id);
-    const Work w = root_.take(m, PeContext::now());
+    const Work w = root_.take(m, ctx_.log_time());
     (*root_sleep_)(ctx_.cycles(w.cycles));
     write(w.out, m.r, UnitKind::Root, root_.lane(), *root_sleep_);
     root_probe_.end();

@@ -22,6 +22,9 @@ struct PeContext : PeState {
 
   sc_core::sc_time cycles(uint64_t n) const { return period * double(n); }
   static uint64_t now() { return sc_core::sc_time_stamp().value(); }
+  /// The time a unit's take or put is logged at: only the event log reads it, so without one the
+  /// kernel is not asked.
+  uint64_t log_time() const { return log ? now() : 0; }
   /// A sleeper for one more process of this PE (`lane`: a root unit's).
   std::unique_ptr<Sleeper> sleeper(UnitKind kind, int lane = 0) const {
     return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + int(kind) + lane);

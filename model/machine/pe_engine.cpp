@@ -41,8 +41,8 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
     } else {
       Fifo* fifo = fifos_by_id_[size_t(f.id)] = &fifos_.emplace_back(f, depth, &touched_);
       in_order_.push_back(fifo);
-      if (f.payload == Payload::Ray && std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer))
-        front_inputs_.emplace_back(fifo, f.returns_credit);
+      fifo->feeds_front = std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer) > 0;
+      if (f.payload == Payload::Ray && fifo->feeds_front) front_inputs_.emplace_back(fifo, f.returns_credit);
     }
   }
   due_at_.assign(root0_ + lanes_, kNever);
@@ -94,7 +94,10 @@ void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Output out) {
   const UnitKind kind = kind_at(unit);
   const uint64_t rank = uint64_t(kind) + (kind == UnitKind::Root ? unit - root0_ : 0);
   due_at_[unit] = at;
-  due_[unit] = {rank << 48 | seq_++, item, out};
+  Due& d = due_[unit];
+  d.order = rank << 48 | seq_++;
+  d.item = item;
+  d.out = out;
 }
 
 void PeEngine::step(uint64_t now) {
@@ -109,10 +112,10 @@ void PeEngine::step(uint64_t now) {
     wake(u, d, now);
   }
   // What they wrote becomes visible. The front buffer is poked by a write to any of its inputs.
-  bool poked = front_poked_ || fifo(FifoId::Ends).written;
-  for (const auto& [in, returns_credit] : front_inputs_) poked = poked || in->written;
+  bool poked = front_poked_;
   front_poked_ = false;
   for (Fifo* f : touched_) {
+    poked = poked || (f->written && f->feeds_front);
     f->visible = f->count;
     f->written = false;
     f->reads_now = 0;
@@ -160,7 +163,7 @@ uint32_t PeEngine::new_ray(const MachineRay& r) {
   return s;
 }
 
-bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
+inline bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
   Fifo& f = fifo(o.fifo);
   if (f.full()) return false;
   const uint32_t id = r.id;

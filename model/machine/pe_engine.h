@@ -70,6 +70,7 @@ class PeEngine {
     size_t reads_now = 0;  ///< in the current instant: places freed only once it is over
     FifoMeter meter;
 
+    bool feeds_front = false;  ///< an input of the front buffer: a write wakes it
     bool touched = false;  ///< written or read in the current instant: on the touched list
     std::vector<Fifo*>* touched_list;
 

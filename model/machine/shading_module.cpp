@@ -20,7 +20,7 @@ void ShadingModule::run() {
   for (;;) {
     const MachineRay r = rays_in(FifoId::Shade)->read();
     probe_.begin(r.id);
-    const uint64_t cycles = unit_.take(r, mem_.frame[r.slot], mem_.ids[r.slot], PeContext::now());
+    const uint64_t cycles = unit_.take(r, mem_.frame[r.slot], mem_.ids[r.slot], ctx_.log_time());
     for (size_t k = 1; k < unit_.outputs(); ++k) generators_[size_t(unit_.spawned_kind(k - 1))]->probe.begin(r.id);
     (*sleep_)(ctx_.cycles(cycles));
     for (auto& g : generators_)
