@@ -7,6 +7,7 @@
 
 #include "geom/grid.h"
 #include "geom/quadric.h"
+#include "scene/file_error.h"
 
 namespace rtm {
 
@@ -71,16 +72,8 @@ struct Scene {
 };
 
 /// A scene file problem: the message reads "file:line: what is wrong".
-class SceneError : public std::runtime_error {
- public:
-  SceneError(const std::string& file, int line, const std::string& what)
-      : std::runtime_error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
-  const std::string& file() const { return file_; }
-  int line() const { return line_; }
-
- private:
-  std::string file_;
-  int line_;
+struct SceneError : FileError {
+  using FileError::FileError;
 };
 
 /// Reads a scene by extension: `.nff` for NFF, `.yaml`/`.yml` for the native format.
