@@ -34,7 +34,8 @@ int run_render(const RenderOptions& opt) {
   try {
     // Its ~0.2 s of loading overlaps parsing and rendering instead of following them.
     preload_image_library();
-    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene);
+    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
+    for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     const std::string scene_text = opt.scene.empty() ? std::string(kDefaultSceneYaml) : read_text(opt.scene);
     apply_scene_options(opt, scene);
     validate(scene);
