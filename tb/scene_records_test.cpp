@@ -196,3 +196,21 @@ TEST(SceneRecords, SkipUnknownOnEveryKindOfExtensionRecord) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(SceneRecords, BuildTimeBesideTheTraceTime) {
+  Tmp tmp;
+  const Proc r = run_rtm("render --reference --size 16x16 --out " + tmp / "d.png", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(tmp / "d.json"));
+  ASSERT_TRUE(j.contains("grid_build_seconds"));
+  EXPECT_EQ(j["grid_build_seconds"], j["grid"]["build_seconds"]);
+  EXPECT_GE(j["grid_build_seconds"].get<double>(), 0.0);
+  EXPECT_NE(r.out.find("(reference renderer), "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" M rays/s; grid build "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" s (" + std::to_string(j["grid"]["references"].get<int>()) + " references)"), std::string::npos)
+      << r.out;
+}
+
+}  // namespace
