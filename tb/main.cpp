@@ -45,6 +45,10 @@ int sc_main(int argc, char* argv[]) {
                      "How --spawn-offset is applied: relative (x max(1, |hit point|)) or bound (x an error bound of the hit point; docs/numerics.md)");
   render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
+  render->add_flag("--strict", r.strict,
+                   "Degenerate shapes (zero area, radius or length) are errors instead of skipped with a warning");
+  render->add_flag("--skip-unknown", r.skip_unknown,
+                   "Skip NFF records rtm does not know (renderers' extensions), with one warning per kind");
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
   render->add_option("--pes", r.pes, "Processing elements")->check(CLI::Range(1, 65536));

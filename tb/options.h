@@ -21,6 +21,8 @@ struct RenderOptions {
   std::string spawn_policy;    ///< relative or bound; empty: the scene's own
   int threads = 0;             ///< reference renderer threads; 0: all cores
   bool quiet = false;
+  bool strict = false;         ///< degenerate shapes are errors, not skipped records
+  bool skip_unknown = false;   ///< unknown NFF records are skipped with a warning, not errors
 
   // The machine
   std::string config_file;           ///< machine configuration (YAML key: value)

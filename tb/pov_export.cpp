@@ -50,9 +50,12 @@ void write_shape(std::ostream& o, const Primitive& p) {
       o << "cone { " << vec(p.p0) << ", " << num(p.r0) << ", " << vec(p.p1) << ", " << num(p.r1) << " open\n";
       return;
     case ShapeKind::Polygon: {
-      o << "polygon { " << p.vertices.size() + 1;  // POV wants the outline closed
-      for (const Vec3& v : p.vertices) o << ", " << vec(v);
-      o << ", " << vec(p.vertices.front()) << "\n";
+      // A concave polygon's pieces are written as the whole polygon, once, so POV-Ray's own
+      // polygon checks our decomposition (to_pov skips the other pieces).
+      const std::vector<Vec3>& v = p.outline.empty() ? p.vertices : p.outline;
+      o << "polygon { " << v.size() + 1;  // POV wants the outline closed
+      for (const Vec3& x : v) o << ", " << vec(x);
+      o << ", " << vec(v.front()) << "\n";
       return;
     }
     default: {
@@ -141,7 +144,10 @@ std::string to_pov(const Scene& s, bool id) {
 
   for (size_t i = 0; i < s.primitives.size(); ++i) {
     const Primitive& p = s.primitives[i];
+    if (p.piece > 0) continue;  // written with piece 0, as the whole polygon
     o << "// " << i << ": " << shape_name(p.kind) << "\n";
+    // For ID comparisons: primitives i .. i + pieces − 1 are this one polygon (ID i + 1 here).
+    if (p.pieces > 1) o << "// polygon pieces " << i << " " << p.pieces << "\n";
     write_shape(o, p);
     if (id) {
       // Number + 1 in 24 bits, so black stays the background.
