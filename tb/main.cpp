@@ -82,7 +82,9 @@ int sc_main(int argc, char* argv[]) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11 prints the help, the version or the error; its own codes (105 for a value out of
+    // range, 106 for a missing subcommand, ...) are all one thing to rtm: a bad command line.
+    return app.exit(e) == 0 ? 0 : 2;
   }
   if (render->parsed()) return rtm::run_render(r);
   if (config->parsed() && markdown) {

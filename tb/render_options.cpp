@@ -4,6 +4,9 @@
 #include <filesystem>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
+
+#include "scene/scene_checks.h"
 
 namespace rtm {
 
@@ -38,9 +41,20 @@ void apply_scene_options(const RenderOptions& opt, Scene& scene) {
   if (!opt.size.empty()) {
     int w = 0, h = 0;
     parse_size(opt.size, w, h);
-    set_resolution(scene, w, h);
+    try {
+      set_resolution(scene, w, h);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--size: ") + e.what());
+    }
   }
-  if (!opt.grid.empty()) scene.grid.resolution = parse_grid(opt.grid);
+  if (!opt.grid.empty()) {
+    scene.grid.resolution = parse_grid(opt.grid);
+    try {
+      scene_checks::check_grid(scene.grid);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError("--grid: " + opt.grid + ": " + e.what());
+    }
+  }
   // The reference on its own sizes its automatic grid for a CPU, unless asked for the machine's.
   if (opt.reference && opt.grid != "machine") size_for_cpu(scene.grid);
   if (opt.threshold) scene.threshold = *opt.threshold;

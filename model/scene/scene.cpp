@@ -102,8 +102,10 @@ void check_grid(const GridOptions& g) {
   const bool automatic = r[0] == 0 && r[1] == 0 && r[2] == 0;
   if (!automatic) {
     require(r[0] >= 1 && r[1] >= 1 && r[2] >= 1, "grid resolution must be at least 1 voxel on each axis");
-    require(int64_t(r[0]) * r[1] * r[2] <= kMaxGridVoxels,
-            "grid has too many voxels (at most " + std::to_string(kMaxGridVoxels) + ")");
+    // Two steps, so that three axes of up to 2^31 cannot overflow the product.
+    require(int64_t(r[0]) * r[1] <= kMaxGridVoxels && int64_t(r[0]) * r[1] * r[2] <= kMaxGridVoxels,
+            "grid has too many voxels (at most " + std::to_string(kMaxGridVoxels) + "), got " +
+                std::to_string(r[0]) + "x" + std::to_string(r[1]) + "x" + std::to_string(r[2]));
   }
   require(std::isfinite(g.voxels_per_primitive) && g.voxels_per_primitive > 0, "voxels_per_primitive must be > 0");
   require(g.max_auto_axis >= 1, "max_auto_axis must be at least 1");

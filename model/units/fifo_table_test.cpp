@@ -36,7 +36,9 @@ TEST(FifoTable, DepthKeysAreConfigurationKeysOfTheSameValue) {
 
 TEST(FifoTable, OnlyTheFrontBufferTakesCreditsBackAndOnlyTheRootFifoIsPerLane) {
   for (const FifoSpec& f : fifo_table()) {
-    if (f.returns_credit) EXPECT_TRUE(has(f.readers, UnitKind::FrontBuffer)) << f.name;
+    if (f.returns_credit) {
+      EXPECT_TRUE(has(f.readers, UnitKind::FrontBuffer)) << f.name;
+    }
     EXPECT_EQ(f.per_lane, f.id == FifoId::Root) << f.name;
     EXPECT_EQ(f.payload == Payload::MacResult, f.id == FifoId::Root) << f.name;
     EXPECT_EQ(f.payload == Payload::End, f.id == FifoId::Ends) << f.name;
