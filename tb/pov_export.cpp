@@ -167,13 +167,16 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
   pov->add_option("scene", opt.scene, "Scene file: .nff or .yaml (the built-in default scene if omitted)");
   pov->add_option("--size", opt.size, "Image size WxH (keeps the scene's horizontal field of view)");
   pov->add_flag("--id", opt.id, "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
+  pov->add_flag("--strict", opt.strict, "Degenerate shapes are errors instead of skipped (as rtm render --strict)");
+  pov->add_flag("--skip-unknown", opt.skip_unknown, "Skip unknown NFF records (as rtm render --skip-unknown)");
   pov->add_option("--out", opt.out, "The .pov file to write")->required();
   return pov;
 }
 
 int run_pov(const PovOptions& opt) {
   try {
-    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene);
+    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
+    for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     if (!opt.size.empty()) {
       std::smatch m;
       if (!std::regex_match(opt.size, m, std::regex(R"((\d{1,6})x(\d{1,6}))"))) {

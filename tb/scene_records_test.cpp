@@ -189,6 +189,11 @@ TEST(SceneRecords, SkipUnknownOnEveryKindOfExtensionRecord) {
                                ":12: skipped 1 unknown 'ls' record", ":13: skipped 1 unknown 'tex' record",
                                ":14: skipped 1 unknown 'env' record", ":16: skipped 1 unknown 'tpp' record"})
     EXPECT_NE(r.err.find("rtm: warning: " + file + w), std::string::npos) << w << "\n" << r.err;
+  // rtm pov reads the file the same way, so the same scene can be checked against POV-Ray.
+  const Proc pov = run_rtm("pov " + file + " --skip-unknown --out " + tmp / "b.pov", tmp);
+  EXPECT_EQ(pov.exit_code, 0) << pov.err;
+  EXPECT_NE(pov.err.find(":16: skipped 1 unknown 'tpp' record"), std::string::npos) << pov.err;
+  EXPECT_EQ(run_rtm("pov " + file + " --out " + tmp / "c.pov", tmp).exit_code, 1);
   const nlohmann::json j = nlohmann::json::parse(slurp(tmp / "b.json"));
   EXPECT_EQ(j["primitives"], 2);
   EXPECT_EQ(j["skipped"].size(), 6u);

@@ -262,14 +262,14 @@ std::vector<Primitive> make_polygon_pieces(const std::vector<Vec3>& in) {
     p.has_local = true;
     for (size_t i = 0; i < corners.size(); ++i) {
       const int a = corners[i], b = corners[(i + 1) % corners.size()];
+      p.vertices.push_back(v[size_t(a)]);
+      p.bounds.extend(v[size_t(a)]);
       const Vec3 out_dir = cross(v[size_t(b)] - v[size_t(a)], n);
       if (length(out_dir) == 0) continue;
       const Vec3 m = normalize(out_dir);
       // Anchored at the edge's lower-numbered end: the piece across a diagonal computes the same
       // products with every sign flipped, so its half-space is exactly the complement's closure.
       p.clips.push_back({m, -dot(m, v[size_t(std::min(a, b))])});
-      p.vertices.push_back(v[size_t(a)]);
-      p.bounds.extend(v[size_t(a)]);
     }
     validate(p);
     out.push_back(std::move(p));

@@ -144,6 +144,35 @@ TEST(ConvexPieces, RandomStarShapedPolygons) {
   }
 }
 
+TEST(ConvexPieces, SpiralsAndCombsThatNoPointSeesWhole) {
+  // A spiral strip three turns long and a comb of random teeth: not star-shaped, so no fan from
+  // any point triangulates them.
+  std::vector<Point2> outer, inner;
+  for (int i = 0; i < 150; ++i) {
+    const double t = 6 * kPi * i / 150, r = 1 + t;
+    outer.push_back({r * std::cos(t), r * std::sin(t)});
+    inner.push_back({(r - 0.5) * std::cos(t), (r - 0.5) * std::sin(t)});
+  }
+  std::vector<Point2> spiral = outer;
+  spiral.insert(spiral.end(), inner.rbegin(), inner.rend());  // out along the outer edge, back along the inner: counter-clockwise
+  auto pieces = convex_pieces(spiral);
+  EXPECT_LE(int(pieces.size()), 2 * reflex_corners(spiral) + 1);
+  expect_exact_cover(spiral, pieces);
+
+  std::mt19937 rng(13);
+  std::vector<Point2> comb = {{0, 0}, {20, 0}};
+  for (int i = 9; i >= 0; --i) {
+    const double h = test::uniform(rng, 1.5, 6);
+    comb.push_back({2.0 * i + 2, h});
+    comb.push_back({2.0 * i + 1, h});
+    comb.push_back({2.0 * i + 1, 1});
+    comb.push_back({2.0 * i, 1});  // the last is the outline's corner (0, 1)
+  }
+  pieces = convex_pieces(comb);
+  EXPECT_LE(int(pieces.size()), 2 * reflex_corners(comb) + 1);
+  expect_exact_cover(comb, pieces);
+}
+
 TEST(ConvexPieces, RejectsSelfIntersectionsHolesAndClockwise) {
   EXPECT_THROW(convex_pieces({{0, 0}, {1, 1}, {1, 0}, {0, 1}}), std::invalid_argument);  // bow tie
   // A square with a square hole, joined by a slit walked both ways: the slit's edges touch.
