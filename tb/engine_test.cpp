@@ -1,8 +1,10 @@
 // The PE engine against the modules it stands in for: the same frame rendered both ways must
-// give the same picture, ID map and every statistic (cycles, per-PE and per-unit counters, FIFO
-// peaks and means, host phases), over configurations that exercise each of its paths.
-// docs/machine.md, "The PE engine".
+// give the same event log (every unit's every take and put, in cycles), picture, ID map and
+// every statistic (cycles, per-PE and per-unit counters, FIFO peaks and means, host phases), over
+// configurations that exercise each of its paths. docs/machine.md, "The PE engine";
+// docs/architecture.md, "The event log".
 #include <random>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -35,14 +37,32 @@ json comparable(json j) {
   return j;
 }
 
+/// The first line where two event logs part ("" when they are the same), e.g.
+/// "line 1234: modules '215703 pe0 search ray17 put intersect_fifo', engine '... put feedback_search'".
+std::string first_difference(const std::string& modules_log, const std::string& engine_log) {
+  std::istringstream m(modules_log), e(engine_log);
+  std::string a, b;
+  for (int line = 1;; ++line) {
+    const bool more_m = bool(std::getline(m, a)), more_e = bool(std::getline(e, b));
+    if (!more_m && !more_e) return "";
+    if (!more_m) a = "(log ended)";
+    if (!more_e) b = "(log ended)";
+    if (a != b) return "line " + std::to_string(line) + ": modules '" + a + "', engine '" + b + "'";
+  }
+}
+
 void expect_engine_matches_modules(const std::string& args) {
   Tmp tmp;
-  const json modules = render(tmp, "modules", args + " --set pe_simulation=modules");
-  const json engine = render(tmp, "engine", args);
+  const json modules =
+      render(tmp, "modules", args + " --set pe_simulation=modules --event-log " + (tmp / "modules.log"));
+  const json engine = render(tmp, "engine", args + " --event-log " + (tmp / "engine.log"));
   ASSERT_FALSE(modules.is_null() || engine.is_null()) << args;
   ASSERT_TRUE(engine["pe_simulation"]["engine"].get<bool>()) << engine["pe_simulation"];
   ASSERT_FALSE(modules["pe_simulation"]["engine"].get<bool>());
   EXPECT_GT(engine["cycles"].get<uint64_t>(), 0u);
+  const std::string log = slurp(tmp / "modules.log");
+  EXPECT_NE(log.find(" take "), std::string::npos) << "an empty event log compares nothing";
+  EXPECT_EQ(first_difference(log, slurp(tmp / "engine.log")), "") << "the event logs part; " << args;
   const json m = comparable(modules), e = comparable(engine);
   for (auto& [key, value] : m.items()) EXPECT_EQ(value, e[key]) << key << " differs; " << args;
   EXPECT_EQ(m.size(), e.size());
@@ -99,6 +119,45 @@ TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
          << " --set intersection_units=" << pick(1, 3);
     expect_engine_matches_modules(args.str());
   }
+}
+
+// The comparison names the first event where two runs part: here a shading unit one cycle slower,
+// so the first difference is a put the slower shading unit makes later.
+TEST(EngineMatchesModules, TheFirstDifferingEventIsNamed) {
+  Tmp tmp;
+  const std::string args = kScenes + "balls-1.nff --size 8x8 --event-log ";
+  ASSERT_FALSE(render(tmp, "a", args + (tmp / "a.log")).is_null());
+  ASSERT_FALSE(render(tmp, "b", args + (tmp / "b.log") + " --set shade_cycles=17").is_null());
+  const std::string d = first_difference(slurp(tmp / "a.log"), slurp(tmp / "b.log"));
+  ASSERT_NE(d, "");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(d, m, std::regex(R"(modules '(\d+ pe0 shading ray\d+) take (\d+)', engine '(\d+ pe0 shading ray\d+) take (\d+)')")))
+      << d;
+  EXPECT_EQ(m[1], m[3]) << "the same ray at the same cycle: " << d;
+  EXPECT_EQ(std::stoi(m[4]), std::stoi(m[2]) + 1) << "one more shading cycle: " << d;
+}
+
+// The log's lines: cycle, PE, unit, ray, event and its detail (docs/architecture.md).
+TEST(EngineMatchesModules, EventLogLinesSayWhoDidWhatWhen) {
+  Tmp tmp;
+  ASSERT_FALSE(render(tmp, "a", kScenes + "balls-1.nff --size 4x4 --pes 2 --event-log " + (tmp / "a.log")).is_null());
+  std::istringstream log(slurp(tmp / "a.log"));
+  std::string line;
+  int lines = 0, primaries = 0;
+  uint64_t last_cycle = 0;
+  const std::regex form(R"((\d+) pe[01] (front_buffer|search|mac0|root0|shading) ray\d+ )"
+                        R"((take \d+( queued| spilled| primary)?|put [a-z_]+))");
+  while (std::getline(log, line)) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(line, m, form)) << line;
+    const uint64_t cycle = std::stoull(m[1]);
+    EXPECT_GE(cycle, last_cycle) << "in cycle order: " << line;
+    last_cycle = cycle;
+    primaries += line.find(" primary") != std::string::npos;
+    ++lines;
+  }
+  EXPECT_EQ(primaries, 16) << "one primary ray per pixel";
+  EXPECT_GT(lines, 16 * 4);
 }
 
 TEST(EngineMatchesModules, WaveformsAndClockedTimingUseTheModules) {

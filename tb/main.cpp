@@ -50,6 +50,10 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--max-memory", r.max_memory,
                      "Memory budget, e.g. 512M or 4G (default 3/4 of the machine's): a render estimated to need more is "
                      "refused before it starts, and one whose ray trees outgrow it is stopped");
+  render->add_flag("--strict", r.strict,
+                   "Degenerate shapes (zero area, radius or length) are errors instead of skipped with a warning");
+  render->add_flag("--skip-unknown", r.skip_unknown,
+                   "Skip NFF records rtm does not know (renderers' extensions), with one warning per kind");
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
   // --pes and --search-units are checked as their configuration keys (machine/config.cpp).

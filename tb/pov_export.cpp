@@ -51,9 +51,12 @@ void write_shape(std::ostream& o, const Primitive& p) {
       o << "cone { " << vec(p.p0) << ", " << num(p.r0) << ", " << vec(p.p1) << ", " << num(p.r1) << " open\n";
       return;
     case ShapeKind::Polygon: {
-      o << "polygon { " << p.vertices.size() + 1;  // POV wants the outline closed
-      for (const Vec3& v : p.vertices) o << ", " << vec(v);
-      o << ", " << vec(p.vertices.front()) << "\n";
+      // A concave polygon's pieces are written as the whole polygon, once, so POV-Ray's own
+      // polygon checks our decomposition (to_pov skips the other pieces).
+      const std::vector<Vec3>& v = p.outline.empty() ? p.vertices : p.outline;
+      o << "polygon { " << v.size() + 1;  // POV wants the outline closed
+      for (const Vec3& x : v) o << ", " << vec(x);
+      o << ", " << vec(v.front()) << "\n";
       return;
     }
     default: {
@@ -142,7 +145,10 @@ std::string to_pov(const Scene& s, bool id) {
 
   for (size_t i = 0; i < s.primitives.size(); ++i) {
     const Primitive& p = s.primitives[i];
+    if (p.piece > 0) continue;  // written with piece 0, as the whole polygon
     o << "// " << i << ": " << shape_name(p.kind) << "\n";
+    // For ID comparisons: primitives i .. i + pieces − 1 are this one polygon (ID i + 1 here).
+    if (p.pieces > 1) o << "// polygon pieces " << i << " " << p.pieces << "\n";
     write_shape(o, p);
     if (id) {
       // Number + 1 in 24 bits, so black stays the background.
@@ -162,6 +168,8 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
   pov->add_option("scene", opt.scene, "Scene file: .nff or .yaml (the built-in default scene if omitted)");
   pov->add_option("--size", opt.size, "Image size WxH (keeps the scene's horizontal field of view)");
   pov->add_flag("--id", opt.id, "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
+  pov->add_flag("--strict", opt.strict, "Degenerate shapes are errors instead of skipped (as rtm render --strict)");
+  pov->add_flag("--skip-unknown", opt.skip_unknown, "Skip unknown NFF records (as rtm render --skip-unknown)");
   pov->add_option("--out", opt.out, "The .pov file to write")->required();
   return pov;
 }
@@ -169,7 +177,8 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
 int run_pov(const PovOptions& opt) {
   remove_partial_files_on_signals();  // the .pov file is written under a temporary name
   try {
-    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene);
+    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
+    for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     if (!opt.size.empty()) {
       std::smatch m;
       if (!std::regex_match(opt.size, m, std::regex(R"((\d{1,6})x(\d{1,6}))"))) {

@@ -17,6 +17,8 @@ struct PovOptions {
   std::string size;   ///< "WxH", empty: the scene's own
   std::string out;    ///< .pov file to write
   bool id = false;    ///< flat primitive-ID colours instead of shading
+  bool strict = false;        ///< degenerate shapes are errors (as `rtm render --strict`)
+  bool skip_unknown = false;  ///< unknown NFF records are skipped (as `rtm render --skip-unknown`)
 };
 
 /// The scene as POV-Ray 3.7 SDL. With `id`, each primitive is a flat colour encoding its number

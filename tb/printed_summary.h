@@ -17,10 +17,11 @@ struct RenderFiles {
 };
 
 /// After a --reference render.
-void print_reference_summary(const Scene& s, const Grid& g, const ReferenceResult& r, const RenderFiles& files);
+void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds, const ReferenceResult& r,
+                             const RenderFiles& files);
 
 /// After a machine render, compared with the reference.
-void print_machine_summary(const Scene& s, const Grid& g, const MachineConfig& c, const MachineResult& m,
+void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, const MachineConfig& c, const MachineResult& m,
                            const ImageError& err, const ReferenceResult& ref, bool ref_cached,
                            const RenderFiles& files);
 

@@ -2,9 +2,11 @@
 
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 
 #include "scene/scene_checks.h"
 
@@ -111,6 +113,7 @@ MachineConfig machine_config(const RenderOptions& opt) {
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c) {
   MachineOptions m;
   m.vcd = opt.vcd;
+  if (!opt.vcd.empty()) m.gtkw = std::filesystem::path(vcd_file(opt.vcd)).replace_extension(".gtkw").string();
   m.event_log = opt.event_log;
   m.progress = !opt.quiet;
   if (!opt.vcd_window.empty()) {

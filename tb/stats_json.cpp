@@ -152,7 +152,11 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
 }  // namespace
 
 nlohmann::json scene_json(const Scene& s, const Grid& g, double grid_seconds) {
+  nlohmann::json skipped = nlohmann::json::array();  // what the reader left out (docs/scene-format.md)
+  for (const SkippedRecords& k : s.skipped)
+    skipped.push_back({{"kind", k.kind}, {"reason", k.reason}, {"count", k.count}, {"lines", k.lines}});
   return {{"scene", s.name},
+          {"skipped", skipped},
           {"width", s.camera.width},
           {"height", s.camera.height},
           {"primitives", s.primitives.size()},

@@ -3,6 +3,7 @@
 #include <climits>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 namespace rtm {
 namespace {
@@ -139,7 +140,73 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
   return n;
 }
 
+bool sphere_touches_box(const Vec3& c, double r, const Aabb& b) {
+  double n2[3], f2[3];
+  for (int a = 0; a < 3; ++a) {
+    const double lo = b.lo[a] - c[a], hi = b.hi[a] - c[a];
+    const double n = lo > 0 ? lo : (hi < 0 ? -hi : 0);
+    n2[a] = n * n;
+    f2[a] = std::max(lo * lo, hi * hi);
+  }
+  // Summed z, y, x: the order build_grid's row-by-row form uses, so both round alike.
+  const double near2 = n2[2] + n2[1] + n2[0], far2 = f2[2] + f2[1] + f2[0];
+  // Rounding in the differences is relative to the coordinates, not to the radius.
+  const double scale = max_abs(c) + r + max_abs(b.extent());
+  const double slack = 1e-12 * scale * scale;
+  return near2 <= r * r + slack && far2 >= r * r - slack;
+}
+
+double estimated_references(const std::vector<Primitive>& prims, const Aabb& box, const std::array<int, 3>& n) {
+  const Vec3 cell = box.extent() / Vec3(n[0], n[1], n[2]);
+  const double edge = std::max({cell.x, cell.y, cell.z});
+  double total = 0;
+  for (const Primitive& p : prims) {
+    double voxels = 1;
+    for (int a = 0; a < 3; ++a) {
+      const double span = cell[a] > 0 ? p.bounds.extent()[a] / cell[a] : 0;
+      voxels *= std::min(double(n[a]), span + 1);  // the cells a box of that width spans, on average
+    }
+    if (p.kind == ShapeKind::Sphere && p.r0 > 0) voxels *= std::min(1.0, 2.4 * edge / p.r0);
+    total += voxels;
+  }
+  return total;
+}
+
+namespace {
+
+/// The resolution n coarsened, every axis by the same factor, until estimated_references is
+/// within the budget or within twice the voxels (or every axis is down to one voxel). The build
+/// costs the voxels (the start array) plus the references, so references below the order of the
+/// voxels are not worth a coarser grid: a floor under a few objects (SPD tree-3) keeps its grid.
+std::array<int, 3> within_reference_budget(const std::vector<Primitive>& prims, const Aabb& box,
+                                           std::array<int, 3> n, double budget) {
+  auto scaled = [&](double s) {
+    std::array<int, 3> m{};
+    for (int a = 0; a < 3; ++a) m[a] = std::max(1, int(std::lround(n[a] * s)));
+    return m;
+  };
+  auto within = [&](const std::array<int, 3>& m) {
+    return estimated_references(prims, box, m) <= std::max(budget, 2.0 * double(m[0]) * m[1] * m[2]);
+  };
+  if (within(n)) return n;
+  double lo = 0, hi = 1;  // scaled(hi) is over the budget
+  for (int i = 0; i < 30; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (within(scaled(mid)) ? lo : hi) = mid;
+  }
+  return scaled(lo);
+}
+
+}  // namespace
+
 std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt) {
+  std::array<int, 3> n = density_resolution(prims, box, opt);
+  if (opt.max_refs_per_primitive > 0)
+    n = within_reference_budget(prims, box, n, opt.max_refs_per_primitive * double(std::max<size_t>(1, prims.size())));
+  return n;
+}
+
+std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt) {
   if (prims.size() < 8) return auto_resolution(box, prims.size(), opt);
   // The dense core: central 90% of centres per axis, grown by half the median primitive size.
   std::vector<double> c[3], size;
@@ -203,7 +270,7 @@ std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const A
   return n;
 }
 
-Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt) {
+Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int threads) {
   Grid g;
   for (const Primitive& p : prims) g.box.extend(p.bounds);
   if (prims.empty()) g.box = Aabb{{0, 0, 0}, {1, 1, 1}};
@@ -220,37 +287,104 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt) {
   if (double(g.n[0]) * g.n[1] * g.n[2] > 1.5e9) throw std::invalid_argument("grid resolution is too large");
   g.cell = g.box.extent() / Vec3(g.n[0], g.n[1], g.n[2]);
 
-  // (voxel, primitive) pairs in primitive order, then a counting sort by voxel into one
-  // contiguous array (the PE's voxel data); each voxel's list stays in primitive order.
-  std::vector<std::pair<int64_t, uint32_t>> refs;
-  for (uint32_t id = 0; id < prims.size(); ++id) {
-    const Primitive& p = prims[id];
-    int lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::clamp(int(std::floor((p.bounds.lo[a] - g.box.lo[a]) / g.cell[a])) - 1, 0, g.n[a] - 1);
-      hi[a] = std::clamp(int(std::floor((p.bounds.hi[a] - g.box.lo[a]) / g.cell[a])) + 1, 0, g.n[a] - 1);
+  // (voxel, primitive) pairs in primitive order, each thread a contiguous run of primitives, then
+  // a counting sort by voxel into one contiguous array (the PE's voxel data); each voxel's list
+  // stays in primitive order, whatever the number of threads.
+  using Ref = std::pair<uint32_t, uint32_t>;  // voxel (< 1.5e9), primitive
+  // The exact sphere test, voxel by voxel as sphere_touches_box on the padded voxel, with the
+  // squared distances per axis computed once per plane and rows the sphere misses skipped: a large
+  // sphere's bounding box is mostly voxels inside it.
+  auto register_sphere = [&](const Primitive& p, uint32_t id, const int* lo, const int* hi, std::vector<Ref>& refs) {
+    const Vec3 c = p.p0;
+    const double r2 = p.r0 * p.r0;
+    double near[3][2048], far[3][2048];  // per axis, per voxel of the bounding box
+    bool fits = true;
+    for (int a = 0; a < 3; ++a) fits = fits && hi[a] - lo[a] < 2048;
+    if (!fits) {  // an axis of more than 2048 voxels: voxel by voxel
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int x = lo[0]; x <= hi[0]; ++x) {
+            Aabb vb = g.voxel_box(x, y, z);
+            vb.lo -= kVoxelPad * g.cell;
+            vb.hi += kVoxelPad * g.cell;
+            if (vb.overlaps(p.bounds) && sphere_touches_box(c, p.r0, vb)) refs.emplace_back(uint32_t(g.index(x, y, z)), id);
+          }
+      return;
     }
+    double extent = 0;
+    for (int a = 0; a < 3; ++a) {
+      extent = std::max(extent, g.cell[a] * (1 + 2 * kVoxelPad));
+      for (int i = lo[a]; i <= hi[a]; ++i) {
+        const double l = g.plane(a, i) - kVoxelPad * g.cell[a] - c[a], h = g.plane(a, i + 1) + kVoxelPad * g.cell[a] - c[a];
+        const double n = l > 0 ? l : (h < 0 ? -h : 0);
+        near[a][i - lo[a]] = n * n;
+        far[a][i - lo[a]] = std::max(l * l, h * h);
+      }
+    }
+    const double scale = max_abs(c) + p.r0 + extent;
+    const double slack = 1e-12 * scale * scale;  // as sphere_touches_box
     for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x) {
-          Aabb vb = g.voxel_box(x, y, z);
-          vb.lo -= kVoxelPad * g.cell;
-          vb.hi += kVoxelPad * g.cell;
-          if (!vb.overlaps(p.bounds)) continue;
-          bool touches = quadric_may_vanish(p.q, vb);
-          for (size_t k = 0; touches && k < p.clips.size(); ++k) touches = box_touches_halfspace(vb, p.clips[k]);
-          if (touches) refs.emplace_back(g.index(x, y, z), id);
-        }
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        const double n_yz = near[2][z - lo[2]] + near[1][y - lo[1]];
+        if (n_yz > r2 + slack) continue;
+        const double f_yz = far[2][z - lo[2]] + far[1][y - lo[1]];
+        const int64_t row = g.index(0, y, z);
+        for (int x = lo[0]; x <= hi[0]; ++x)
+          if (n_yz + near[0][x - lo[0]] <= r2 + slack && f_yz + far[0][x - lo[0]] >= r2 - slack)
+            refs.emplace_back(uint32_t(row + x), id);
+      }
+  };
+  auto register_range = [&](size_t first, size_t last, std::vector<Ref>& refs) {
+    for (size_t i = first; i < last; ++i) {
+      const uint32_t id = uint32_t(i);
+      const Primitive& p = prims[i];
+      const bool sphere = opt.exact_spheres && p.kind == ShapeKind::Sphere && p.clips.empty();
+      int lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::clamp(int(std::floor((p.bounds.lo[a] - g.box.lo[a]) / g.cell[a])) - 1, 0, g.n[a] - 1);
+        hi[a] = std::clamp(int(std::floor((p.bounds.hi[a] - g.box.lo[a]) / g.cell[a])) + 1, 0, g.n[a] - 1);
+      }
+      if (sphere) {
+        register_sphere(p, id, lo, hi, refs);
+        continue;
+      }
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int x = lo[0]; x <= hi[0]; ++x) {
+            Aabb vb = g.voxel_box(x, y, z);
+            vb.lo -= kVoxelPad * g.cell;
+            vb.hi += kVoxelPad * g.cell;
+            if (!vb.overlaps(p.bounds)) continue;
+            bool touches = quadric_may_vanish(p.q, vb);
+            for (size_t k = 0; touches && k < p.clips.size(); ++k) touches = box_touches_halfspace(vb, p.clips[k]);
+            if (touches) refs.emplace_back(uint32_t(g.index(x, y, z)), id);
+          }
+    }
+  };
+  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  // A thread is worth starting for a few hundred primitives at least.
+  const size_t chunks = std::max<size_t>(1, std::min<size_t>(size_t(threads), prims.size() / 256));
+  std::vector<std::vector<Ref>> refs(chunks);
+  {
+    std::vector<std::thread> pool;
+    for (size_t c = 1; c < chunks; ++c)
+      pool.emplace_back(register_range, prims.size() * c / chunks, prims.size() * (c + 1) / chunks, std::ref(refs[c]));
+    register_range(0, prims.size() / chunks, refs[0]);
+    for (std::thread& t : pool) t.join();
   }
-  if (refs.size() > UINT32_MAX) throw std::invalid_argument("grid holds too many primitive references");
+  size_t total = 0;
+  for (const auto& r : refs) total += r.size();
+  if (total > UINT32_MAX) throw std::invalid_argument("grid holds too many primitive references");
   // start[v] counts, then ends, then (filling backwards) begins voxel v's list: no second array
   // the size of the grid.
   g.start.assign(size_t(g.voxel_count()) + 1, 0);
-  for (const auto& r : refs) ++g.start[size_t(r.first)];
+  for (const auto& rs : refs)
+    for (const Ref& r : rs) ++g.start[r.first];
   for (size_t v = 1; v + 1 < g.start.size(); ++v) g.start[v] += g.start[v - 1];
-  g.start.back() = uint32_t(refs.size());
-  g.items.resize(refs.size());
-  for (auto r = refs.rbegin(); r != refs.rend(); ++r) g.items[--g.start[size_t(r->first)]] = r->second;
+  g.start.back() = uint32_t(total);
+  g.items.resize(total);
+  for (auto c = refs.rbegin(); c != refs.rend(); ++c)
+    for (auto r = c->rbegin(); r != c->rend(); ++r) g.items[--g.start[r->first]] = r->second;
   return g;
 }
 

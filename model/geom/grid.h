@@ -23,6 +23,16 @@ struct GridOptions {
   /// With a limit (> 0), no voxel edge is shorter than 1/max_auto_aspect of the longest: where
   /// the cap lengthens some axes' voxels (a teapot in a stadium), the others coarsen with them.
   double max_auto_aspect = 0;
+  /// With a limit (> 0), the automatic grid is coarsened (every axis by the same factor) until
+  /// the references it is estimated to hold are at most this many per primitive, or at most twice
+  /// its voxels (estimated_references): large primitives that span many voxels (SPD shells'
+  /// overlapping spheres) must not make the build dominate the render.
+  double max_refs_per_primitive = 0;
+  /// Spheres are registered with the exact sphere–box test (the surface meets the box exactly
+  /// when the nearest point of the box is inside the sphere and the farthest outside) instead of
+  /// the interval bound. Both are conservative; the exact one is cheaper and lists no voxel the
+  /// sphere misses. The machine keeps the interval bound, so its voxel data is unchanged.
+  bool exact_spheres = false;
 };
 
 /// The automatic grid of the reference renderer run on its own: a CPU that crosses empty space in
@@ -32,6 +42,8 @@ inline void size_for_cpu(GridOptions& g) {
   g.max_auto_axis = 1024;
   g.max_auto_cells = 6'000'000;
   g.max_auto_aspect = 3;
+  g.max_refs_per_primitive = 256;  // docs/benchmarks.md, "The grid": binds on SPD shells only
+  g.exact_spheres = true;
 }
 
 struct Grid {
@@ -64,12 +76,25 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
 /// space and capped per axis (GridOptions: max_auto_axis, max_auto_cells, max_auto_aspect). A
 /// scene whose objects sit on a huge floor ("a teapot in a stadium": SPD balls and tree) gets
 /// voxels fitted to its objects, not to the floor.
+std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
+/// The automatic resolution: density_resolution, then coarsened to GridOptions::
+/// max_refs_per_primitive when that is set.
 std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
 
 /// Conservative voxelisation: a primitive is listed in every voxel its clipped surface may touch.
 /// Tighter than its bounding box: a voxel entirely outside one clip half-space is skipped, and
 /// so is a voxel over which interval arithmetic proves the quadric has no zero.
-Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt);
+/// threads <= 0: all hardware threads. The result does not depend on the number of threads.
+Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int threads = 0);
+
+/// The references a grid of n voxels over box is expected to hold: per primitive the voxels its
+/// bounding box spans on average (width in voxels + 1 on each axis), for a sphere scaled by the share of them its surface can touch
+/// (min(1, 2.4 c / r) for voxel edge c: surface voxels ~ 4πr²·1.5/c² against (2r/c)³). Cheap
+/// (no voxel is tested), for choosing a resolution.
+double estimated_references(const std::vector<Primitive>& prims, const Aabb& box, const std::array<int, 3>& n);
+
+/// Can a sphere's surface meet the box? Exact up to rounding, and conservative.
+bool sphere_touches_box(const Vec3& centre, double radius, const Aabb& box);
 
 /// Interval bound check used by the voxeliser: can Q be zero somewhere in the box? Conservative
 /// (never false where Q has a zero); evaluated centred on the box, so it stays tight far from the

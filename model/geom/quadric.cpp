@@ -177,8 +177,10 @@ Frame Frame::along(const Vec3& origin, const Vec3& axis) {
 
 Primitive make_sphere(const Vec3& centre, double radius) {
   require_finite(centre, "sphere centre");
+  if (radius == 0) throw DegenerateShape("sphere radius is zero");
   require_positive(radius, "sphere radius");
-  require(radius * radius >= std::numeric_limits<double>::min(), "sphere radius is too small: its square underflows");
+  if (radius * radius < std::numeric_limits<double>::min())
+    throw DegenerateShape("sphere radius is too small: its square underflows");
   Primitive p;
   p.kind = ShapeKind::Sphere;
   p.q.c = {1, 1, 1, 0, 0, 0, -2 * centre.x, -2 * centre.y, -2 * centre.z, dot(centre, centre) - radius * radius};
@@ -220,9 +222,10 @@ Primitive make_cone(const Vec3& base, double base_radius, const Vec3& apex, doub
   require(std::isfinite(base_radius) && std::isfinite(apex_radius), "cone radii are not finite");
   // NFF: negative radii (both) mean "inside visible only"; the surface is the same.
   const double r0 = std::abs(base_radius), r1 = std::abs(apex_radius);
-  require(r0 > 0 || r1 > 0, "cone radii are both zero");
+  if (!(r0 > 0 || r1 > 0)) throw DegenerateShape("cone radii are both zero");
   const double h = length(apex - base);
-  require(h > 0 && std::isfinite(h), "cone base and apex coincide");
+  if (h == 0) throw DegenerateShape("cone base and apex coincide");
+  require(std::isfinite(h), "cone base and apex are too far apart");
   const Frame f = Frame::along(base, apex - base);
   // x² + y² − (r0 + k z)² = 0 with k the radius slope.
   const double k = (r1 - r0) / h;
@@ -344,7 +347,7 @@ Primitive make_polygon(const std::vector<Vec3>& in) {
   for (const Vec3& p : in)
     if (v.empty() || p != v.back()) v.push_back(p);
   if (v.size() > 1 && v.front() == v.back()) v.pop_back();
-  require(v.size() >= 3, "a polygon needs at least 3 distinct vertices");
+  if (v.size() < 3) throw DegenerateShape("a polygon needs at least 3 distinct vertices");
 
   // Newell's normal: robust for any planar polygon, whichever corner is degenerate.
   Vec3 n{0, 0, 0};
@@ -356,7 +359,7 @@ Primitive make_polygon(const std::vector<Vec3>& in) {
     box.extend(a);
   }
   const double size = length(box.extent());
-  require(length(n) > 1e-12 * size * size, "polygon has zero area");
+  if (!(length(n) > 1e-12 * size * size)) throw DegenerateShape("polygon has zero area");
   n = normalize(n);
   const double d = -dot(n, v[0]);
   for (const Vec3& p : v)

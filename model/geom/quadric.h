@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,10 @@ struct Primitive {
   Vec3 p0{}, p1{};              ///< centre / base centre; apex centre
   double r0 = 0, r1 = 0;        ///< radius / base radius; apex radius
   std::vector<Vec3> vertices;   ///< polygon corners
+  /// A concave polygon is several convex primitives (geom/polygon.h): this one's number among
+  /// them and their count; piece 0 also keeps the whole polygon's corners, for exporters.
+  int piece = 0, pieces = 1;
+  std::vector<Vec3> outline;
 
   /// The quadric in coordinates x' = x − c (from the local form when there is one).
   Quadric about(const Vec3& c) const { return has_local ? local.translated(c - origin) : q.translated(c); }
@@ -85,8 +90,17 @@ struct Frame {
   static Frame along(const Vec3& origin, const Vec3& axis);
 };
 
+/// A shape that is well formed but has no surface to render: a zero radius, a zero length, a
+/// polygon of zero area. Readers of files from the wild may skip it with a warning instead of
+/// rejecting the file (docs/scene-format.md, "Skipped records").
+class DegenerateShape : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 // Shape constructors. Each validates its arguments and throws std::invalid_argument with a
-// message a user can act on (non-finite values, non-positive radii, degenerate axes, ...).
+// message a user can act on (non-finite values, non-positive radii, degenerate axes, ...), and
+// DegenerateShape where the shape is merely empty.
 Primitive make_sphere(const Vec3& centre, double radius);
 Primitive make_ellipsoid(const Frame& f, const Vec3& radii);
 /// NFF `c`: a cone or cylinder (equal radii) without caps, between two centres, any axis.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geom/numerics.h"
+#include "scene/file_error.h"
 
 namespace rtm {
 
@@ -111,16 +112,8 @@ struct MachineConfig {
 
 /// A configuration file problem: the message reads "file:line: key: what is wrong". Like a bad
 /// command line, it is the user's input at fault (rtm exits 2), not the scene's.
-class ConfigError : public std::runtime_error {
- public:
-  ConfigError(const std::string& file, int line, const std::string& what)
-      : std::runtime_error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
-  const std::string& file() const { return file_; }
-  int line() const { return line_; }
-
- private:
-  std::string file_;
-  int line_;
+struct ConfigError : FileError {
+  using FileError::FileError;
 };
 
 /// A named configuration key: how users set it from a file, --set key=value, or a sweep. Each key

@@ -38,7 +38,7 @@ std::vector<std::pair<std::string, const FifoStats*>> EngineHostedPe::fifo_stats
 
 std::string EngineHostedPe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }
 
-void EngineHostedPe::trace(sc_core::sc_trace_file*) {
+void EngineHostedPe::trace(Waveform&) {
   SC_REPORT_ERROR("rtm/pe", "a PE on the engine has no signals to trace (waveforms select the modules)");
 }
 

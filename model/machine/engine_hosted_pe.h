@@ -17,7 +17,7 @@ class EngineHostedPe : public Pe {
   bool finished() const override { return finished_; }
   std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
   std::string occupancy_report() override;
-  void trace(sc_core::sc_trace_file* tf) override;
+  void trace(Waveform& wave) override;
 
   /// The engine runs at most this far ahead of SystemC time, so that the progress display and
   /// the stall watch (machine.cpp) keep seeing the PE's counters move.

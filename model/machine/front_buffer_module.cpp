@@ -69,10 +69,10 @@ void FrontBufferModule::run() {
   }
 }
 
-void FrontBufferModule::trace(sc_core::sc_trace_file* tf) {
+void FrontBufferModule::trace(Waveform& wave) {
   const std::string scope = name();
-  probe_.trace(tf, scope, &ctx_.window);
-  sc_core::sc_trace(tf, traced_waiting_, scope + ".waiting");
+  probe_.trace(wave, scope, &ctx_.window);
+  wave.trace(traced_waiting_, scope + ".waiting");
 }
 
 }  // namespace rtm

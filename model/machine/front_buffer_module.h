@@ -18,7 +18,7 @@ class FrontBufferModule : public UnitModule {
   FrontBufferModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem, sc_core::sc_event& finished);
 
   const FrontBufferPolicy<MachineRay>& policy() const { return policy_; }
-  void trace(sc_core::sc_trace_file* tf);
+  void trace(Waveform& wave);
 
  private:
   void run();

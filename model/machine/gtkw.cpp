@@ -1,67 +1,49 @@
-#include <sstream>
+#include "machine/gtkw.h"
 
-#include "machine/machine.h"
+#include <map>
+#include <sstream>
+#include <vector>
+
 #include "render/image_io.h"
 
 namespace rtm {
+namespace {
 
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const MachineConfig& c,
-                const PeUnits& units, const std::vector<int>& pes) {
-  std::ostringstream g;
-  g << "[dumpfile] \"" << vcd_path << "\"\n[timestart] 0\n";
-  auto group = [&](const std::string& title) { g << "@200\n-" << title << "\n"; };
-  auto bit = [&](const std::string& s) { g << "@28\n" << s << "\n"; };
-  auto dec = [&](const std::string& s) { g << "@24\n" << s << "\n"; };
-  auto real = [&](const std::string& s) { g << "@800024\n" << s << "\n"; };
-  for (int pe : pes) {
-    const std::string p = "SystemC.machine.pe" + std::to_string(pe) + ".";  // the VCD scopes
-    group("PE " + std::to_string(pe) + " front buffer");
-    bit(p + "front_buffer.busy");
-    dec(p + "front_buffer.ray_id[31:0]");
-    dec(p + "front_buffer.waiting[31:0]");
-    dec(p + "search_fifo.occupancy[31:0]");
-    group("PE " + std::to_string(pe) + " search");
-    for (int k = 0; k < c.search_units; ++k) {
-      bit(p + "search" + std::to_string(k) + ".busy");
-      dec(p + "search" + std::to_string(k) + ".ray_id[31:0]");
-    }
-    dec(p + "feedback_search.occupancy[31:0]");
-    dec(p + "intersect_fifo.occupancy[31:0]");
-    for (int k = 0; k < c.intersection_units; ++k) {
-      const std::string x = p + "intersection" + std::to_string(k) + ".";
-      group("PE " + std::to_string(pe) + " intersection unit " + std::to_string(k));
-      bit(x + "mac.busy");
-      dec(x + "mac.ray_id[31:0]");
-      if (c.timing == Timing::Clocked) {
-        const std::string m = x + "mac_unit.";
-        bit(m + "m1_valid");
-        real(m + "m1_a");
-        real(m + "m1_b");
-        real(m + "m1_out");
-        bit(m + "m2_valid");
-        real(m + "m2_coef");
-        real(m + "m2_out");
-        bit(m + "add_valid");
-        real(m + "acc");
-        dec(m + "product_counter[31:0]");
-      }
-      dec(x + "to_root.occupancy[31:0]");
-      bit(x + "root.busy");
-      dec(x + "root.ray_id[31:0]");
-    }
-    dec(p + "feedback_intersect.occupancy[31:0]");
-    group("PE " + std::to_string(pe) + " shading");
-    dec(p + "shade_fifo.occupancy[31:0]");
-    bit(p + "shading.busy");
-    dec(p + "shading.ray_id[31:0]");
-    for (auto [kept, unit] : {std::pair<bool, const char*>{c.leave_out ? units.shadow_rays : true, "shadow_rays"},
-                              {c.leave_out ? units.reflection : true, "reflection"},
-                              {c.leave_out ? units.refraction : true, "refraction"}})
-      if (kept) bit(p + "shading." + unit + ".busy");
-    if (!c.leave_out || units.spawn_path) dec(p + "spawn_fifo.occupancy[31:0]");
-    dec(p + "ends_fifo.occupancy[31:0]");
+/// The group of a signal machine.peN.UNIT...: "PE N UNIT", or "PE N FIFOs" for a PE's FIFOs.
+std::string group_of(const std::string& name) {
+  std::vector<std::string> parts;
+  std::istringstream s(name);
+  for (std::string p; std::getline(s, p, '.');) parts.push_back(p);
+  if (parts.size() < 4) return "machine";
+  const std::string pe = "PE " + parts[1].substr(2);
+  const std::string& unit = parts[2];
+  const bool fifo = unit.size() > 5 && unit.compare(unit.size() - 5, 5, "_fifo") == 0;
+  return pe + " " + (fifo ? "FIFOs" : unit);
+}
+
+}  // namespace
+
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave) {
+  // GTKWave's trace flags: 0x4 decimal, 0x8 binary, 0x20 right-justified, 0x40000 real.
+  static const char* const kFlags[] = {"@28", "@24", "@40024"};
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const Waveform::Signal*>> groups;
+  for (const Waveform::Signal& s : wave.signals()) {
+    auto& g = groups[group_of(s.name)];
+    if (g.empty()) order.push_back(group_of(s.name));
+    g.push_back(&s);
   }
-  write_text_atomically(gtkw_path, g.str());
+  std::ostringstream out;
+  out << "[dumpfile] \"" << vcd_path << "\"\n[timestart] 0\n";
+  for (const std::string& title : order) {
+    out << "@200\n-" << title << "\n";
+    for (const Waveform::Signal* s : groups[title]) {
+      // The VCD's top scope is SystemC; a 32-bit value's name carries its bit range.
+      out << kFlags[int(s->format)] << "\nSystemC." << s->name
+          << (s->format == Waveform::Format::Decimal ? "[" + std::to_string(s->bits - 1) + ":0]" : "") << "\n";
+    }
+  }
+  write_text_atomically(gtkw_path, out.str());
 }
 
 }  // namespace rtm

@@ -28,7 +28,7 @@ IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& 
       mac_sleep_(ctx.sleeper(UnitKind::Mac)),
       root_sleep_(ctx.sleeper(UnitKind::Root, lane)),
       lanes_(lanes),
-      to_root_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind) {
+      root_fifo_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind) {
   if (clock) {
     clocked_ = std::make_unique<ClockedMac>("mac_unit", mac_.timing(), ctx.config.precision, ctx.period);
     clocked_->clk(*clock);
@@ -82,7 +82,7 @@ void IntersectionModule::mac_thread() {
     else
       m.r = rays_in(FifoId::Intersect)->read();
     mac_probe_.begin(m.r.id);
-    const Work w = mac_.take(m, PeContext::now());
+    const Work w = mac_.take(m, ctx_.log_time());
     if (clocked_) {
       const SceneImage& img = *ctx_.image;
       const DdaState& s = m.r.examined;
@@ -106,28 +106,28 @@ void IntersectionModule::mac_thread() {
       (*mac_sleep_)(ctx_.cycles(w.cycles));
     }
     mac_probe_.end();
-    put(&to_root_, m, ctx_, *mac_sleep_);
-    record_put(ctx_, PeContext::now(), UnitKind::Mac, mac_.lane(), m.r.id, w.out);
+    put(&root_fifo_, m, ctx_, *mac_sleep_);
+    record_put(ctx_, ctx_.log_time(), UnitKind::Mac, mac_.lane(), m.r.id, w.out);
   }
 }
 
 void IntersectionModule::root_thread() {
   for (;;) {
-    MacResult m = to_root_.read();
+    MacResult m = root_fifo_.read();
     root_probe_.begin(m.r.id);
-    const Work w = root_.take(m, PeContext::now());
+    const Work w = root_.take(m, ctx_.log_time());
     (*root_sleep_)(ctx_.cycles(w.cycles));
     write(w.out, m.r, UnitKind::Root, root_.lane(), *root_sleep_);
     root_probe_.end();
   }
 }
 
-void IntersectionModule::trace(sc_core::sc_trace_file* tf) {
+void IntersectionModule::trace(Waveform& wave) {
   const std::string scope = name();
-  mac_probe_.trace(tf, scope + ".mac", &ctx_.window);
-  root_probe_.trace(tf, scope + ".root", &ctx_.window);
-  to_root_.trace(tf, std::string(to_root_.name()) + ".occupancy", &ctx_.window);
-  if (clocked_) clocked_->trace(tf, clocked_->name(), &ctx_.window);
+  mac_probe_.trace(wave, scope + ".mac", &ctx_.window);
+  root_probe_.trace(wave, scope + ".root", &ctx_.window);
+  root_fifo_.trace(wave, std::string(root_fifo_.name()) + ".occupancy", &ctx_.window);
+  if (clocked_) clocked_->trace(wave, clocked_->name(), &ctx_.window);
 }
 
 }  // namespace rtm

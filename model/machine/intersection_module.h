@@ -1,5 +1,5 @@
 // An intersection unit (paper §5) as a module: a MAC thread and a root-unit thread joined by
-// the unit's own to_root FIFO, so the root unit and sort of one voxel overlap the MAC work of the
+// the unit's own root_fifo, so the root unit and sort of one voxel overlap the MAC work of the
 // next, as the paper's pipelining intends. The work is units/intersection.h's.
 #pragma once
 
@@ -40,8 +40,8 @@ class IntersectionModule : public UnitModule {
   IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
                      LaneDispatchModule* lanes, int lane);
 
-  void trace(sc_core::sc_trace_file* tf);
-  MeteredFifo<MacResult>& root_fifo() { return to_root_; }
+  void trace(Waveform& wave);
+  MeteredFifo<MacResult>& root_fifo() { return root_fifo_; }
   /// Whether its clocked MAC's signals are traced (clocked timing only).
   bool has_clocked_mac() const { return bool(clocked_); }
 
@@ -54,7 +54,7 @@ class IntersectionModule : public UnitModule {
   std::unique_ptr<Sleeper> mac_sleep_, root_sleep_;
   std::unique_ptr<ClockedMac> clocked_;  ///< null in fast timing
   LaneDispatchModule* lanes_;
-  MeteredFifo<MacResult> to_root_;
+  MeteredFifo<MacResult> root_fifo_;
   UnitProbe mac_probe_, root_probe_;
 };
 

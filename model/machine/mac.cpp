@@ -127,20 +127,20 @@ void ClockedMac::clocked() {
   }
 }
 
-void ClockedMac::trace(sc_core::sc_trace_file* tf, const std::string& prefix, const TraceWindow* window) {
+void ClockedMac::trace(Waveform& wave, const std::string& prefix, const TraceWindow* window) {
   window_ = window;
-  sc_core::sc_trace(tf, busy, prefix + ".busy");
-  sc_core::sc_trace(tf, ray_id, prefix + ".ray_id");
-  sc_core::sc_trace(tf, m1_valid, prefix + ".m1_valid");
-  sc_core::sc_trace(tf, m1_a, prefix + ".m1_a");
-  sc_core::sc_trace(tf, m1_b, prefix + ".m1_b");
-  sc_core::sc_trace(tf, m1_out, prefix + ".m1_out");
-  sc_core::sc_trace(tf, m2_valid, prefix + ".m2_valid");
-  sc_core::sc_trace(tf, m2_coef, prefix + ".m2_coef");
-  sc_core::sc_trace(tf, m2_out, prefix + ".m2_out");
-  sc_core::sc_trace(tf, add_valid, prefix + ".add_valid");
-  sc_core::sc_trace(tf, acc, prefix + ".acc");
-  sc_core::sc_trace(tf, product_counter, prefix + ".product_counter");
+  wave.trace(busy, prefix + ".busy");
+  wave.trace(ray_id, prefix + ".ray_id");
+  wave.trace(m1_valid, prefix + ".m1_valid");
+  wave.trace(m1_a, prefix + ".m1_a");
+  wave.trace(m1_b, prefix + ".m1_b");
+  wave.trace(m1_out, prefix + ".m1_out");
+  wave.trace(m2_valid, prefix + ".m2_valid");
+  wave.trace(m2_coef, prefix + ".m2_coef");
+  wave.trace(m2_out, prefix + ".m2_out");
+  wave.trace(add_valid, prefix + ".add_valid");
+  wave.trace(acc, prefix + ".acc");
+  wave.trace(product_counter, prefix + ".product_counter");
 }
 
 }  // namespace rtm

@@ -15,6 +15,7 @@
 
 #include "machine/config.h"
 #include "machine/trace_window.h"
+#include "machine/waveform.h"
 #include "units/mac_timing.h"
 
 namespace rtm {
@@ -59,7 +60,7 @@ class ClockedMac : public sc_core::sc_module {
   uint64_t finish();
 
   /// Traces the pipeline registers; they change only inside the waveform window.
-  void trace(sc_core::sc_trace_file* tf, const std::string& prefix, const TraceWindow* window);
+  void trace(Waveform& wave, const std::string& prefix, const TraceWindow* window);
 
  private:
   void clocked();

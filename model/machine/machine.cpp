@@ -1,6 +1,7 @@
 #include "machine/machine.h"
 
 #include "machine/engine_hosted_pe.h"
+#include "machine/gtkw.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
 #include "machine/sim_time.h"
@@ -309,11 +310,13 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
 
   sc_core::sc_trace_file* tf = nullptr;
   std::unique_ptr<PartialFile> vcd;  // written under a temporary name, renamed once closed
+  std::unique_ptr<Waveform> wave;
   if (!opt.vcd.empty()) {
     const std::string tmp = temporary_beside(vcd_file(opt.vcd));
     vcd = std::make_unique<PartialFile>(tmp);
     tf = sc_core::sc_create_vcd_trace_file(tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
     tf->set_time_unit(1, sc_core::SC_NS);
+    wave = std::make_unique<Waveform>(tf);
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     for (int pe : opt.vcd_pes) {
       if (pe < 0 || pe >= c.pes) continue;
@@ -321,7 +324,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
       ctx.window.enabled = true;
       ctx.window.from = period * double(opt.vcd_from_cycle);
       if (opt.vcd_to_cycle != UINT64_MAX) ctx.window.to = period * double(opt.vcd_to_cycle);
-      top.pes[size_t(pe)]->trace(tf);
+      top.pes[size_t(pe)]->trace(*wave);
     }
   }
 
@@ -394,6 +397,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     sc_core::sc_close_vcd_trace_file(tf);
     vcd->commit(vcd_file(opt.vcd));
   }
+  if (wave && !opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), *wave);
   if (!logs.empty()) {
     std::ostringstream text;
     write_event_log(text, logs, top.pes[0]->ctx.cycle);

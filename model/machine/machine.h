@@ -13,6 +13,7 @@ namespace rtm {
 
 struct MachineOptions {
   std::string vcd;                  ///< waveform file; empty: none
+  std::string gtkw;                 ///< GTKWave save file for it, naming every signal traced; empty: none
   uint64_t vcd_from_cycle = 0;      ///< waveform window, in PE cycles
   uint64_t vcd_to_cycle = UINT64_MAX;
   std::vector<int> vcd_pes{0};      ///< PEs whose signals are traced
@@ -63,9 +64,5 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
 
 /// The file a waveform option names: SystemC's trace files end in ".vcd", added if missing.
 std::string vcd_file(const std::string& vcd);
-
-/// Writes a GTKWave save file for a VCD written by run_machine: signals grouped by PE and stage.
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const MachineConfig& c,
-                const PeUnits& units, const std::vector<int>& pes);
 
 }  // namespace rtm

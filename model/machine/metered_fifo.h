@@ -11,6 +11,7 @@
 #include <systemc>
 
 #include "machine/trace_window.h"
+#include "machine/waveform.h"
 
 namespace rtm {
 
@@ -19,7 +20,6 @@ struct FifoStats {
   int depth = 0;
   int peak = 0;
   double occupancy_time = 0;  ///< ∫ occupancy dt, in seconds
-  uint64_t writes = 0;
 };
 
 /// A FIFO's occupancy as it changes over time, and the statistics it gives; times in SystemC
@@ -39,7 +39,6 @@ struct FifoMeter {
     last_change = now;
     occupancy += delta;
     if (occupancy > stats.peak) stats.peak = occupancy;
-    if (delta > 0) stats.writes += uint64_t(delta);
   }
   /// The statistics, with the time integral closed at `now`.
   const FifoStats& close(uint64_t now) {
@@ -85,9 +84,9 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
   /// Closes the time integral at the end of simulation.
   const FifoStats& stats() { return meter_.close(sc_core::sc_time_stamp().value()); }
   /// Traces the occupancy; only changes inside the waveform window reach the file.
-  void trace(sc_core::sc_trace_file* tf, const std::string& name, const TraceWindow* window) {
+  void trace(Waveform& wave, const std::string& name, const TraceWindow* window) {
     window_ = window;
-    sc_core::sc_trace(tf, traced_, name);
+    wave.trace(traced_, name);
   }
 
  private:

@@ -90,15 +90,15 @@ std::string ModulesPe::occupancy_report() {
   return s.str();
 }
 
-void ModulesPe::trace(sc_core::sc_trace_file* tf) {
+void ModulesPe::trace(Waveform& wave) {
   for (const FifoSpec& f : fifo_table())
     if (f.payload == Payload::Ray && rays_[size_t(f.id)])
-      rays_[size_t(f.id)]->trace(tf, std::string(rays_[size_t(f.id)]->name()) + ".occupancy", &ctx.window);
-  ends_->trace(tf, std::string(ends_->name()) + ".occupancy", &ctx.window);
-  front_->trace(tf);
-  for (auto& s : search_) s->trace(tf);
-  for (auto& x : intersection_) x->trace(tf);
-  shading_->trace(tf);
+      rays_[size_t(f.id)]->trace(wave, std::string(rays_[size_t(f.id)]->name()) + ".occupancy", &ctx.window);
+  ends_->trace(wave, std::string(ends_->name()) + ".occupancy", &ctx.window);
+  front_->trace(wave);
+  for (auto& s : search_) s->trace(wave);
+  for (auto& x : intersection_) x->trace(wave);
+  shading_->trace(wave);
 }
 
 }  // namespace rtm

@@ -21,13 +21,13 @@ class ModulesPe : public Pe {
   bool finished() const override { return front_->policy().finished(); }
   std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
   std::string occupancy_report() override;
-  void trace(sc_core::sc_trace_file* tf) override;
+  void trace(Waveform& wave) override;
 
  private:
   /// The modules that run units of this kind.
   std::vector<UnitModule*> modules_of(UnitKind k);
 
-  // The channels, by FIFO (the table's per-lane to_root FIFOs live in the intersection units).
+  // The channels, by FIFO (the table's per-lane root_fifo FIFOs live in the intersection units).
   std::array<std::unique_ptr<MeteredFifo<MachineRay>>, kFifoCount> rays_;
   std::unique_ptr<MeteredFifo<RayEnd>> ends_;
 

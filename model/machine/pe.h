@@ -32,7 +32,7 @@ class Pe : public sc_core::sc_module {
   virtual std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() = 0;
   /// The front buffer's state and every FIFO's occupancy, for deadlock reports.
   virtual std::string occupancy_report() = 0;
-  virtual void trace(sc_core::sc_trace_file* tf) = 0;
+  virtual void trace(Waveform& wave) = 0;
 
  protected:
   /// `pixels`: how many pixels of the screen this PE renders.

@@ -10,6 +10,7 @@
 
 #include "machine/timekeeper.h"
 #include "machine/trace_window.h"
+#include "machine/waveform.h"
 #include "units/pe_state.h"
 
 namespace rtm {
@@ -21,6 +22,9 @@ struct PeContext : PeState {
 
   sc_core::sc_time cycles(uint64_t n) const { return period * double(n); }
   static uint64_t now() { return sc_core::sc_time_stamp().value(); }
+  /// The time a unit's take or put is logged at: only the event log reads it, so without one the
+  /// kernel is not asked.
+  uint64_t log_time() const { return log ? now() : 0; }
   /// A sleeper for one more process of this PE (`lane`: a root unit's).
   std::unique_ptr<Sleeper> sleeper(UnitKind kind, int lane = 0) const {
     return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + int(kind) + lane);
@@ -56,10 +60,10 @@ class UnitProbe {
     if (window_ && window_->now()) busy_ = false;
   }
   /// Traces both under `scope` (the unit's hierarchical name): scope.busy, scope.ray_id.
-  void trace(sc_core::sc_trace_file* tf, const std::string& scope, const TraceWindow* w) {
+  void trace(Waveform& wave, const std::string& scope, const TraceWindow* w) {
     window_ = w;
-    sc_core::sc_trace(tf, busy_, scope + ".busy");
-    sc_core::sc_trace(tf, ray_id_, scope + ".ray_id");
+    wave.trace(busy_, scope + ".busy");
+    wave.trace(ray_id_, scope + ".ray_id");
   }
 
  private:

@@ -37,12 +37,12 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
     if (!pe.units.has(f)) continue;
     const int depth = pe.config.*f.depth;
     if (f.per_lane) {
-      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&to_root_.emplace_back(f, depth, &touched_));
+      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&root_fifo_.emplace_back(f, depth, &touched_));
     } else {
       Fifo* fifo = fifos_by_id_[size_t(f.id)] = &fifos_.emplace_back(f, depth, &touched_);
       in_order_.push_back(fifo);
-      if (f.payload == Payload::Ray && std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer))
-        front_inputs_.emplace_back(fifo, f.returns_credit);
+      fifo->feeds_front = std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer) > 0;
+      if (f.payload == Payload::Ray && fifo->feeds_front) front_inputs_.emplace_back(fifo, f.returns_credit);
     }
   }
   due_at_.assign(root0_ + lanes_, kNever);
@@ -94,7 +94,10 @@ void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Output out) {
   const UnitKind kind = kind_at(unit);
   const uint64_t rank = uint64_t(kind) + (kind == UnitKind::Root ? unit - root0_ : 0);
   due_at_[unit] = at;
-  due_[unit] = {rank << 48 | seq_++, item, out};
+  Due& d = due_[unit];
+  d.order = rank << 48 | seq_++;
+  d.item = item;
+  d.out = out;
 }
 
 void PeEngine::step(uint64_t now) {
@@ -109,10 +112,10 @@ void PeEngine::step(uint64_t now) {
     wake(u, d, now);
   }
   // What they wrote becomes visible. The front buffer is poked by a write to any of its inputs.
-  bool poked = front_poked_ || fifo(FifoId::Ends).written;
-  for (const auto& [in, returns_credit] : front_inputs_) poked = poked || in->written;
+  bool poked = front_poked_;
   front_poked_ = false;
   for (Fifo* f : touched_) {
+    poked = poked || (f->written && f->feeds_front);
     f->visible = f->count;
     f->written = false;
     f->reads_now = 0;
@@ -142,7 +145,7 @@ void PeEngine::take_inputs(uint64_t now) {
   while (idle_macs_.any_idle() && mac_in.visible > 0) mac_start(size_t(idle_macs_.take()), mac_in.read(now), now);
   // A unit with nothing due is idle.
   for (size_t lane = 0; lane < lanes_; ++lane)
-    if (due_at_[root0_ + lane] == kNever && to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
+    if (due_at_[root0_ + lane] == kNever && root_fifo_[lane].visible > 0) root_start(lane, root_fifo_[lane].read(now), now);
   Fifo& shade_in = fifo(FifoId::Shade);
   if (due_at_[kShading] == kNever && shade_in.visible > 0) shade_start(shade_in.read(now), now);
 }
@@ -160,7 +163,7 @@ uint32_t PeEngine::new_ray(const MachineRay& r) {
   return s;
 }
 
-bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
+inline bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
   Fifo& f = fifo(o.fifo);
   if (f.full()) return false;
   const uint32_t id = r.id;
@@ -206,7 +209,7 @@ void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
 
     case UnitKind::Mac: {
       const size_t lane = unit - mac0_;
-      Fifo& out = to_root_[lane];
+      Fifo& out = root_fifo_[lane];
       if (out.full()) return schedule(unit, retry, d.item, d.out);
       out.write(d.item, now);
       record_put(pe_, now, UnitKind::Mac, int(lane), results_[d.item].r.id, d.out);
@@ -223,7 +226,7 @@ void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
       if (!emit(d.out, results_[d.item].r, kNoSlot, UnitKind::Root, int(lane), now))
         return schedule(unit, retry, d.item, d.out);
       free_results_.push_back(d.item);
-      if (to_root_[lane].visible > 0) root_start(lane, to_root_[lane].read(now), now);
+      if (root_fifo_[lane].visible > 0) root_start(lane, root_fifo_[lane].read(now), now);
       return;
     }
 

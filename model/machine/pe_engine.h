@@ -70,6 +70,7 @@ class PeEngine {
     size_t reads_now = 0;  ///< in the current instant: places freed only once it is over
     FifoMeter meter;
 
+    bool feeds_front = false;  ///< an input of the front buffer: a write wakes it
     bool touched = false;  ///< written or read in the current instant: on the touched list
     std::vector<Fifo*>* touched_list;
 
@@ -118,7 +119,7 @@ class PeEngine {
   void schedule(size_t unit, uint64_t at, uint32_t item = 0, Output out = {});
   void wake(size_t unit, const Due& d, uint64_t now);
   void take_inputs(uint64_t now);
-  Fifo& fifo(FifoId id, size_t lane = 0) { return id == FifoId::Root ? to_root_[lane] : *fifos_by_id_[size_t(id)]; }
+  Fifo& fifo(FifoId id, size_t lane = 0) { return id == FifoId::Root ? root_fifo_[lane] : *fifos_by_id_[size_t(id)]; }
 
   uint32_t new_ray(const MachineRay& r);
   /// Writes a search or root unit's output for ray `r` (held in `slot`, or kNoSlot: in a MAC
@@ -148,7 +149,7 @@ class PeEngine {
   std::vector<Fifo*> touched_;  ///< FIFOs written or read in the current instant
   std::deque<Fifo> fifos_;      ///< the PE's FIFOs (a deque: they must not move)
   std::array<Fifo*, kFifoCount> fifos_by_id_{};  ///< the per-PE ones
-  std::deque<Fifo> to_root_;    ///< one per intersection unit
+  std::deque<Fifo> root_fifo_;  ///< one per intersection unit
   std::vector<Fifo*> in_order_; ///< in the FIFO table's order, as statistics report them
   /// The front buffer's ray inputs, in the table's order, and whether each returns a credit.
   std::vector<std::pair<Fifo*, bool>> front_inputs_;

@@ -11,7 +11,7 @@ void SearchModule::run() {
   for (;;) {
     MachineRay r = rays_in(FifoId::Search)->read();
     probe_.begin(r.id);
-    const Work w = unit_.take(r, PeContext::now());
+    const Work w = unit_.take(r, ctx_.log_time());
     (*sleep_)(ctx_.cycles(w.cycles));
     write(w.out, r, UnitKind::Search, unit_.index(), *sleep_);
     probe_.end();

@@ -13,7 +13,7 @@ class SearchModule : public UnitModule {
  public:
   SC_HAS_PROCESS(SearchModule);
   SearchModule(sc_core::sc_module_name name, PeContext& ctx, int index);
-  void trace(sc_core::sc_trace_file* tf) { probe_.trace(tf, name(), &ctx_.window); }
+  void trace(Waveform& wave) { probe_.trace(wave, name(), &ctx_.window); }
 
  private:
   void run();

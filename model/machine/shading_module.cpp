@@ -10,17 +10,17 @@ ShadingModule::ShadingModule(sc_core::sc_module_name name, PeContext& ctx, Local
   SC_THREAD(run);
 }
 
-void ShadingModule::trace(sc_core::sc_trace_file* tf) {
-  probe_.trace(tf, name(), &ctx_.window);
+void ShadingModule::trace(Waveform& wave) {
+  probe_.trace(wave, name(), &ctx_.window);
   for (auto& g : generators_)
-    if (g) g->probe.trace(tf, g->name(), &ctx_.window);
+    if (g) g->probe.trace(wave, g->name(), &ctx_.window);
 }
 
 void ShadingModule::run() {
   for (;;) {
     const MachineRay r = rays_in(FifoId::Shade)->read();
     probe_.begin(r.id);
-    const uint64_t cycles = unit_.take(r, mem_.frame[r.slot], mem_.ids[r.slot], PeContext::now());
+    const uint64_t cycles = unit_.take(r, mem_.frame[r.slot], mem_.ids[r.slot], ctx_.log_time());
     for (size_t k = 1; k < unit_.outputs(); ++k) generators_[size_t(unit_.spawned_kind(k - 1))]->probe.begin(r.id);
     (*sleep_)(ctx_.cycles(cycles));
     for (auto& g : generators_)

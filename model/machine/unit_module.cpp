@@ -42,7 +42,7 @@ void UnitModule::write(const Output& o, const MachineRay& r, UnitKind kind, int 
     put(*ends_out_, RayEnd{r.id}, ctx_, sleep);
   else
     put(*rays_out_[size_t(o.fifo)], r, ctx_, sleep);
-  record_put(ctx_, PeContext::now(), kind, index, r.id, o);
+  record_put(ctx_, ctx_.log_time(), kind, index, r.id, o);
 }
 
 }  // namespace rtm

@@ -11,6 +11,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "geom/polygon.h"
 #include "scene/scene.h"
 #include "scene/scene_checks.h"
 
@@ -289,13 +290,15 @@ class NativeParser {
         kind = it->first.Scalar();
         shape = it->second;
       }
-      Primitive p = make(kind, shape, path + "." + kind);
+      std::vector<Primitive> ps = make(kind, shape, path + "." + kind);  // a concave polygon: its pieces
       const std::string name = text(mat, path + ".material");
       auto found = material_index_.find(name);
       if (found == material_index_.end()) fail(mat, path + ".material", "unknown material '" + name + "'");
-      p.material = found->second;
-      scene_.primitives.push_back(std::move(p));
-      scene_.origins.push_back({file_, line_of(n[i])});
+      for (Primitive& p : ps) {
+        p.material = found->second;
+        scene_.primitives.push_back(std::move(p));
+        scene_.origins.push_back({file_, line_of(n[i])});
+      }
     }
   }
 
@@ -331,12 +334,25 @@ class NativeParser {
     return b;
   }
 
-  Primitive make(const std::string& kind, const YAML::Node& n, const std::string& path) const {
+  /// The shape's primitives: one, or a concave polygon's convex pieces (geom/polygon.h). The
+  /// native format is written by hand, so a degenerate shape is an error here, not skipped.
+  std::vector<Primitive> make(const std::string& kind, const YAML::Node& n, const std::string& path) const {
     try {
-      return make_shape(kind, n, path);
+      if (kind == "polygon") return make_polygon_pieces(polygon_vertices(n, path));
+      return {make_shape(kind, n, path)};
     } catch (const std::invalid_argument& e) {
       fail(n, path, e.what());
     }
+  }
+
+  std::vector<Vec3> polygon_vertices(const YAML::Node& n, const std::string& path) const {
+    Map m(*this, n, path, {"vertices"});
+    const YAML::Node vs = m.required("vertices");
+    if (!vs.IsSequence() || vs.size() < 3)
+      fail(vs, m.path("vertices"), "expected a list of at least 3 [x, y, z] vertices");
+    std::vector<Vec3> v;
+    for (size_t i = 0; i < vs.size(); ++i) v.push_back(vec3(vs[i], m.path("vertices[" + std::to_string(i) + "]")));
+    return v;
   }
 
   Primitive make_shape(const std::string& kind, const YAML::Node& n, const std::string& path) const {
@@ -390,15 +406,6 @@ class NativeParser {
       const Vec3 nrm = direction(m.required("normal"), m.path("normal"));
       const double d = m.get("d") ? number(*m.get("d"), m.path("d")) : 0.0;
       return make_plane(nrm, d, box(m.required("box"), m.path("box")));
-    }
-    if (kind == "polygon") {
-      Map m(*this, n, path, {"vertices"});
-      const YAML::Node vs = m.required("vertices");
-      if (!vs.IsSequence() || vs.size() < 3)
-        fail(vs, m.path("vertices"), "expected a list of at least 3 [x, y, z] vertices");
-      std::vector<Vec3> v;
-      for (size_t i = 0; i < vs.size(); ++i) v.push_back(vec3(vs[i], m.path("vertices[" + std::to_string(i) + "]")));
-      return make_polygon(v);
     }
     // Only "quadric" is left: Map has rejected every other key.
     Map m(*this, n, path, {"coefficients", "box", "clip"});

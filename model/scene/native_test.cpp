@@ -199,6 +199,20 @@ TEST(NativeShapes, PlanePolygonQuadric) {
   EXPECT_EQ(q.kind, ShapeKind::Raw);
 }
 
+TEST(NativeShapes, ConcavePolygonBecomesConvexPieces) {
+  const Scene s = parse_native(
+      "camera: {eye: [0, 0, 10], look_at: [0, 0, 0]}\nmaterials: {m: {}}\nprimitives:\n"
+      "  - {polygon: {vertices: [[0, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [1, 2, 0], [0, 2, 0]]}, material: m}\n"
+      "  - {sphere: {center: [5, 0, 0], radius: 1}, material: m}\n",
+      "l.yaml");
+  ASSERT_EQ(s.primitives.size(), 3u);  // the L shape's two pieces, then the sphere
+  EXPECT_EQ(s.primitives[0].pieces, 2);
+  EXPECT_EQ(s.primitives[1].piece, 1);
+  EXPECT_EQ(s.primitives[0].outline.size(), 6u);
+  EXPECT_EQ(s.origins[1].line, 4);
+  EXPECT_EQ(s.primitives[2].kind, ShapeKind::Sphere);
+}
+
 struct BadCase {
   std::string text;
   int line;
@@ -345,7 +359,7 @@ TEST(NativeErrors, Primitives) {
       {"{plane: {normal: [0, 1, 0]}, material: m}", "missing required key 'box'"},
       {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0]]}, material: m}", "at least 3 [x, y, z] vertices"},
       {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0], [0, 1]]}, material: m}", "polygon.vertices[2]: expected [x, y, z]"},
-      {"{polygon: {vertices: [[0, 0, 0], [2, 0, 0], [1, 0.2, 0], [1, 2, 0]]}, material: m}", "not convex"},
+      {"{polygon: {vertices: [[0, 0, 0], [2, 2, 0], [2, 0, 0], [0, 1, 0]]}, material: m}", "not simple"},
       {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}, material: m}", "zero area"},
       {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0], box: {min: [0, 0, 0], max: [1, 1, 1]}}, material: m}",
        "quadric.coefficients: expected [A, B, C, D, E, F, G, H, I, J] (10 numbers)"},

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "geom/polygon.h"
 #include "scene/scene.h"
 #include "scene/scene_checks.h"
 
@@ -91,7 +92,10 @@ bool is_keyword(std::string_view t) {
 
 class NffParser {
  public:
-  NffParser(const std::string& text, const std::string& file) : file_(file) { tokens_ = tokenize(text, &last_line_); }
+  NffParser(const std::string& text, const std::string& file, const SceneReadOptions& options)
+      : file_(file), options_(options) {
+    tokens_ = tokenize(text, &last_line_);
+  }
 
   Scene parse() {
     scene_.name = std::filesystem::path(file_).stem().string();
@@ -129,7 +133,27 @@ class NffParser {
       if (k == v) fail(kw.line, quote(k) + " outside the view block (it must follow 'v')");
     if (is_number(k))
       fail(kw.line, "unexpected number " + quote(k) + " (expected a keyword; too many numbers in the record above?)");
-    fail(kw.line, "unknown keyword " + quote(k));
+    if (options_.skip_unknown) return skip_unknown(kw);
+    fail(kw.line, "unknown keyword " + quote(k) + " (--skip-unknown skips records rtm does not know)");
+  }
+
+  /// An unknown record: its keyword, the rest of its line up to a known keyword (file names and
+  /// words included), then every number that follows (continuation lines such as the vertex
+  /// lines of a polygon-like record). The first word on a later line starts the next record.
+  void skip_unknown(const Token& kw) {
+    while (pos_ < tokens_.size() && tokens_[pos_].line == kw.line && !is_keyword(tokens_[pos_].text)) ++pos_;
+    while (pos_ < tokens_.size() && is_number(tokens_[pos_].text)) ++pos_;
+    note_skipped("unknown " + quote(kw.text), "not an NFF record", kw.line);
+  }
+
+  void note_skipped(const std::string& kind, const std::string& reason, int line) {
+    for (SkippedRecords& k : scene_.skipped)
+      if (k.kind == kind) {
+        ++k.count;
+        if (k.lines.size() < kSkippedLinesKept) k.lines.push_back(line);
+        return;
+      }
+    scene_.skipped.push_back({kind, reason, 1, {line}});
   }
 
   template <class F>
@@ -181,6 +205,7 @@ class NffParser {
     view_line_ = v.line;
     Camera& cam = scene_.camera;
     bool seen[6] = {};
+    int lines[6] = {};
     for (int i = 0; i < 6; ++i) {
       if (pos_ >= tokens_.size()) fail(v.line, "view block ends early: missing " + missing(seen));
       const Token& kw = tokens_[pos_];
@@ -190,6 +215,7 @@ class NffParser {
       if (which < 0) fail(kw.line, "view block: expected " + missing(seen) + ", got " + quote(kw.text));
       if (seen[which]) fail(kw.line, "view block: " + quote(kw.text) + " given twice");
       seen[which] = true;
+      lines[which] = kw.line;
       ++pos_;
       switch (which) {
         case 0: cam.eye = vec3(kw, "x y z"); break;
@@ -208,7 +234,25 @@ class NffParser {
           break;
       }
     }
+    camera_lines(cam, lines);
     check(v, [&] { scene_checks::check_camera(cam); });
+  }
+
+  /// The camera problems that one record causes, reported at that record's line (the rest of
+  /// check_camera's at the `v` line).
+  void camera_lines(const Camera& cam, const int* lines) const {
+    const int from = lines[0], at = lines[1], up = lines[2];
+    if (max_abs(cam.eye) > kMaxCoordinate) fail(from, "'from' must be within +-1e150 of the origin");
+    if (max_abs(cam.look_at) > kMaxCoordinate) fail(at, "'at' must be within +-1e150 of the origin");
+    const Vec3 dir = cam.look_at - cam.eye;
+    if (length(dir) == 0)
+      fail(at, "'at' is the same point as 'from' (line " + std::to_string(from) + "): the camera has no view direction");
+    if (!std::isfinite(length(dir))) fail(at, "'at' is too far from 'from' (line " + std::to_string(from) + ")");
+    if (length(cam.up) == 0) fail(up, "camera up vector is zero");
+    if (!std::isfinite(length(cam.up))) fail(up, "camera up vector is too long");
+    if (!(length(cross(normalize(dir), normalize(cam.up))) > 1e-9))
+      fail(up, "camera up vector is parallel to the view direction (from line " + std::to_string(from) + " to at line " +
+                   std::to_string(at) + ")");
   }
 
   static std::string missing(const bool* seen) {
@@ -247,20 +291,32 @@ class NffParser {
     if (scene_.materials.empty()) fail(kw.line, "'" + std::string(kw.text) + "' before any 'f' material record");
   }
 
+  /// Adds the primitives `make` returns (one, or a polygon's convex pieces). A degenerate shape
+  /// is skipped and counted, or with strict reading an error.
   template <class Make>
   void add(const Token& kw, Make make) {
-    Primitive p;
-    check(kw, [&] { p = make(); });
-    p.material = int(scene_.materials.size()) - 1;
-    scene_.primitives.push_back(std::move(p));
-    scene_.origins.push_back({file_, kw.line});
+    std::vector<Primitive> ps;
+    try {
+      ps = make();
+    } catch (const DegenerateShape& e) {
+      if (options_.strict) fail(kw.line, std::string(kw.text) + ": " + e.what() + " (--strict)");
+      note_skipped("degenerate " + quote(kw.text), e.what(), kw.line);
+      return;
+    } catch (const std::invalid_argument& e) {
+      fail(kw.line, std::string(kw.text) + ": " + e.what());
+    }
+    for (Primitive& p : ps) {
+      p.material = int(scene_.materials.size()) - 1;
+      scene_.primitives.push_back(std::move(p));
+      scene_.origins.push_back({file_, kw.line});
+    }
   }
 
   void sphere(const Token& kw) {
     need_material(kw);
     const Vec3 c = vec3(kw, "x y z radius");
     const double r = number(kw, "x y z radius", 3);
-    add(kw, [&] { return make_sphere(c, std::abs(r)); });  // negative: inside visible only; same surface
+    add(kw, [&] { return std::vector<Primitive>{make_sphere(c, std::abs(r))}; });  // negative: inside visible only; same surface
   }
 
   void cone(const Token& kw) {
@@ -270,7 +326,7 @@ class NffParser {
     const double br = number(kw, layout, 3);
     const Vec3 apex = vec3(kw, layout, 4);
     const double ar = number(kw, layout, 7);
-    add(kw, [&] { return make_cone(base, br, apex, ar); });
+    add(kw, [&] { return std::vector<Primitive>{make_cone(base, br, apex, ar)}; });
   }
 
   void polygon(const Token& kw, bool patch) {
@@ -284,7 +340,7 @@ class NffParser {
       v.push_back(vec3(kw, layout, i * per));
       if (patch) vec3(kw, layout, i * per + 3);  // vertex normals: flat shading only
     }
-    add(kw, [&] { return make_polygon(v); });
+    add(kw, [&] { return make_polygon_pieces(v); });
   }
 
   void finish_lights() {
@@ -297,6 +353,7 @@ class NffParser {
   }
 
   std::string file_;
+  SceneReadOptions options_;
   std::vector<Token> tokens_;
   size_t pos_ = 0;
   int last_line_ = 1;
@@ -306,6 +363,8 @@ class NffParser {
 
 }  // namespace
 
-Scene parse_nff(const std::string& text, const std::string& file_name) { return NffParser(text, file_name).parse(); }
+Scene parse_nff(const std::string& text, const std::string& file_name, const SceneReadOptions& options) {
+  return NffParser(text, file_name, options).parse();
+}
 
 }  // namespace rtm

@@ -228,6 +228,153 @@ TEST(NffSemantics, CommentsAndLayout) {
   EXPECT_EQ(s.origins[0].line, 8);
 }
 
+TEST(NffPolygons, ConcavePolygonsAndPatchesBecomeConvexPieces) {
+  // An L shape as `p` and as `pp` (normals ignored), then a convex quad: primitives in order.
+  const Scene s = parse_nff(kHeader +
+                                "p 6\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n"
+                                "pp 6\n0 0 1 0 0 1\n2 0 1 0 0 1\n2 1 1 0 0 1\n1 1 1 0 0 1\n1 2 1 0 0 1\n0 2 1 0 0 1\n"
+                                "p 4\n0 0 2\n1 0 2\n1 1 2\n0 1 2\n",
+                            "l.nff");
+  ASSERT_EQ(s.primitives.size(), 5u);
+  EXPECT_EQ(s.primitives[0].pieces, 2);
+  EXPECT_EQ(s.primitives[0].outline.size(), 6u);
+  EXPECT_EQ(s.primitives[1].piece, 1);
+  EXPECT_EQ(s.primitives[2].pieces, 2);
+  EXPECT_EQ(s.primitives[4].pieces, 1);
+  for (int i : {0, 1}) EXPECT_EQ(s.origins[size_t(i)].line, 10);
+  for (int i : {2, 3}) EXPECT_EQ(s.origins[size_t(i)].line, 17);
+  EXPECT_EQ(s.origins[4].line, 24);
+  EXPECT_TRUE(s.skipped.empty());
+}
+
+TEST(NffSpd, GearsAndTeapotLoad) {
+  const Scene gears = load_scene(kSpdDir + "/gears-1.nff");
+  // 145 rectangles and two 144-corner gear faces of 37 convex pieces each.
+  EXPECT_EQ(gears.primitives.size(), 145u + 2 * 37);
+  EXPECT_TRUE(gears.skipped.empty());
+  const Scene teapot = load_scene(kSpdDir + "/teapot-1.nff");
+  ASSERT_EQ(teapot.skipped.size(), 1u);
+  EXPECT_EQ(teapot.skipped[0].kind, "degenerate 'pp'");
+  EXPECT_EQ(teapot.skipped[0].reason, "polygon has zero area");
+  EXPECT_EQ(teapot.skipped[0].count, 4);
+  EXPECT_EQ(teapot.skipped[0].lines, (std::vector<int>{163, 167, 171, 175}));
+  EXPECT_EQ(teapot.primitives.size(), 1u + 56 - 4);
+  try {
+    load_scene(kSpdDir + "/teapot-1.nff", {/*strict=*/true, false});
+    ADD_FAILURE() << "strict reading accepted a degenerate patch";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.line(), 163);
+    EXPECT_NE(std::string(e.what()).find("pp: polygon has zero area (--strict)"), std::string::npos) << e.what();
+  }
+}
+
+TEST(NffSkipped, DegenerateShapesAreSkippedAndCounted) {
+  const int n = kHeaderLines + 1;
+  const std::string text = kHeader +
+                           "s 0 0 0 0\n"              // zero radius
+                           "c 0 0 0 1 0 0 0 1\n"      // zero length
+                           "c 0 0 0 0 0 1 0 0\n"      // both radii zero
+                           "p 3\n0 0 0\n1 0 0\n2 0 0\n"  // collinear
+                           "p 3\n0 0 0\n1 0 0\n2 0 0\n"
+                           "p 4\n1 1 1\n1 1 1\n1 1 1\n1 1 1\n"  // one point
+                           "s 0 0 0 1\n";
+  const Scene s = parse_nff(text, "d.nff");
+  ASSERT_EQ(s.primitives.size(), 1u);
+  EXPECT_EQ(s.origins[0].line, n + 16);
+  ASSERT_EQ(s.skipped.size(), 3u);
+  const SkippedRecords& sphere = s.skipped[0];
+  EXPECT_EQ(sphere.kind, "degenerate 's'");
+  EXPECT_EQ(sphere.reason, "sphere radius is zero");
+  EXPECT_EQ(sphere.lines, std::vector<int>{n});
+  EXPECT_EQ(s.skipped[1].kind, "degenerate 'c'");
+  EXPECT_EQ(s.skipped[1].reason, "cone base and apex coincide");
+  EXPECT_EQ(s.skipped[1].count, 2);  // one entry per record kind; the first one's reason
+  EXPECT_EQ(s.skipped[1].lines, (std::vector<int>{n + 1, n + 2}));
+  EXPECT_EQ(s.skipped[2].kind, "degenerate 'p'");
+  EXPECT_EQ(s.skipped[2].count, 3);
+  EXPECT_EQ(s.skipped[2].lines, (std::vector<int>{n + 3, n + 7, n + 11}));
+  const std::vector<std::string> w = skipped_warnings(s, "d.nff");
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_EQ(w[1], "d.nff:" + std::to_string(n + 1) + ": skipped 2 degenerate 'c' records (cone base and apex coincide; lines " +
+                      std::to_string(n + 1) + ", " + std::to_string(n + 2) + ")");
+  // Strict: the first one is an error at its line.
+  for (const auto& [record, reason] : std::vector<std::pair<std::string, std::string>>{
+           {"s 0 0 0 0\n", "sphere radius is zero"},
+           {"c 0 0 0 1 0 0 0 1\n", "cone base and apex coincide"},
+           {"c 0 0 0 0 0 1 0 0\n", "cone radii are both zero"},
+           {"p 3\n0 0 0\n1 0 0\n2 0 0\n", "polygon has zero area"}}) {
+    try {
+      parse_nff(kHeader + record, "d.nff", {true, false});
+      ADD_FAILURE() << record;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.line(), n);
+      EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(NffSkipped, FirstFewLinesAndTheCount) {
+  std::string text = kHeader;
+  for (int i = 0; i < 12; ++i) text += "s 0 0 0 0\n";
+  const Scene s = parse_nff(text, "d.nff");
+  ASSERT_EQ(s.skipped.size(), 1u);
+  EXPECT_EQ(s.skipped[0].count, 12);
+  EXPECT_EQ(s.skipped[0].lines.size(), kSkippedLinesKept);
+  EXPECT_NE(skipped_warnings(s, "d.nff")[0].find("skipped 12 degenerate 's' records"), std::string::npos);
+  EXPECT_NE(skipped_warnings(s, "d.nff")[0].find(", ...)"), std::string::npos);
+}
+
+/// Records other renderers add to NFF, one of each kind (what a reader meets in files from the
+/// wild): a count header, area and spot lights, textures, an environment map, and a textured
+/// polygon-like record whose vertex lines follow it.
+const std::string kExtensions =
+    "number 3\n"                                // line 1: an object-count header, before the view
+    "v\nfrom 0 0 10\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 64 48\n"
+    "la 0 5 0 1 0 0 0 0 1 1 1 1\n"              // line 9: an area light
+    "ls 0 5 5 0 -1 -1 30 1 1 1\n"               // line 10: a spotlight
+    "l 5 5 5\n"
+    "tex brick.ppm 4 4\n"                       // line 12: a texture with a file name
+    "f 1 0.5 0.25 0.6 0.3 20 0 1\n"
+    "env sky.hdr\n"                             // line 14: an environment map
+    "s 0 0 0 1\n"
+    "tpp 3 brick.ppm\n"                         // line 16: a textured patch: 3 vertex lines follow
+    "0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n0 1 0 0 0 1 0 1\n"
+    "la 1 5 0 1 0 0 0 0 1 1 1 1\n"              // line 20: a second area light
+    "p 3\n0 0 1\n1 0 1\n0 1 1\n"
+    "tex marble.ppm 1 1 s 2 0 0 1\n";           // line 25: a record shares the texture's line
+
+TEST(NffSkipped, UnknownRecordsAreErrorsWithAHint) {
+  try {
+    parse_nff(kExtensions, "x.nff");
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_NE(std::string(e.what()).find("unknown keyword 'number' (--skip-unknown"), std::string::npos) << e.what();
+  }
+}
+
+TEST(NffSkipped, SkipUnknownSkipsEveryKindWithItsContinuationLines) {
+  const Scene s = parse_nff(kExtensions, "x.nff", {false, /*skip_unknown=*/true});
+  ASSERT_EQ(s.primitives.size(), 3u);
+  EXPECT_EQ(s.primitives[0].kind, ShapeKind::Sphere);
+  EXPECT_EQ(s.origins[0].line, 15);
+  EXPECT_EQ(s.primitives[1].kind, ShapeKind::Polygon);
+  EXPECT_EQ(s.origins[1].line, 21);
+  EXPECT_EQ(s.primitives[2].p0, Vec3(2, 0, 0));
+  EXPECT_EQ(s.lights.size(), 1u);
+  ASSERT_EQ(s.skipped.size(), 6u);
+  const std::vector<std::tuple<std::string, int, std::vector<int>>> want = {
+      {"unknown 'number'", 1, {1}}, {"unknown 'la'", 2, {9, 20}}, {"unknown 'ls'", 1, {10}},
+      {"unknown 'tex'", 2, {12, 25}}, {"unknown 'env'", 1, {14}}, {"unknown 'tpp'", 1, {16}}};
+  for (size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(s.skipped[i].kind, std::get<0>(want[i]));
+    EXPECT_EQ(s.skipped[i].count, std::get<1>(want[i]));
+    EXPECT_EQ(s.skipped[i].lines, std::get<2>(want[i]));
+  }
+  // Known records keep their checks: a stray number is still an error.
+  EXPECT_THROW(parse_nff(kHeader + "s 0 0 0 1 2\n", "x.nff", {false, true}), SceneError);
+}
+
 struct BadCase {
   std::string text;
   int line;
@@ -251,7 +398,7 @@ TEST(NffErrors, EveryErrorHasALineAndAMessage) {
   const std::string h = kHeader;
   const int n = kHeaderLines + 1;  // the first line after the header
   const BadCase cases[] = {
-      {h + "q 1 2 3\n", n, "unknown keyword 'q'"},
+      {h + "q 1 2 3\n", n, "unknown keyword 'q' (--skip-unknown"},
       {h + "s 0 0 0 1 2\n", n, "unexpected number '2'"},
       {h + "s 0 0 0\n", n, "'s' record ends early"},
       {h + "s 0 0 0\ns 1 1 1 1\n", n, "'s' record has too few numbers"},
@@ -260,15 +407,13 @@ TEST(NffErrors, EveryErrorHasALineAndAMessage) {
       {h + "s 0 0 nan 1\n", n, "'nan' is not finite"},
       {h + "s 0 0 inf 1\n", n, "'inf' is not finite"},
       {h + "s 0 0 1e999 1\n", n, "out of range"},
-      {h + "s 0 0 0 0\n", n, "sphere radius must be a finite positive number"},
-      {h + "c 0 0 0 1 0 0 0 1\n", n, "cone base and apex coincide"},
-      {h + "c 0 0 0 0 0 1 0 0\n", n, "cone radii are both zero"},
       {h + "p 2\n0 0 0\n1 0 0\n", n, "must be a whole number >= 3"},
       {h + "p 3.5\n", n, "must be a whole number >= 3"},
       {h + "p 3\n0 0 0\n1 0 0\n", n, "'p' record ends early"},
-      {h + "p 3\n0 0 0\n1 0 0\n2 0 0\n", n, "polygon has zero area"},
       {h + "p 4\n0 0 0\n1 0 0\n1 1 1\n0 1 0\n", n, "not coplanar"},
-      {h + "p 4\n0 0 0\n2 0 0\n1 0.2 0\n1 2 0\n", n, "not convex"},
+      {h + "p 4\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n", n, "not simple: its edges cross"},
+      {h + "p 4\n0 0 0\n2 2 0\n2 0 0\n0 1 0\n", n, "not simple: edges 1-2 and 3-4"},
+      {h + "p 5\n0 0 0\n2 0 0\n2 2 0\n1 0 0\n0 2 0\n", n, "not simple"},
       {h + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0\ns 0 0 0 1\n", n, "'pp' record has too few numbers"},
       {h + "l 1 2 3 1\ns 0 0 0 1\n", n, "too few numbers"},
       {h + "l 1 2 3 1\n", n, "'l' record ends early"},
@@ -286,9 +431,12 @@ TEST(NffErrors, EveryErrorHasALineAndAMessage) {
       {"v\nfrom 0 0 1\nfrom 0 0 1\n", 3, "'from' given twice"},
       {h + "v\n", n, "second view block"},
       {h + "at 0 0 0\n", n, "'at' outside the view block"},
-      {"v\nfrom 0 0 1\nat 0 0 1\nup 0 1 0\nangle 45\nhither 1\nresolution 4 4\n", 1, "eye and look_at coincide"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 2\nangle 45\nhither 1\nresolution 4 4\n", 1, "parallel to the view"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 4 4\n", 1, "up vector is zero"},
+      {"v\nfrom 0 0 1\nat 0 0 1\nup 0 1 0\nangle 45\nhither 1\nresolution 4 4\n", 3,
+       "'at' is the same point as 'from' (line 2)"},
+      {"v\nresolution 4 4\nat 0 0 1\nhither 1\nup 0 1 0\nangle 45\nfrom 0 0 1\n", 3, "same point as 'from' (line 7)"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 2\nangle 45\nhither 1\nresolution 4 4\n", 4, "parallel to the view"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 4 4\n", 4, "up vector is zero"},
+      {"v\nfrom 0 0 1e200\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 4 4\n", 2, "'from' must be within"},
       {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 180\nhither 1\nresolution 4 4\n", 5, "angle must be in (0, 180)"},
       {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 0\nhither 1\nresolution 4 4\n", 5, "angle must be in (0, 180)"},
       {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 0 4\n", 7, "whole number >= 1"},

@@ -172,7 +172,7 @@ void set_resolution(Scene& s, int width, int height) {
   s.camera.height = height;
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const SceneReadOptions& options) {
   namespace fs = std::filesystem;
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -187,7 +187,20 @@ Scene load_scene(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, 0, "cannot read scene file: read error");
-  return nff ? parse_nff(text.str(), path) : parse_native(text.str(), path);
+  return nff ? parse_nff(text.str(), path, options) : parse_native(text.str(), path);
+}
+
+std::vector<std::string> skipped_warnings(const Scene& s, const std::string& file) {
+  std::vector<std::string> out;
+  for (const SkippedRecords& k : s.skipped) {
+    std::string lines;
+    for (int l : k.lines) lines += (lines.empty() ? "" : ", ") + std::to_string(l);
+    if (size_t(k.count) > k.lines.size()) lines += ", ...";
+    out.push_back(file + ":" + std::to_string(k.lines.empty() ? 0 : k.lines.front()) + ": skipped " +
+                  std::to_string(k.count) + " " + k.kind + (k.count == 1 ? " record" : " records") + " (" + k.reason +
+                  "; line" + (k.lines.size() == 1 ? " " : "s ") + lines + ")");
+  }
+  return out;
 }
 
 Scene default_scene() { return parse_native(kDefaultSceneYaml, "<built-in default scene>"); }

@@ -7,6 +7,7 @@
 
 #include "geom/grid.h"
 #include "geom/quadric.h"
+#include "scene/file_error.h"
 
 namespace rtm {
 
@@ -40,6 +41,23 @@ struct SourceLocation {
   int line = 0;
 };
 
+/// Records a reader left out, one entry per kind (docs/scene-format.md, "Skipped records").
+struct SkippedRecords {
+  std::string kind;        ///< what was skipped: "degenerate 'pp'", "unknown record 'tex'"
+  std::string reason;      ///< why, for the first of them ("polygon has zero area")
+  int count = 0;
+  std::vector<int> lines;  ///< the lines of the first few (kSkippedLinesKept)
+};
+constexpr size_t kSkippedLinesKept = 5;
+
+/// How a reader treats what it cannot render.
+struct SceneReadOptions {
+  /// Degenerate shapes (zero area, radius or length) are errors instead of skipped records.
+  bool strict = false;
+  /// Unknown NFF records are skipped with a warning instead of being errors.
+  bool skip_unknown = false;
+};
+
 /// How a spawned ray's origin is moved off the surface (render/shade.h, docs/numerics.md).
 enum class SpawnPolicy {
   Relative,  ///< spawn_offset × max(1, |p|∞)
@@ -58,6 +76,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Primitive> primitives;  ///< numbered in file order; Primitive::material indexes materials
   std::vector<SourceLocation> origins;  ///< one per primitive
+  std::vector<SkippedRecords> skipped;  ///< what the reader left out, in order of first appearance
   double threshold = 0;   ///< branch rays with contribution <= threshold are dropped
   int max_depth = 5;      ///< primary rays are depth 1
   /// Spawned rays start this far off the surface, relative to max(1, |hit point|∞) (spawn_policy
@@ -71,22 +90,16 @@ struct Scene {
 };
 
 /// A scene file problem: the message reads "file:line: what is wrong".
-class SceneError : public std::runtime_error {
- public:
-  SceneError(const std::string& file, int line, const std::string& what)
-      : std::runtime_error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
-  const std::string& file() const { return file_; }
-  int line() const { return line_; }
-
- private:
-  std::string file_;
-  int line_;
+struct SceneError : FileError {
+  using FileError::FileError;
 };
 
 /// Reads a scene by extension: `.nff` for NFF, `.yaml`/`.yml` for the native format.
-Scene load_scene(const std::string& path);
+Scene load_scene(const std::string& path, const SceneReadOptions& options = {});
 /// NFF text (classic semantics; see docs/scene-format.md for the mapping to the paper's coefficients).
-Scene parse_nff(const std::string& text, const std::string& file_name);
+Scene parse_nff(const std::string& text, const std::string& file_name, const SceneReadOptions& options = {});
+/// One warning line per kind of skipped record, "file:line: skipped ...", for the command line.
+std::vector<std::string> skipped_warnings(const Scene& s, const std::string& file);
 /// Native YAML text (docs/scene-format.md).
 Scene parse_native(const std::string& text, const std::string& file_name);
 /// The built-in default scene (every quadric kind, diffuse, reflective and transparent materials).

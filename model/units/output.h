@@ -15,7 +15,8 @@ struct Output {
   enum class What : uint8_t { Item, End } what = What::End;
 };
 
-/// A unit's work on one item: its cycles and where its result goes.
+/// A unit's work on one item: its cycles and where its result goes. Every unit's take() gets the
+/// time it is taken at only for the event log (PeContext::log_time: 0 when there is none).
 struct Work {
   uint64_t cycles = 0;
   Output out;

@@ -11,7 +11,8 @@ class SearchUnit {
  public:
   SearchUnit(PeState& pe, int index) : pe_(pe), index_(index) {}
 
-  /// A pass (or passes, with search_walk = until_occupied) over `r`, taken at `now`.
+  /// A pass (or passes, with search_walk = until_occupied) over `r`; `now` is the time the event
+  /// log records (only the log reads it).
   Work take(MachineRay& r, uint64_t now);
   int index() const { return index_; }
 

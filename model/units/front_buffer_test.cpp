@@ -1,0 +1,168 @@
+// The front buffer's policy on hand-built sequences, without any scheduler: never more rays past
+// it than credits allow, waiting rays before new primary rays in arrival order, spills beyond the
+// on-chip capacity and their refill order, stall accounting, and when the PE is done.
+#include "units/front_buffer.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace rtm {
+namespace {
+
+using Policy = FrontBufferPolicy<int>;
+using Next = Policy::Next;
+
+PeState pe_with(int credits, int capacity) {
+  PeState pe;
+  pe.config.loop_credits = credits;
+  pe.config.front_buffer_capacity = capacity;
+  pe.config.fb_dispatch_cycles = 1;
+  pe.config.spill_cycles = 8;
+  return pe;
+}
+
+/// Hands out whatever the policy says next; returns the ray (queued) or -1 - primary number.
+int hand_out(Policy& p, uint64_t now = 0) {
+  uint64_t cycles = 0;
+  if (p.next() == Next::Queued) {
+    bool spilled = false;
+    const int r = p.pop_queued(cycles, spilled);
+    p.dispatched(now, uint32_t(r), cycles, spilled ? kFromSpill : kFromQueue);
+    return r;
+  }
+  EXPECT_EQ(p.next(), Next::Primary);
+  const int i = int(p.pop_primary(now, cycles));
+  p.dispatched(now, uint32_t(1000 + i), cycles, kFromHost);
+  return -1 - i;
+}
+
+TEST(FrontBufferPolicy, NeverMoreRaysPastItThanCredits) {
+  PeState pe = pe_with(3, 64);
+  Policy p(pe, 10);
+  p.primaries_arrived(10);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(hand_out(p), -1 - i);
+  EXPECT_EQ(p.in_flight(), 3);
+  EXPECT_EQ(p.next(), Next::Wait) << "all credits taken";
+  p.ended();
+  EXPECT_EQ(p.next(), Next::Primary) << "an end returns a credit";
+  hand_out(p);
+  p.spawned(7);  // a spawned ray takes no credit back...
+  EXPECT_EQ(p.next(), Next::Wait) << "...and waits for one";
+  p.returned(42);  // a ray fed back returns its credit
+  EXPECT_EQ(p.next(), Next::Queued);
+}
+
+TEST(FrontBufferPolicy, WaitingRaysGoFirstInArrivalOrder) {
+  PeState pe = pe_with(4, 64);
+  Policy p(pe, 3);
+  p.primaries_arrived(3);
+  EXPECT_EQ(hand_out(p), -1);
+  EXPECT_EQ(hand_out(p), -2);
+  p.returned(5);
+  p.spawned(9);
+  p.returned(6);
+  EXPECT_EQ(hand_out(p), 5);
+  EXPECT_EQ(hand_out(p), 9);
+  EXPECT_EQ(hand_out(p), 6);
+  EXPECT_EQ(hand_out(p), -3) << "the last primary ray only once none waits";
+}
+
+TEST(FrontBufferPolicy, RaysBeyondTheCapacitySpillAndComeBackInArrivalOrder) {
+  PeState pe = pe_with(8, 2);
+  Policy p(pe, 0);
+  for (int r = 1; r <= 4; ++r) p.spawned(r);  // four waiting, two places on chip
+  // A ray comes from the spill area while more rays wait than the chip holds: 4 and 3 waiting.
+  const bool want_spilled[] = {true, true, false, false};
+  for (int r = 1; r <= 4; ++r) {
+    ASSERT_EQ(p.next(), Next::Queued);
+    uint64_t cycles = 0;
+    bool spilled = false;
+    EXPECT_EQ(p.pop_queued(cycles, spilled), r) << "in arrival order";
+    EXPECT_EQ(spilled, want_spilled[r - 1]) << "ray " << r;
+    EXPECT_EQ(cycles, spilled ? 1u + 8u : 1u) << "dispatch plus the move from local memory";
+    p.dispatched(0, uint32_t(r), cycles, spilled ? kFromSpill : kFromQueue);
+  }
+  EXPECT_EQ(pe.counters.spills, 2u);
+  EXPECT_EQ(pe.counters.front.busy_cycles, 9u + 9u + 1u + 1u);
+}
+
+TEST(FrontBufferPolicy, CreditStallsCountOnlyWhileRaysWaitForACredit) {
+  PeState pe = pe_with(1, 64);
+  Policy p(pe, 2);
+  p.primaries_arrived(2);
+  hand_out(p);
+  p.wait(100);  // a primary ray is there, no credit
+  p.woke(130);
+  EXPECT_EQ(pe.counters.credit_stall, 30u);
+  p.ended();
+  hand_out(p);
+  p.ended();
+  p.wait(200);  // nothing waiting: not a stall
+  p.woke(260);
+  EXPECT_EQ(pe.counters.credit_stall, 30u);
+}
+
+TEST(FrontBufferPolicy, FinishedOnlyWhenEveryRayHasArrivedAndEnded) {
+  PeState pe = pe_with(2, 64);
+  Policy p(pe, 2);
+  p.primaries_arrived(1);
+  hand_out(p);
+  p.ended();
+  EXPECT_EQ(p.next(), Next::Wait) << "a primary ray has not arrived yet";
+  p.primaries_arrived(2);
+  hand_out(p);
+  p.returned(3);
+  EXPECT_EQ(p.next(), Next::Queued);
+  hand_out(p);
+  EXPECT_EQ(p.next(), Next::Wait) << "a ray is still past the front buffer";
+  p.ended();
+  EXPECT_EQ(p.next(), Next::Finished);
+  p.finish(500);
+  EXPECT_TRUE(p.finished());
+  EXPECT_EQ(pe.counters.finish, 500u);
+}
+
+// Random arrivals against a model of the credit rule: in flight never exceeds the credits, every
+// ray handed out once per arrival, and the PE finishes exactly when everything has ended.
+TEST(FrontBufferPolicy, RandomTrafficKeepsTheCreditRule) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int credits = 1 + int(rng() % 5), primaries = 1 + int(rng() % 20);
+    PeState pe = pe_with(credits, 1 + int(rng() % 4));
+    Policy p(pe, size_t(primaries));
+    std::vector<int> past;  // rays past the front buffer
+    int next_id = 0, handed = 0, arrived = 0;
+    for (int steps = 0; steps < 10000 && p.next() != Next::Finished; ++steps) {
+      if (arrived < primaries && rng() % 3 == 0) p.primaries_arrived(size_t(++arrived));
+      const Next n = p.next();
+      if ((n == Next::Queued || n == Next::Primary) && rng() % 2) {
+        const int r = hand_out(p);
+        past.push_back(r < 0 ? next_id++ : r);
+        ++handed;
+        ASSERT_LE(p.in_flight(), credits);
+        ASSERT_EQ(p.in_flight(), int(past.size()));
+        continue;
+      }
+      if (past.empty()) continue;
+      const size_t i = rng() % past.size();
+      const int r = past[i];
+      past.erase(past.begin() + long(i));
+      switch (rng() % 4) {
+        case 0: p.returned(r); break;  // walks on
+        case 1:                        // ends, spawning a child
+          p.ended();
+          if (rng() % 2) p.spawned(next_id++);
+          break;
+        default: p.ended();
+      }
+    }
+    EXPECT_EQ(p.next(), Next::Finished) << "trial " << trial;
+    EXPECT_EQ(p.in_flight(), 0);
+    EXPECT_EQ(p.waiting(), 0u);
+    EXPECT_EQ(pe.counters.front.items, uint64_t(handed));
+  }
+}
+
+}  // namespace
+}  // namespace rtm
