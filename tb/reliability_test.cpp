@@ -486,7 +486,13 @@ TEST(Reliability, AnInterruptedRenderLeavesNoFinalNamedPartialFile) {
           << slurp(tmp / "log.txt");
     }
   }
-  // The next run writing the same waveform removes the abandoned temporary and writes it whole.
+  // The next run writing the same waveform removes the abandoned temporary and writes it whole;
+  // a waveform's folder is made as an image's is.
+  const Proc fresh = run_rtm("render " + kSpd + "balls-1.nff --size 2x2 --timing clocked -q --vcd " + (tmp / "new/w.vcd") +
+                                 " --out " + (tmp / "new2/o.png"),
+                             tmp);
+  EXPECT_EQ(fresh.exit_code, 0) << fresh.err;
+  EXPECT_TRUE(fs::exists(tmp / "new/w.vcd"));
   const Proc again = run_rtm("render " + kSpd + "balls-1.nff --size 8x8 --timing clocked -q --vcd " + out +
                                  "/w.vcd --out " + out + "/o.png",
                              tmp);

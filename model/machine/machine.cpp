@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -313,6 +314,8 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   std::unique_ptr<Waveform> wave;
   if (!opt.vcd.empty()) {
     const std::string tmp = temporary_beside(vcd_file(opt.vcd));
+    std::error_code ec;  // its folder, as for every other output (SystemC only opens the file)
+    if (const auto dir = std::filesystem::path(tmp).parent_path(); !dir.empty()) std::filesystem::create_directories(dir, ec);
     vcd = std::make_unique<PartialFile>(tmp);
     tf = sc_core::sc_create_vcd_trace_file(tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
     tf->set_time_unit(1, sc_core::SC_NS);
