@@ -8,6 +8,8 @@
 #include "machine/config.h"
 #include "options.h"
 #include "pov_export.h"
+#include "reference_cache.h"
+#include "render/ray.h"
 
 namespace {
 // The kernel's banner would land in the middle of rtm's own output. It is printed before
@@ -37,7 +39,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--threshold", r.threshold, "Branch-ray contribution threshold (overrides the scene)")
       ->check(CLI::Range(0.0, 1.0));
   render->add_option("--max-depth", r.max_depth, "Maximum ray generation, primary = 1 (overrides the scene)")
-      ->check(CLI::Range(1, 255));
+      ->check(CLI::Range(1, rtm::kMaxRayDepth));
   render->add_option("--spawn-offset", r.spawn_offset,
                      "Spawned rays start this far off the surface, relative to max(1, |hit point|) (overrides the scene)")
       ->check(CLI::Range(0.0, 1.0));
@@ -45,18 +47,22 @@ int sc_main(int argc, char* argv[]) {
                      "How --spawn-offset is applied: relative (x max(1, |hit point|)) or bound (x an error bound of the hit point; docs/numerics.md)");
   render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
+  render->add_option("--max-memory", r.max_memory,
+                     "Memory budget, e.g. 512M or 4G (default 3/4 of the machine's): a render estimated to need more is "
+                     "refused before it starts, and one whose ray trees outgrow it is stopped");
   render->add_flag("--strict", r.strict,
                    "Degenerate shapes (zero area, radius or length) are errors instead of skipped with a warning");
   render->add_flag("--skip-unknown", r.skip_unknown,
                    "Skip NFF records rtm does not know (renderers' extensions), with one warning per kind");
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
-  render->add_option("--pes", r.pes, "Processing elements")->check(CLI::Range(1, 65536));
+  // --pes and --search-units are checked as their configuration keys (machine/config.cpp).
+  render->add_option("--pes", r.pes, "Processing elements");
   render->add_option("--timing", r.timing,
                      "fast (default: the MAC by formula, the PEs on the PE engine) or clocked (the MAC on a clock, every unit a SystemC process); the same cycles either way");
   render->add_option("--precision", r.precision, "MAC arithmetic: fp32 (default) or fp64");
   render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks, strips or pixels");
-  render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE")->check(CLI::Range(1, 256));
+  render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
   render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
   render->add_option("--vcd-window", r.vcd_window, "Waveform window FROM:TO in PE cycles (either may be empty)");
@@ -76,6 +82,13 @@ int sc_main(int argc, char* argv[]) {
       ->excludes(from)
       ->excludes(set);
 
+  std::string cache_action;
+  CLI::App* cache = app.add_subcommand(
+      "cache", "The reference cache ($RTM_CACHE_DIR, else $XDG_CACHE_HOME/rtm, else ~/.cache/rtm; capped at $RTM_CACHE_SIZE, default 2G)");
+  cache->add_option("action", cache_action, "info (entries, size, cap, partial files) or clean (remove them all)")
+      ->required()
+      ->check(CLI::IsMember({"info", "clean"}));
+
   rtm::PovOptions pov_opt;
   CLI::App* pov = rtm::add_pov_command(app, pov_opt);
 
@@ -93,5 +106,6 @@ int sc_main(int argc, char* argv[]) {
   }
   if (config->parsed()) return rtm::run_config(config_file, sets);
   if (pov->parsed()) return rtm::run_pov(pov_opt);
+  if (cache->parsed()) return rtm::run_cache(cache_action);
   return 2;
 }

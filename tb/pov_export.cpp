@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "render/image_io.h"
+#include "render/partial_files.h"
 #include "scene/scene.h"
 
 namespace rtm {
@@ -174,6 +175,7 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
 }
 
 int run_pov(const PovOptions& opt) {
+  remove_partial_files_on_signals();  // the .pov file is written under a temporary name
   try {
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";

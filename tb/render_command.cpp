@@ -3,14 +3,19 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
+#include "byte_size.h"
 #include "machine/machine.h"
+#include "memory_budget.h"
 #include "options.h"
 #include "printed_summary.h"
 #include "reference_cache.h"
+#include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/partial_files.h"
 #include "render/reference.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -28,10 +33,31 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
+/// Removes what an earlier run left at the paths this one writes, and temporaries beside them
+/// whose writers are gone: if this run fails, nothing there looks as if it came from it.
+void clear_outputs(const std::vector<std::string>& paths) {
+  namespace fs = std::filesystem;
+  for (const std::string& p : paths) {
+    if (p.empty()) continue;
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(p, ec);
+    if (fs::is_regular_file(st) || fs::is_symlink(st)) fs::remove(p, ec);
+    remove_abandoned_partials(p);
+  }
+}
+
 }  // namespace
 
 int run_render(const RenderOptions& opt) {
+  // Outputs are written under temporary names and renamed; a signal removes the temporaries.
+  remove_partial_files_on_signals();
   try {
+    uint64_t budget = 0;
+    try {
+      budget = opt.max_memory.empty() ? default_memory_budget() : parse_byte_size(opt.max_memory);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--max-memory: ") + e.what());
+    }
     // Its ~0.2 s of loading overlaps parsing and rendering instead of following them.
     preload_image_library();
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
@@ -40,13 +66,20 @@ int run_render(const RenderOptions& opt) {
     apply_scene_options(opt, scene);
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
-    const MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
+    MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
+    mopt.max_memory = budget;
 
     RenderFiles files;
     files.image = opt.out.empty() ? "out/" + scene.name + ".png" : opt.out;
     files.stats =
         opt.stats.empty() ? (std::filesystem::path(files.image).replace_extension(".json")).string() : opt.stats;
     files.id_map = opt.id_map;
+    if (!opt.reference && !opt.vcd.empty()) {
+      files.vcd = vcd_file(opt.vcd);
+      files.gtkw = mopt.gtkw;
+    }
+    // The statistics are written last: an image without them is from a run that did not finish.
+    clear_outputs({files.image, files.stats, files.id_map, files.vcd, files.gtkw, opt.reference ? "" : opt.event_log});
 
     const auto t0 = std::chrono::steady_clock::now();
     // One thread: a thread started while the image library loads waits for the dynamic loader's
@@ -54,6 +87,15 @@ int run_render(const RenderOptions& opt) {
     const Grid grid = build_grid(scene.primitives, scene.grid, 1);
     const double grid_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     nlohmann::json stats = scene_json(scene, grid, grid_seconds);
+
+    // Before any frame-sized allocation: what it will need, against the budget.
+    check_memory_budget(estimate_memory(scene, grid, opt.reference ? nullptr : &config, !opt.vcd.empty()), budget,
+                        !opt.max_memory.empty());
+    if (const double tree = rays_per_primary_bound(scene); tree > 1e6)
+      std::cerr << "rtm: note: one primary ray can grow into up to " << std::setprecision(3) << tree
+                << " rays (max_depth " << scene.max_depth << ", threshold " << scene.threshold
+                << "): the render may not finish; " << (opt.reference ? "" : "it stops if its ray trees outgrow --max-memory, and ")
+                << "Ctrl-C stops it cleanly\n";
 
     if (opt.reference) {
       const ReferenceResult r = render_reference(scene, grid, opt.threads);
@@ -74,14 +116,18 @@ int run_render(const RenderOptions& opt) {
     }
     bool cache_hit = false;
     const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit);
-    const ImageError err = compare_images(m.image, ref.image);
+    ImageError err;
+    try {
+      err = compare_images(m.image, ref.image);
+    } catch (const NonFiniteImage& e) {
+      // Nothing is written: no figure of this run would mean anything.
+      std::cerr << "rtm: the machine's image cannot be compared with the reference: " << e.what()
+                << "; no image written\n";
+      return 1;
+    }
 
     write_image(files.image, m.image);
     if (!opt.id_map.empty()) write_id_map(opt.id_map, m.image);
-    if (!opt.vcd.empty()) {
-      files.vcd = opt.vcd;
-      files.gtkw = mopt.gtkw;
-    }
     stats.update(machine_render_json(m, config, err, ref, cache_hit));
     stats["grid_build_seconds"] = grid_seconds;  // beside the model's wall_seconds
     write_text_atomically(files.stats, stats.dump(2) + "\n");
@@ -89,6 +135,9 @@ int run_render(const RenderOptions& opt) {
     return 0;
   } catch (const UsageError& e) {
     std::cerr << "rtm: " << e.what() << "\n";
+    return 2;
+  } catch (const MachineLimitError& e) {
+    std::cerr << "rtm: machine configuration: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "rtm: " << e.what() << "\n";

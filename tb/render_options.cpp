@@ -1,7 +1,9 @@
 #include "render_options.h"
 
 #include <array>
+#include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -57,6 +59,10 @@ void apply_scene_options(const RenderOptions& opt, Scene& scene) {
   }
   // The reference on its own sizes its automatic grid for a CPU, unless asked for the machine's.
   if (opt.reference && opt.grid != "machine") size_for_cpu(scene.grid);
+  // CLI11's range checks let NaN through (every comparison with it is false).
+  if (opt.threshold && std::isnan(*opt.threshold)) throw UsageError("--threshold: threshold must be a number in 0..1, got nan");
+  if (opt.spawn_offset && std::isnan(*opt.spawn_offset))
+    throw UsageError("--spawn-offset: spawn_offset must be a number in 0..1, got nan");
   if (opt.threshold) scene.threshold = *opt.threshold;
   if (opt.max_depth) scene.max_depth = *opt.max_depth;
   if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;
@@ -107,15 +113,19 @@ MachineConfig machine_config(const RenderOptions& opt) {
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c) {
   MachineOptions m;
   m.vcd = opt.vcd;
-  if (!opt.vcd.empty()) m.gtkw = std::filesystem::path(opt.vcd).replace_extension(".gtkw").string();
+  if (!opt.vcd.empty()) m.gtkw = std::filesystem::path(vcd_file(opt.vcd)).replace_extension(".gtkw").string();
   m.event_log = opt.event_log;
   m.progress = !opt.quiet;
   if (!opt.vcd_window.empty()) {
     std::smatch w;
     if (!std::regex_match(opt.vcd_window, w, std::regex(R"((\d*):(\d*))")))
       throw UsageError("--vcd-window: expected FROM:TO in cycles, got '" + opt.vcd_window + "'");
-    if (w[1].length()) m.vcd_from_cycle = std::stoull(w[1]);
-    if (w[2].length()) m.vcd_to_cycle = std::stoull(w[2]);
+    try {
+      if (w[1].length()) m.vcd_from_cycle = std::stoull(w[1]);
+      if (w[2].length()) m.vcd_to_cycle = std::stoull(w[2]);
+    } catch (const std::out_of_range&) {
+      throw UsageError("--vcd-window: a cycle past 2^64 in '" + opt.vcd_window + "'");
+    }
     if (m.vcd_to_cycle < m.vcd_from_cycle) throw UsageError("--vcd-window: TO is before FROM");
   }
   if (!opt.vcd_pes.empty()) {

@@ -133,7 +133,7 @@ TEST(Cli, ConfigPrintsAFileThatLoadsBack) {
   ASSERT_EQ(defaults.exit_code, 0) << defaults.err;
   EXPECT_EQ(defaults.out.rfind("# ", 0), 0u) << "a header comment first";
   EXPECT_NE(defaults.out.find("\npes: 1  "), std::string::npos) << defaults.out;
-  EXPECT_NE(defaults.out.find("# processing elements (an integer in 1..65536)\n"), std::string::npos) << defaults.out;
+  EXPECT_NE(defaults.out.find("# processing elements (an integer in 1..16384)\n"), std::string::npos) << defaults.out;
   const std::string sets = " --set pes=3 --set partition=pixels --set clock_ns=2.5 --set broadcast=true";
   const Proc changed = run_rtm("config" + sets, tmp);
   ASSERT_EQ(changed.exit_code, 0) << changed.err;

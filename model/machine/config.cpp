@@ -1,6 +1,7 @@
 #include "machine/config.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -105,10 +106,18 @@ std::string fmt(double x) {
   }
 }
 
-Range from(double min, double max = HUGE_VAL) { return {min, max, false}; }
-Range above(double min) { return {min, HUGE_VAL, true}; }
+Range from(double min, double max = HUGE_VAL) { return {min, max, false, 0}; }
+Range from(double min, double max, double step) { return {min, max, false, step}; }
 
-bool in(const Range& r, double x) { return (r.above_min ? x > r.min : x >= r.min) && x <= r.max; }
+bool whole_steps(const Range& r, double x) {
+  if (!(r.step > 0)) return true;
+  const double q = x / r.step;  // 0.3 / 0.001 is 299.99999999999994: a multiple within rounding
+  return std::fabs(q - std::round(q)) <= 1e-9 * std::max(1.0, std::fabs(q));
+}
+
+bool in(const Range& r, double x) {
+  return (r.above_min ? x > r.min : x >= r.min) && x <= r.max && whole_steps(r, x);
+}
 
 ConfigKey int_key(const char* name, const char* meaning, int M::*m, Range r) {
   ConfigKey k{name, ConfigKey::Type::Integer, meaning, r, {}, {}, {}, {}};
@@ -137,14 +146,13 @@ ConfigKey double_key(const char* name, const char* meaning, double M::*m, Range 
   };
   k.get = [m](const M& c) { return fmt(c.*m); };
   k.set = [m, name, check](M& c, const std::string& v) {
-    size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(v, &used);
-    } catch (const std::exception&) {
+    // strtod, not stod: a number too small for a normal double is still a number (and out of
+    // every key's range), not a parse error.
+    char* end = nullptr;
+    const double x = std::strtod(v.c_str(), &end);
+    if (v.empty() || end == v.c_str() || std::isspace(static_cast<unsigned char>(v[0])))
       bad(name, "expected a number, got '" + v + "'");
-    }
-    if (used != v.size() || !std::isfinite(x)) bad(name, "expected a finite number, got '" + v + "'");
+    if (*end || !std::isfinite(x)) bad(name, "expected a finite number, got '" + v + "'");
     check(x, v);
     c.*m = x;
   };
@@ -212,7 +220,8 @@ std::string ConfigKey::accepted() const {
     case Type::Integer:
     case Type::Number: {
       const std::string what = type == Type::Integer ? "an integer" : "a number";
-      if (range.max != HUGE_VAL) return what + " in " + fmt(range.min) + ".." + fmt(range.max);
+      const std::string steps = range.step > 0 ? ", a multiple of " + fmt(range.step) : "";
+      if (range.max != HUGE_VAL) return what + " in " + fmt(range.min) + ".." + fmt(range.max) + steps;
       return what + (range.above_min ? " > " : " >= ") + fmt(range.min);
     }
     case Type::Flag: return "true or false";
@@ -226,13 +235,49 @@ std::string ConfigKey::accepted() const {
 }
 
 // The machine's keys, each declared once. Their defaults are MachineConfig's initialisers; the
-// ranges are what the model can run.
+// ranges are what the model can represent and finish (docs/reliability.md, "Limits"):
+//
+// - Time. SystemC holds simulated time as a 64-bit count of picoseconds (its default resolution,
+//   which rtm keeps): 2^64 ps is 213 days. A clock period is a whole number of ticks, at least two
+//   (clocked timing's clock is high for half the period and low for the other half) and at most
+//   1 µs (a 1 MHz machine; the paper's runs at tens of MHz), so even the slowest clock leaves room
+//   for 4.6e12 cycles below the 2^62 ps horizon the machine's monitor enforces (machine.cpp),
+//   whatever the frame adds up to. A link latency of at most 1 ms and a bandwidth of at least
+//   1 kB/s put one transfer of 1 GB at 1e6 s (1e18 ps), inside the horizon; 1 PB/s is where a
+//   transfer of any scene takes less than a tick. A frame whose times add up past the horizon
+//   anyway (the slowest link carrying a huge frame's rays) is stopped with an error, never wrapped.
+// - Cycles of one operation: at most 65536 (2^16). The longest the machine has is the root unit's
+//   12; 65536 keeps every sum along a ray's path far inside 64 bits and keeps the PE engine, which
+//   wakes every 8192 cycles, from spending more than a few wake-ups on one operation.
+// - MAC latencies: at most 1024 pipeline stages (no multiplier or adder has more). The clocked MAC
+//   steps every cycle of a test (28 add_latency + 2 mul_latency), so its wall time grows with them.
+// - FIFO depths, the front buffer and loop credits: at most 65536 rays. Every FIFO is allocated
+//   whole (the PE engine 4 bytes a place, a module one ray record a place) in every PE; the memory
+//   budget (rtm render --max-memory) checks their total over all PEs before simulating.
+// - PEs: at most 16384. Each PE is a SystemC thread (more with pe_simulation = modules), and each
+//   thread's stack costs the process two memory maps; Linux's default limit of 65530 maps
+//   (vm.max_map_count) holds about 32000 threads. rtm render refuses, before simulating, a
+//   configuration whose threads the host's limit cannot hold.
+// - tile and ray_block need not exceed the largest image (16384 a side).
+constexpr int kMaxPes = 16384;
+constexpr int kMaxImageSide = 16384;
+constexpr int kMaxPixels = kMaxImageSide * kMaxImageSide;
+constexpr double kTickNs = 0.001;
+constexpr double kMinClockNs = 2 * kTickNs;
+constexpr double kMaxClockNs = 1000;
+constexpr int kMaxOpCycles = 65536;
+constexpr int kMaxMacLatency = 1024;
+constexpr int kMaxBufferRays = 65536;
+constexpr double kMinBandwidthMbS = 0.001;
+constexpr double kMaxBandwidthMbS = 1e9;
+constexpr double kMaxLinkLatencyNs = 1e6;
+
 const std::vector<ConfigKey>& config_keys() {
   static const std::vector<ConfigKey> keys = {
-      int_key("pes", "processing elements", &M::pes, from(1, 65536)),
+      int_key("pes", "processing elements", &M::pes, from(1, kMaxPes)),
       enum_key("partition", "screen partitioning: scanlines (row y to PE y mod N), blocks (tile x tile tiles dealt round robin), strips (contiguous bands), pixels (every N-th pixel of each row, rows sheared)",
                &M::partition),
-      int_key("tile", "block edge in pixels (partition = blocks)", &M::tile, from(1)),
+      int_key("tile", "block edge in pixels (partition = blocks)", &M::tile, from(1, kMaxImageSide)),
       enum_key("timing", "MAC model: fast (cycle-exact by formula) or clocked (a process on a clock)", &M::timing),
       enum_key("precision", "MAC, root unit and clip arithmetic", &M::precision),
       enum_key("mac_schedule", "full (the paper's 6 + 12 + 10 products for every test) or sparse (each primitive's products with a zero coefficient word skipped: same sums, fewer cycles)",
@@ -246,53 +291,54 @@ const std::vector<ConfigKey>& config_keys() {
                &M::coef_scaling),
       enum_key("origin_latch", "ray origin into the V latches: machine (rounded to the MAC precision, then re-centred: the paper's latch), wide (re-centred in fp64, then rounded) or advance (wide, from the voxel's entry point; advance_cycles more latency)",
                &M::origin_latch),
-      double_key("clock_ns", "PE clock period, ns", &M::clock_ns, above(0)),
+      double_key("clock_ns", "PE clock period, ns", &M::clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
       int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, 256)),
       enum_key("search_walk", "per_voxel (a ray in an empty voxel goes back to the front buffer, as in the paper) or until_occupied (the search unit steps on until an occupied voxel or the walk's end)",
                &M::search_walk),
       int_key("intersection_units", "MAC + root/sort lanes per PE (the paper has one)", &M::intersection_units, from(1, 64)),
-      int_key("dda_step_cycles", "cycles for one 3DDDA step (compare and increment)", &M::dda_step_cycles, from(0)),
+      int_key("dda_step_cycles", "cycles for one 3DDDA step (compare and increment)", &M::dda_step_cycles, from(0, kMaxOpCycles)),
       int_key("voxel_read_cycles", "cycles to read a voxel's occupancy and list header from local memory", &M::voxel_read_cycles,
-              from(0)),
-      int_key("mul_latency", "pipeline depth of each MAC multiplier", &M::mul_latency, from(1)),
+              from(0, kMaxOpCycles)),
+      int_key("mul_latency", "pipeline depth of each MAC multiplier", &M::mul_latency, from(1, kMaxMacLatency)),
       int_key("add_latency", "MAC adder latency (dependent accumulation issues one product per add_latency)", &M::add_latency,
-              from(1)),
+              from(1, kMaxMacLatency)),
       int_key("coef_load_cycles", "cycles to load a primitive's 13 coefficient words into the MAC RAM (overlapped with the previous primitive)",
-              &M::coef_load_cycles, from(0)),
-      int_key("root_latency", "root unit latency: discriminant, square root, two divisions (pipelined)", &M::root_latency, from(1)),
+              &M::coef_load_cycles, from(0, kMaxOpCycles)),
+      int_key("root_latency", "root unit latency: discriminant, square root, two divisions (pipelined)", &M::root_latency, from(1, kMaxOpCycles)),
       int_key("fma_discriminant_cycles", "extra root unit latency with discriminant = fma (the dependent FMA stage)",
-              &M::fma_discriminant_cycles, from(0)),
+              &M::fma_discriminant_cycles, from(0, kMaxOpCycles)),
       int_key("advance_cycles", "extra root unit latency with origin_latch = advance (adding t_enter to the roots)",
-              &M::advance_cycles, from(0)),
-      int_key("clip_cycles", "cycles per clip half-space test (3 products and an add)", &M::clip_cycles, from(0)),
-      int_key("sort_cycles", "cycles per primitive result merged into the nearest-hit register", &M::sort_cycles, from(0)),
-      int_key("shade_cycles", "shading cycles per ray: normal, ambient term and frame-buffer update", &M::shade_cycles, from(0)),
-      int_key("spawn_cycles", "cycles to generate one shadow or branch ray", &M::spawn_cycles, from(0)),
+              &M::advance_cycles, from(0, kMaxOpCycles)),
+      int_key("clip_cycles", "cycles per clip half-space test (3 products and an add)", &M::clip_cycles, from(0, kMaxOpCycles)),
+      int_key("sort_cycles", "cycles per primitive result merged into the nearest-hit register", &M::sort_cycles, from(0, kMaxOpCycles)),
+      int_key("shade_cycles", "shading cycles per ray: normal, ambient term and frame-buffer update", &M::shade_cycles, from(0, kMaxOpCycles)),
+      int_key("spawn_cycles", "cycles to generate one shadow or branch ray", &M::spawn_cycles, from(0, kMaxOpCycles)),
       int_key("accumulate_cycles", "cycles to add a shadow ray's or the background's brightness to the frame buffer",
-              &M::accumulate_cycles, from(0)),
-      int_key("fb_dispatch_cycles", "cycles for the front buffer to hand out one ray", &M::fb_dispatch_cycles, from(1)),
+              &M::accumulate_cycles, from(0, kMaxOpCycles)),
+      int_key("fb_dispatch_cycles", "cycles for the front buffer to hand out one ray", &M::fb_dispatch_cycles, from(1, kMaxOpCycles)),
       int_key("front_buffer_capacity", "on-chip front buffer size in rays (overflow spills to local memory)",
-              &M::front_buffer_capacity, from(1)),
-      int_key("spill_cycles", "extra cycles per ray moved to or from the spill area", &M::spill_cycles, from(0)),
-      int_key("search_fifo_depth", "FIFO depth, front buffer -> search units", &M::search_fifo_depth, from(1)),
-      int_key("intersect_fifo_depth", "FIFO depth, search -> intersection", &M::intersect_fifo_depth, from(1)),
-      int_key("root_fifo_depth", "FIFO depth, MAC -> root unit / sort", &M::root_fifo_depth, from(1)),
-      int_key("shade_fifo_depth", "FIFO depth, search/intersection -> shading", &M::shade_fifo_depth, from(1)),
-      int_key("feedback_fifo_depth", "FIFO depth of each path back into the front buffer", &M::feedback_fifo_depth, from(1)),
+              &M::front_buffer_capacity, from(1, kMaxBufferRays)),
+      int_key("spill_cycles", "extra cycles per ray moved to or from the spill area", &M::spill_cycles, from(0, kMaxOpCycles)),
+      int_key("search_fifo_depth", "FIFO depth, front buffer -> search units", &M::search_fifo_depth, from(1, kMaxBufferRays)),
+      int_key("intersect_fifo_depth", "FIFO depth, search -> intersection", &M::intersect_fifo_depth, from(1, kMaxBufferRays)),
+      int_key("root_fifo_depth", "FIFO depth, MAC -> root unit / sort", &M::root_fifo_depth, from(1, kMaxBufferRays)),
+      int_key("shade_fifo_depth", "FIFO depth, search/intersection -> shading", &M::shade_fifo_depth, from(1, kMaxBufferRays)),
+      int_key("feedback_fifo_depth", "FIFO depth of each path back into the front buffer", &M::feedback_fifo_depth, from(1, kMaxBufferRays)),
       enum_key("flow_control", "credits (deadlock-free) or none (the front buffer hands out rays whenever the search FIFO has room, as in the paper; the loop can deadlock, and the simulator reports it)",
                &M::flow_control),
       int_key("loop_credits", "rays allowed past the front buffer at once (0: the largest safe value); at most the smallest FIFO depth past the front buffer",
-              &M::loop_credits, from(0)),
+              &M::loop_credits, from(0, kMaxBufferRays)),
       enum_key("ray_generation", "who generates primary rays: host (the paper: generated and sent by the host) or pe (each PE from the camera, pe_ray_cycles each, in its front buffer)",
                &M::ray_generation),
-      int_key("pe_ray_cycles", "PE cycles to generate one primary ray (ray_generation = pe)", &M::pe_ray_cycles, from(0)),
-      double_key("host_clock_ns", "host clock period, ns", &M::host_clock_ns, above(0)),
-      int_key("host_voxel_cycles", "host cycles per primitive reference registered in a voxel", &M::host_voxel_cycles, from(0)),
-      int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles, from(0)),
-      double_key("link_bandwidth_mb_s", "host <-> PE link bandwidth, MB/s", &M::link_bandwidth_mb_s, above(0)),
-      double_key("link_latency_ns", "host <-> PE link latency per transaction, ns", &M::link_latency_ns, from(0)),
+      int_key("pe_ray_cycles", "PE cycles to generate one primary ray (ray_generation = pe)", &M::pe_ray_cycles, from(0, kMaxOpCycles)),
+      double_key("host_clock_ns", "host clock period, ns", &M::host_clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
+      int_key("host_voxel_cycles", "host cycles per primitive reference registered in a voxel", &M::host_voxel_cycles, from(0, kMaxOpCycles)),
+      int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles, from(0, kMaxOpCycles)),
+      double_key("link_bandwidth_mb_s", "host <-> PE link bandwidth, MB/s", &M::link_bandwidth_mb_s,
+                 from(kMinBandwidthMbS, kMaxBandwidthMbS)),
+      double_key("link_latency_ns", "host <-> PE link latency per transaction, ns", &M::link_latency_ns, from(0, kMaxLinkLatencyNs)),
       bool_key("broadcast", "one scene transfer reaches every PE (else one transfer per PE)", &M::broadcast),
-      int_key("ray_block", "primary rays per host -> PE transfer (0: all of a PE's rays at once)", &M::ray_block, from(0)),
+      int_key("ray_block", "primary rays per host -> PE transfer (0: all of a PE's rays at once)", &M::ray_block, from(0, kMaxPixels)),
       enum_key("arbitration", "same-cycle order: ranked (a fixed order by unit, independent of the kernel: clocked and fast timing give the same cycles on any frame) or kernel (SystemC's event queue decides)",
                &M::arbitration),
       enum_key("pe_simulation", "auto (each PE's pipeline on the PE engine where the configuration allows: the same cycles, several times faster) or modules (one SystemC process per unit)",

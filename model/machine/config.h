@@ -126,6 +126,7 @@ struct ConfigKey {
     double min = 0;
     double max = HUGE_VAL;  ///< HUGE_VAL: no bound but the type's (32-bit integers, finite numbers)
     bool above_min = false;
+    double step = 0;  ///< > 0: the number must be a whole multiple of it
   };
 
   std::string name;

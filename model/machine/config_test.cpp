@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -94,10 +95,10 @@ TEST(ConfigKeys, EveryKeyRoundTrips) {
 
 TEST(ConfigKeys, ANumberNeedingMoreThanSixDigitsReadsBackExactly) {
   MachineConfig c;
-  c.clock_ns = 1.0 / 3;
+  c.link_latency_ns = 1.0 / 3;
   MachineConfig d;
-  set_config(d, "clock_ns", key("clock_ns").get(c));
-  EXPECT_EQ(d.clock_ns, c.clock_ns);
+  set_config(d, "link_latency_ns", key("link_latency_ns").get(c));
+  EXPECT_EQ(d.link_latency_ns, c.link_latency_ns);
   // What fits six digits reads as it always did (the stats' config strings).
   c.clock_ns = 2.5;
   EXPECT_EQ(key("clock_ns").get(c), "2.5");
@@ -115,23 +116,23 @@ TEST(ConfigKeys, EachRangeEndIsAcceptedAndOnePastItRefused) {
       return why;
     };
     const ConfigKey::Range r = k.range;
+    if (k.type == ConfigKey::Type::Integer || k.type == ConfigKey::Type::Number) {
+      // Every number has both ends: what the model can represent and finish (config.cpp).
+      EXPECT_NE(r.max, HUGE_VAL) << k.name;
+      EXPECT_FALSE(r.above_min) << k.name;
+    }
     if (k.type == ConfigKey::Type::Integer) {
-      const long lo = long(r.min), hi = r.max == HUGE_VAL ? INT_MAX : long(r.max);
+      const long lo = long(r.min), hi = long(r.max);
       EXPECT_EQ(refusal(k.name, std::to_string(lo)), "") << k.name;
       EXPECT_EQ(refusal(k.name, std::to_string(hi)), "") << k.name;
       EXPECT_NE(refused(std::to_string(lo - 1)).find(k.accepted()), std::string::npos) << k.name;
-      const std::string past = refused(std::to_string(hi + 1));
-      if (r.max != HUGE_VAL) {
-        EXPECT_NE(past.find(k.accepted()), std::string::npos) << k.name;
-      }
+      EXPECT_NE(refused(std::to_string(hi + 1)).find(k.accepted()), std::string::npos) << k.name;
       refused("1.5");
     } else if (k.type == ConfigKey::Type::Number) {
-      // No number key has an upper bound yet; the lower one is open (> 0) or closed (>= 0).
-      EXPECT_EQ(r.max, HUGE_VAL) << k.name;
-      const double inside = r.above_min ? r.min + 1e-300 : r.min;
-      const double past = r.above_min ? r.min : r.min - 1e-300;
-      EXPECT_EQ(refusal(k.name, text(inside)), "") << k.name;
-      EXPECT_NE(refused(text(past)).find(k.accepted()), std::string::npos) << k.name;
+      EXPECT_EQ(refusal(k.name, text(r.min)), "") << k.name;
+      EXPECT_EQ(refusal(k.name, text(r.max)), "") << k.name;
+      EXPECT_NE(refused(text(std::nextafter(r.min, -HUGE_VAL))).find(k.accepted()), std::string::npos) << k.name;
+      EXPECT_NE(refused(text(std::nextafter(r.max, HUGE_VAL))).find(k.accepted()), std::string::npos) << k.name;
       refused("inf");
     } else {
       for (const std::string& v : k.values) EXPECT_EQ(refusal(k.name, v), "") << k.name << " = " << v;
@@ -140,17 +141,27 @@ TEST(ConfigKeys, EachRangeEndIsAcceptedAndOnePastItRefused) {
   }
 }
 
-TEST(ConfigKeys, TheRangesAreTheOnesTheModelHasAlwaysTaken) {
-  EXPECT_EQ(key("pes").accepted(), "an integer in 1..65536");
+// The ranges' ends are derived in config.cpp (what the time arithmetic, memory and the host hold).
+TEST(ConfigKeys, TheRangesAreTheModelsLimits) {
+  EXPECT_EQ(key("pes").accepted(), "an integer in 1..16384");
   EXPECT_EQ(key("search_units").accepted(), "an integer in 1..256");
   EXPECT_EQ(key("intersection_units").accepted(), "an integer in 1..64");
-  EXPECT_EQ(key("shade_cycles").accepted(), "an integer >= 0");
-  EXPECT_EQ(key("root_latency").accepted(), "an integer >= 1");
-  EXPECT_EQ(key("feedback_fifo_depth").accepted(), "an integer >= 1");
-  EXPECT_EQ(key("clock_ns").accepted(), "a number > 0");
-  EXPECT_EQ(key("link_latency_ns").accepted(), "a number >= 0");
+  EXPECT_EQ(key("shade_cycles").accepted(), "an integer in 0..65536");
+  EXPECT_EQ(key("root_latency").accepted(), "an integer in 1..65536");
+  EXPECT_EQ(key("mul_latency").accepted(), "an integer in 1..1024");
+  EXPECT_EQ(key("feedback_fifo_depth").accepted(), "an integer in 1..65536");
+  EXPECT_EQ(key("clock_ns").accepted(), "a number in 0.002..1000, a multiple of 0.001");
+  EXPECT_EQ(key("link_latency_ns").accepted(), "a number in 0..1e+06");
+  EXPECT_EQ(key("link_bandwidth_mb_s").accepted(), "a number in 0.001..1e+09");
   EXPECT_EQ(key("broadcast").accepted(), "true or false");
-  EXPECT_EQ(refusal("pes", "0"), "pes: expected an integer in 1..65536, got 0");
+  EXPECT_EQ(refusal("pes", "0"), "pes: expected an integer in 1..16384, got 0");
+  EXPECT_EQ(refusal("clock_ns", "1e-300"), "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 1e-300");
+  EXPECT_EQ(refusal("clock_ns", "1e300"), "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 1e300");
+  // Whole picoseconds, SystemC's time resolution: 2.5 ps would silently become 3 (or 2).
+  EXPECT_EQ(refusal("clock_ns", "0.0025"), "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 0.0025");
+  EXPECT_EQ(refusal("clock_ns", "0.3"), "");
+  EXPECT_EQ(refusal("host_clock_ns", "7.5"), "");
+  EXPECT_EQ(refusal("mul_latency", "2147483647"), "mul_latency: expected an integer in 1..1024, got 2147483647");
 }
 
 TEST(ConfigKeys, ValidateChecksEachRangeAndTheRulesAcrossKeys) {
@@ -165,14 +176,14 @@ TEST(ConfigKeys, ValidateChecksEachRangeAndTheRulesAcrossKeys) {
     return std::string();
   };
   MachineConfig bad;
-  bad.pes = 65537;
-  EXPECT_EQ(refused(bad), "pes: expected an integer in 1..65536, got 65537");
+  bad.pes = 16385;
+  EXPECT_EQ(refused(bad), "pes: expected an integer in 1..16384, got 16385");
   bad = {};
   bad.clock_ns = 0;
-  EXPECT_EQ(refused(bad), "clock_ns: expected a number > 0, got 0");
+  EXPECT_EQ(refused(bad), "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 0");
   bad = {};
   bad.link_latency_ns = -1;
-  EXPECT_EQ(refused(bad), "link_latency_ns: expected a number >= 0, got -1");
+  EXPECT_EQ(refused(bad), "link_latency_ns: expected a number in 0..1e+06, got -1");
   bad = {};
   bad.root_fifo_depth = 3;
   bad.loop_credits = 4;

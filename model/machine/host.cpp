@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "machine/sim_time.h"
 #include "render/camera.h"
 
 namespace rtm {
@@ -26,8 +27,10 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
 }
 
 sc_time Host::link_time(uint64_t bytes) const {
+  // The latency is at most 1 ms (its key's range); the bytes' time is what can pass the horizon.
   return sc_time(config_.link_latency_ns, sc_core::SC_NS) +
-         sc_time(double(bytes) / (config_.link_bandwidth_mb_s * 1e6), sc_core::SC_SEC);
+         checked_seconds(double(bytes) / (config_.link_bandwidth_mb_s * 1e6),
+                         "a transfer of " + std::to_string(bytes) + " bytes over the link");
 }
 
 void Host::transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, uint64_t timed_bytes,
@@ -62,7 +65,8 @@ void Host::run() {
 
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
   // host is charged per primitive reference it registers).
-  host_wait(host_cycle * double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()));
+  host_wait(checked_periods(host_cycle, double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+                            "the host's voxel-data generation"));
   times.voxels = sc_core::sc_time_stamp();
 
   const PrimaryRays camera(scene_.camera);
@@ -94,7 +98,9 @@ void Host::run() {
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
   if (config_.ray_block == 0 || pe_rays) {
     // The paper's flow: all pre-processing first, then every PE's data in turn.
-    if (!pe_rays) host_wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * pixels));
+    if (!pe_rays)
+      host_wait(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * pixels),
+                                "the host's primary-ray generation"));
     times.rays = sc_core::sc_time_stamp();
     if (config_.broadcast) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {
@@ -111,7 +117,8 @@ void Host::run() {
         std::vector<Ray> rays = rays_of(pe, from, size_t(config_.ray_block));
         if (rays.empty()) continue;
         any = true;
-        host_wait(host_cycle * double(uint64_t(config_.host_ray_cycles) * rays.size()));
+        host_wait(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * rays.size()),
+                                  "the host's primary-ray generation"));
         send_rays(pe, rays);
       }
       if (!any) break;

@@ -4,11 +4,16 @@
 #include "machine/gtkw.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
+#include "machine/sim_time.h"
+#include "render/atomic_file.h"
 #include "render/image_io.h"
+#include "render/partial_files.h"
 #include "render/scene_needs.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -19,6 +24,14 @@ namespace rtm {
 using sc_core::sc_time;
 
 namespace {
+
+/// The process's resident size now (/proc/self/statm); 0 where it cannot be read.
+uint64_t resident_bytes() {
+  std::ifstream f("/proc/self/statm");
+  uint64_t size = 0, resident = 0;
+  if (!(f >> size >> resident)) return 0;
+  return resident * uint64_t(sysconf(_SC_PAGESIZE));
+}
 
 class Machine : public sc_core::sc_module {
  public:
@@ -34,8 +47,12 @@ class Machine : public sc_core::sc_module {
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
 
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
-          bool tracing)
-      : sc_module(name), engine_unsupported(rtm::engine_unsupported(c, tracing)), config_(c), progress_(progress) {
+          bool tracing, uint64_t max_memory)
+      : sc_module(name),
+        engine_unsupported(rtm::engine_unsupported(c, tracing)),
+        config_(c),
+        progress_(progress),
+        max_memory_(max_memory) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
@@ -64,44 +81,137 @@ class Machine : public sc_core::sc_module {
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
     // The clock, and units retrying writes into full FIFOs, keep a simulation alive even when
-    // the loop has stalled: watch for it.
-    if (progress_ || c.timing == Timing::Clocked || c.flow_control == FlowControl::None) SC_THREAD(monitor);
+    // the loop has stalled; and any frame's time must stay below the horizon: watch for both.
+    const double quiet_cycles = std::max(8.0 * kMonitorStepCycles, 2.0 * double(longest_item_cycles(s, g, c)));
+    quiet_window_ = sc_time::from_value(
+        uint64_t(std::min(quiet_cycles * double(period.value()), double(kTimeHorizonTicks))));
+    // With arbitration = kernel the monitor's own wake-ups take part in SystemC's same-time
+    // order, and so in the figures: there it runs where it always did, on its fixed schedule.
+    fixed_schedule_ = c.arbitration == MachineConfig::Arbitration::Kernel;
+    if (!fixed_schedule_ || progress_ || c.timing == Timing::Clocked || c.flow_control == FlowControl::None)
+      SC_THREAD(monitor);
+  }
+
+  /// How many SystemC threads the machine elaborated (each needs a stack when simulation starts).
+  static size_t threads(const std::vector<sc_core::sc_object*>& objects) {
+    size_t n = 0;
+    for (const sc_core::sc_object* o : objects) {
+      const std::string kind = o->kind();
+      n += kind == "sc_thread_process" || kind == "sc_cthread_process";
+      n += threads(o->get_child_objects());
+    }
+    return n;
   }
 
  private:
+  static constexpr double kMonitorStepCycles = 4096;
+  static constexpr std::chrono::milliseconds kMeasureEvery{50};
+
+  /// An upper bound on the PE cycles any unit can spend on one item (a ray's pass through the
+  /// front buffer or a search unit, a MAC and root job on the fullest voxel, a shading) without
+  /// finishing it: the monitor calls the loop stalled only after twice this with nothing done.
+  static uint64_t longest_item_cycles(const Scene& s, const Grid& g, const MachineConfig& c) {
+    uint64_t fullest = 0;
+    for (size_t v = 0; v + 1 < g.start.size(); ++v) fullest = std::max<uint64_t>(fullest, g.start[v + 1] - g.start[v]);
+    uint64_t clips = 0;
+    for (const Primitive& p : s.primitives) clips = std::max<uint64_t>(clips, p.clips.size());
+    const uint64_t test = uint64_t(kMacProducts) * uint64_t(c.add_latency) + uint64_t(c.coef_load_cycles) +
+                          2 * uint64_t(c.mul_latency) + uint64_t(c.add_latency) + uint64_t(c.root_cycles()) +
+                          uint64_t(c.sort_cycles) + uint64_t(c.clip_cycles) * (clips + 1);
+    const uint64_t walk = uint64_t(g.n[0] + g.n[1] + g.n[2] + 3) * uint64_t(c.dda_step_cycles + c.voxel_read_cycles);
+    const uint64_t shade =
+        uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles + c.accumulate_cycles) * (s.lights.size() + 3);
+    return (fullest + 1) * test + walk + shade + uint64_t(c.fb_dispatch_cycles) + 2 * uint64_t(c.spill_cycles) +
+           uint64_t(c.pe_ray_cycles);
+  }
+
   /// Every few thousand cycles: redraw the progress line (at most twice a second of wall time),
-  /// and stop the simulation if nothing has moved for a long while (a deadlock the clock would
-  /// otherwise hide).
+  /// stop the simulation if nothing has moved for longer than any unit takes over one item (a
+  /// deadlock the clock would otherwise hide), and stop it if its time passes the horizon. While
+  /// nothing moves it looks less and less often, and across a long host phase not at all, so a
+  /// long simulated time costs few wake-ups.
   void monitor() {
     const auto start = std::chrono::steady_clock::now();
-    auto last_draw = start;
-    const sc_time step = sc_time(config_.clock_ns, sc_core::SC_NS) * 4096.0;
-    uint64_t last_work = ~0ull;
-    int idle = 0;
+    auto last_draw = start, last_measured = start;
+    const sc_time base = sc_time(config_.clock_ns, sc_core::SC_NS) * kMonitorStepCycles;
+    const sc_time longest_step = std::max(base, quiet_window_ / 8.0);
+    sc_time step = base, quiet_since = sc_core::SC_ZERO_TIME;
+    uint64_t last_work = ~0ull, finished_work = 0;
+    std::vector<Pe*> active;  // the PEs not yet finished
+    for (auto& pe : pes) active.push_back(pe.get());
     while (!host->done) {
       sc_core::wait(step);
-      uint64_t primaries = 0, rays = 0, work = 0;
-      for (auto& pe : pes) {
-        const PeCounters& k = pe->ctx.counters;
-        primaries += k.counts.rays[0];
-        rays += k.counts.total_rays();
-        work += k.front.items + k.search.items + k.mac.items + k.root.items + k.shade.items;
+      const sc_time at = sc_core::sc_time_stamp();
+      if (at.value() >= kTimeHorizonTicks) {
+        overran = true;
+        sc_core::sc_stop();
+        return;
       }
-      const bool host_busy = sc_core::sc_time_stamp() < host->busy_until;
-      idle = (work == last_work && !host_busy) ? idle + 1 : 0;
+      // Rays waiting in the front buffers grow with the ray tree: hold the process to the budget.
+      if (const auto wall = std::chrono::steady_clock::now(); max_memory_ && wall - last_measured > kMeasureEvery) {
+        last_measured = wall;
+        if (const uint64_t rss = resident_bytes(); rss > max_memory_) {
+          over_budget = rss;
+          sc_core::sc_stop();
+          return;
+        }
+      }
+      // The host's own phase (sending every PE its scene, say) is no stall: look again when it
+      // ends, without summing every PE's counters on each transfer.
+      const bool host_busy = at < host->busy_until;
+      uint64_t work = last_work;
+      if (!host_busy || fixed_schedule_) {
+        // A finished PE's counters no longer change: add them once and look at it no more.
+        work = finished_work;
+        for (size_t i = 0; i < active.size();) {
+          const PeCounters& k = active[i]->ctx.counters;
+          const uint64_t w = k.front.items + k.search.items + k.mac.items + k.root.items + k.shade.items;
+          if (active[i]->finished()) {
+            finished_work += w;
+            active[i] = active.back();
+            active.pop_back();
+          } else {
+            ++i;
+          }
+          work += w;
+        }
+      }
+      const bool moved = work != last_work;
       last_work = work;
-      if (idle >= 8) {
+      if (moved) {
+        quiet_since = at;
+        step = base;
+      } else if (fixed_schedule_) {
+        if (host_busy)
+          quiet_since = at;
+        else if (at - quiet_since >= quiet_window_) {
+          stalled = true;
+          sc_core::sc_stop();
+          return;
+        }
+      } else if (host_busy) {
+        quiet_since = host->busy_until;
+        step = std::max(base, host->busy_until - at);
+      } else if (at >= quiet_since && at - quiet_since >= quiet_window_) {
         stalled = true;
         sc_core::sc_stop();
         return;
+      } else {
+        step = std::min(step * 2.0, longest_step);
       }
       if (!progress_) continue;
       const auto now = std::chrono::steady_clock::now();
       if (now - last_draw < std::chrono::milliseconds(500) || now - start < std::chrono::seconds(1)) continue;
       last_draw = now;
-      std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles   ", (unsigned long long)rays,
-                   100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
-                   sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS));
+      uint64_t primaries = 0, rays = 0;
+      for (auto& pe : pes) {
+        primaries += pe->ctx.counters.counts.rays[0];
+        rays += pe->ctx.counters.counts.total_rays();
+      }
+      std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles, %.3g GiB   ",
+                   (unsigned long long)rays, 100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
+                   sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS),
+                   double(resident_bytes()) / double(1 << 30));
       std::fflush(stderr);
       drew = true;
     }
@@ -109,12 +219,19 @@ class Machine : public sc_core::sc_module {
 
  public:
   bool stalled = false;  ///< the monitor stopped a simulation in which nothing moved
+  bool overran = false;  ///< the monitor stopped a simulation whose time passed the horizon
   bool drew = false;     ///< a progress line is on the terminal
 
  private:
+  sc_time quiet_window_;  ///< this long with nothing done (and the host idle) is a stall
+  bool fixed_schedule_ = false;  ///< wake every kMonitorStepCycles, whatever happens
   MachineConfig config_;
   bool progress_;
+  uint64_t max_memory_;
   uint64_t total_pixels_ = 0;
+
+ public:
+  uint64_t over_budget = 0;  ///< the resident size the monitor stopped the simulation at; 0: it did not
 };
 
 std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
@@ -137,7 +254,46 @@ std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, 
   return out;
 }
 
+/// The SystemC threads a configuration elaborates, known before elaborating it: the host, the
+/// monitor and the timekeeper; per PE one thread on the PE engine, else (modules_pe.cpp) the
+/// front buffer, the shading unit, each search unit, and per intersection lane the MAC and root
+/// threads plus the clocked MAC. run_machine counts again once elaborated.
+size_t expected_threads(const MachineConfig& c, bool tracing) {
+  const size_t per_pe = engine_unsupported(c, tracing).empty()
+                            ? 1
+                            : 2 + size_t(c.search_units) +
+                                  size_t(c.intersection_units) * (c.timing == Timing::Clocked ? 3 : 2);
+  return 3 + size_t(c.pes) * per_pe;
+}
+
+/// Each SystemC thread's stack costs the process two memory maps (the stack and its guard page);
+/// past the kernel's limit the simulation cannot start (SystemC's E518 "stack setup failed").
+void check_threads_fit(size_t threads, const MachineConfig& c) {
+  std::ifstream limit_file("/proc/sys/vm/max_map_count");
+  long limit = 0;
+  if (!(limit_file >> limit) || limit <= 0) return;  // not Linux, or not readable: let SystemC try
+  std::ifstream maps("/proc/self/maps");
+  long in_use = 0;
+  for (std::string line; std::getline(maps, line);) ++in_use;
+  // Room for what loads later (the image library, thread arenas) besides the stacks.
+  const long spare = 1024;
+  const long needed = 2 * long(threads);
+  if (needed + in_use + spare <= limit) return;
+  const long per_pe = std::max<long>(1, long(threads) / c.pes);
+  const long fit = std::max<long>(0, (limit - in_use - spare) / 2 / per_pe);
+  throw MachineLimitError("pes: " + std::to_string(c.pes) + " PEs need " + std::to_string(threads) +
+                          " SystemC threads (" + std::to_string(per_pe) + " a PE with pe_simulation = " +
+                          to_string(c.pe_simulation) + ", timing = " + to_string(c.timing) +
+                          "); each stack takes 2 memory maps and this host allows " + std::to_string(limit) +
+                          " (vm.max_map_count), " + std::to_string(in_use) + " in use: at most about " +
+                          std::to_string(fit) + " PEs of this configuration fit");
+}
+
 }  // namespace
+
+std::string vcd_file(const std::string& vcd) {
+  return vcd.size() > 4 && vcd.substr(vcd.size() - 4) == ".vcd" ? vcd : vcd + ".vcd";
+}
 
 MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt) {
   c.validate();
@@ -145,17 +301,23 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   // the trace file's time unit) are not news to the user.
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
-  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty());
+  check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
+  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory);
+
+  check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 
   std::vector<EventLog> logs(opt.event_log.empty() ? 0 : size_t(c.pes));
   for (size_t pe = 0; pe < logs.size(); ++pe) top.pes[pe]->ctx.log = &logs[pe];
 
   sc_core::sc_trace_file* tf = nullptr;
+  std::unique_ptr<PartialFile> vcd;  // written under a temporary name, renamed once closed
   std::unique_ptr<Waveform> wave;
   if (!opt.vcd.empty()) {
-    std::string base = opt.vcd;
-    if (base.size() > 4 && base.substr(base.size() - 4) == ".vcd") base.resize(base.size() - 4);
-    tf = sc_core::sc_create_vcd_trace_file(base.c_str());
+    const std::string tmp = temporary_beside(vcd_file(opt.vcd));
+    std::error_code ec;  // its folder, as for every other output (SystemC only opens the file)
+    if (const auto dir = std::filesystem::path(tmp).parent_path(); !dir.empty()) std::filesystem::create_directories(dir, ec);
+    vcd = std::make_unique<PartialFile>(tmp);
+    tf = sc_core::sc_create_vcd_trace_file(tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
     tf->set_time_unit(1, sc_core::SC_NS);
     wave = std::make_unique<Waveform>(tf);
     const sc_time period(c.clock_ns, sc_core::SC_NS);
@@ -171,6 +333,33 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
 
   sc_core::sc_start();
   if (top.drew) std::fprintf(stderr, "\r%80s\r", "");
+
+  if (top.over_budget) {
+    uint64_t rays = 0;
+    for (auto& pe : top.pes) rays += pe->ctx.counters.counts.total_rays();
+    auto text = [](uint64_t bytes) {
+      char t[32];
+      std::snprintf(t, sizeof t, bytes < (uint64_t(1) << 30) ? "%.1f MiB" : "%.2f GiB",
+                    double(bytes) / double(bytes < (uint64_t(1) << 30) ? 1 << 20 : 1 << 30));
+      return std::string(t);
+    };
+    const std::string held = text(top.over_budget), budget = text(opt.max_memory);
+    throw std::runtime_error("the simulation stopped holding " + held + ", more than its memory budget of " +
+                             budget + " (--max-memory), at cycle " +
+                             std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
+                             " with " + std::to_string(rays) + " rays traced: the rays waiting in the front buffers " +
+                             "grow with the ray tree (max_depth " + std::to_string(s.max_depth) + ", threshold " +
+                             [&] {
+                               std::ostringstream t;
+                               t << s.threshold;
+                               return t.str();
+                             }() + ")");
+  }
+  if (top.overran)
+    throw std::runtime_error("the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
+                             std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
+                             ", the most a frame may take (SystemC counts time in 64-bit picoseconds); a shorter "
+                             "clock_ns or a smaller frame fits");
 
   MachineResult r;
   r.end = sc_core::sc_time_stamp();
@@ -207,8 +396,11 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   }
   r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
   r.stats = frame_stats(r, c);
-  if (tf) sc_core::sc_close_vcd_trace_file(tf);
-  if (wave && !opt.gtkw.empty()) write_gtkw(opt.gtkw, opt.vcd, *wave);
+  if (tf) {
+    sc_core::sc_close_vcd_trace_file(tf);
+    vcd->commit(vcd_file(opt.vcd));
+  }
+  if (wave && !opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), *wave);
   if (!logs.empty()) {
     std::ostringstream text;
     write_event_log(text, logs, top.pes[0]->ctx.cycle);

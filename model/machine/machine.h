@@ -1,6 +1,7 @@
 // The whole machine: the host, N PEs and the link between them, run for one frame.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,9 @@ struct MachineOptions {
   std::vector<int> vcd_pes{0};      ///< PEs whose signals are traced
   bool progress = false;            ///< one-line progress display on stderr
   std::string event_log;            ///< every unit event, one line each (units/event_log.h); empty: none
+  /// The memory budget: the simulation stops with an error once the process holds more (what
+  /// grows with the ray tree cannot be known before it runs). 0: none.
+  uint64_t max_memory = 0;
 };
 
 /// Per FIFO kind, over all PEs.
@@ -49,7 +53,16 @@ struct MachineResult {
   std::string deadlock_report;  ///< every FIFO's occupancy when the simulation stalled
 };
 
+/// A valid configuration that is more than this host can run (rtm exits 2, as for a bad
+/// configuration): e.g. more SystemC threads than the process may map stacks for.
+struct MachineLimitError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// Elaborates and simulates the machine. SystemC elaborates once per process: call it once.
 MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt);
+
+/// The file a waveform option names: SystemC's trace files end in ".vcd", added if missing.
+std::string vcd_file(const std::string& vcd);
 
 }  // namespace rtm

@@ -4,15 +4,18 @@
 
 #include <dlfcn.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <future>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 
 #include "render/atomic_file.h"
 #include "render/image_library.h"
+#include "render/partial_files.h"
 
 namespace rtm {
 namespace {
@@ -61,13 +64,59 @@ const ImageLibrary& library() {
 
 void preload_image_library() { start_loading(); }
 
-void write_image(const std::string& path, const Image& img) { library().write_image(path, img); }
-void write_id_map(const std::string& path, const Image& img) { library().write_id_map(path, img); }
+// The library writes through commit_atomically's temporary: registered here, where a signal
+// handler can see it (the library is a module of its own).
+void write_image(const std::string& path, const Image& img) {
+  const PartialFile tmp(temporary_beside(path));
+  library().write_image(path, img);
+}
+void write_id_map(const std::string& path, const Image& img) {
+  const PartialFile tmp(temporary_beside(path));
+  library().write_id_map(path, img);
+}
 Image read_image(const std::string& path) { return library().read_image(path); }
 Image read_id_map(const std::string& path) { return library().read_id_map(path); }
-ImageError compare_images(const Image& img, const Image& ref) { return library().compare_images(img, ref); }
+namespace {
+
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+/// Throws NonFiniteImage naming `which` if some channel of `im` is NaN or infinite.
+void require_finite(const Image& im, const char* which) {
+  uint64_t bad = 0;
+  size_t first = 0;
+  for (size_t i = 0; i < im.rgb.size(); ++i) {
+    const Vec3& v = im.rgb[i];
+    if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) continue;
+    if (bad++ == 0) first = i;
+  }
+  if (bad == 0) return;
+  const Vec3& v = im.rgb[first];
+  throw NonFiniteImage(std::string(which) + " has " + std::to_string(bad) + " pixel" + (bad == 1 ? "" : "s") +
+                       " with a NaN or infinite value (the first at x " + std::to_string(first % size_t(im.width)) +
+                       ", y " + std::to_string(first / size_t(im.width)) + ": " + number(v.x) + ", " + number(v.y) +
+                       ", " + number(v.z) + "), so no error figure would mean anything");
+}
+
+}  // namespace
+
+ImageError compare_images(const Image& img, const Image& ref) {
+  if (img.width != ref.width || img.height != ref.height) throw std::invalid_argument("images differ in size");
+  require_finite(img, "the image");
+  require_finite(ref, "the reference image");
+  const ImageError e = library().compare_images(img, ref);
+  // Finite values can still square past the largest double.
+  if (!std::isfinite(e.rmse) || !std::isfinite(e.max_abs) || std::isnan(e.psnr_db))
+    throw NonFiniteImage("the error figures overflow (rmse " + number(e.rmse) + ", max_abs " + number(e.max_abs) +
+                         "): the images hold values too large to compare");
+  return e;
+}
 
 void write_text_atomically(const std::string& path, const std::string& text) {
+  const PartialFile partial(temporary_beside(path));
   commit_atomically(path, [&](const std::string& tmp) {
     std::ofstream f(tmp, std::ios::binary);
     f << text;

@@ -2,6 +2,7 @@
 // on first use (render/image_library.h); errors loading it are thrown as std::runtime_error.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 
 #include "render/reference.h"
@@ -26,6 +27,13 @@ struct ImageError {
   double max_abs = 0;
   uint64_t pixels_over_1_255 = 0;  ///< pixels with some channel off by more than 1/255
 };
+/// An image with a NaN or infinite channel, or one whose error figures overflow: no figure would
+/// mean anything (a NaN compares false with everything, so it once read as a perfect match).
+struct NonFiniteImage : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+/// Throws NonFiniteImage if either image holds a value that is not finite, naming which image,
+/// how many pixels and the first of them; std::invalid_argument if their sizes differ.
 ImageError compare_images(const Image& img, const Image& ref);
 
 /// Starts loading the image library on a thread of its own, so a program about to render does

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -49,6 +50,38 @@ TEST(ImageIo, PreloadingIsIdempotentAndErrorsStillReachTheCaller) {
   EXPECT_THROW(read_image("/nonexistent/rtm/image.png"), std::runtime_error);
   EXPECT_THROW(write_image("/tmp/rtm_image_io_test.bmp", Image(1, 1)), std::runtime_error);
   EXPECT_FALSE(std::filesystem::exists("/tmp/rtm_image_io_test.bmp"));
+}
+
+// A NaN compares false with everything: "rms_error > 0" once read it as a perfect match (psnr inf,
+// 0 pixels off). NaN or infinity in either image is an error naming the image and the pixel.
+TEST(ImageIo, ANonFinitePixelInEitherImageIsAnErrorNotAPerfectMatch) {
+  Image a(4, 3), b(4, 3);
+  for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] = b.rgb[i] = Vec3(0.5, 0.25, 0.125);
+  const ImageError same = compare_images(a, b);
+  EXPECT_EQ(same.rmse, 0);
+  EXPECT_EQ(same.pixels_over_1_255, 0u);
+  auto message = [](const Image& x, const Image& y) {
+    try {
+      compare_images(x, y);
+    } catch (const NonFiniteImage& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Image nan = a;
+  nan.rgb[6].y = std::nan("");
+  nan.rgb[9].x = std::nan("");
+  EXPECT_EQ(message(nan, b),
+            "the image has 2 pixels with a NaN or infinite value (the first at x 2, y 1: 0.5, nan, 0.125), so no "
+            "error figure would mean anything");
+  Image inf = b;
+  inf.rgb[11].z = -HUGE_VAL;
+  EXPECT_EQ(message(a, inf).rfind("the reference image has 1 pixel with a NaN or infinite value (the first at x 3, y 2", 0),
+            0u)
+      << message(a, inf);
+  Image huge = a;
+  huge.rgb[0] = Vec3(1e300, 1e300, 1e300);
+  EXPECT_EQ(message(huge, b).rfind("the error figures overflow", 0), 0u) << message(huge, b);
 }
 
 }  // namespace

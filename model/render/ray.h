@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "geom/vec.h"
 
@@ -21,5 +22,10 @@ struct Ray {
   uint8_t depth = 1;         ///< primary rays are generation 1
   RayKind kind = RayKind::Primary;
 };
+
+/// The deepest generation a ray can have: what Ray::depth holds. A scene's max_depth is checked
+/// against it (scene/scene.cpp), so a child's depth + 1 never wraps round to 0.
+constexpr int kMaxRayDepth = std::numeric_limits<decltype(Ray::depth)>::max();
+static_assert(kMaxRayDepth == 255, "docs/scene-format.md and rtm render --help give 255");
 
 }  // namespace rtm

@@ -1,5 +1,8 @@
 #include "render/scene_needs.h"
 
+#include "render/ray.h"
+
+#include <algorithm>
 #include <cmath>
 
 namespace rtm {
@@ -23,7 +26,8 @@ SceneNeeds analyse_scene(const Scene& s, const std::vector<CoefRam<Real>>& rams)
   // A branch ray of generation d has contribution at most max(ks, kt)^(d−1).
   const double k = std::max(ks, kt);
   double c = 1;
-  for (int d = 2; d <= s.max_depth; ++d) {
+  // max_depth is at most kMaxRayDepth in a validated scene; the bound keeps d from overflowing anyway.
+  for (int d = 2; d <= std::min(s.max_depth, kMaxRayDepth); ++d) {
     c *= k;
     if (!(c > s.threshold)) break;
     n.deepest_generation = d;

@@ -255,7 +255,10 @@ class NativeParser {
       if (!(scene_.threshold >= 0 && scene_.threshold < 1))
         fail(*v, m.path("threshold"), "must be in [0, 1), got " + str(scene_.threshold));
     }
-    if (auto v = m.get("max_depth")) scene_.max_depth = integer(*v, m.path("max_depth"), 1);
+    if (auto v = m.get("max_depth")) {
+      scene_.max_depth = integer(*v, m.path("max_depth"), 1);
+      check(*v, m.path("max_depth"), [&] { scene_checks::check_max_depth(scene_.max_depth); });
+    }
     if (auto v = m.get("spawn_offset")) scene_.spawn_offset = at_least(*v, m.path("spawn_offset"), 0);
     if (auto v = m.get("spawn_policy"))
       check(*v, m.path("spawn_policy"), [&] { scene_.spawn_policy = parse_spawn_policy(text(*v, m.path("spawn_policy"))); });

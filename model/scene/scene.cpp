@@ -1,6 +1,8 @@
 #include "scene/scene.h"
 #include "scene/scene_checks.h"
 
+#include "render/ray.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -91,10 +93,16 @@ void check_material(const Material& m) {
 void check_render(const Scene& s) {
   require(std::isfinite(s.threshold) && s.threshold >= 0 && s.threshold < 1,
           "threshold must be in [0, 1), got " + str(s.threshold));
-  require(s.max_depth >= 1, "max_depth must be at least 1, got " + std::to_string(s.max_depth));
+  check_max_depth(s.max_depth);
   require(std::isfinite(s.spawn_offset) && s.spawn_offset >= 0,
           "spawn_offset must be a finite number >= 0, got " + str(s.spawn_offset));
   check_grid(s.grid);
+}
+
+void check_max_depth(int max_depth) {
+  require(max_depth >= 1 && max_depth <= kMaxRayDepth,
+          "max_depth must be in 1.." + std::to_string(kMaxRayDepth) + " (what a ray's depth field holds), got " +
+              std::to_string(max_depth));
 }
 
 void check_grid(const GridOptions& g) {

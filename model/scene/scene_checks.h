@@ -13,6 +13,7 @@ void check_resolution(int width, int height);
 void check_colour(const Vec3& c, const std::string& what);
 void check_light(const Light& l);
 void check_material(const Material& m);
+void check_max_depth(int max_depth);
 void check_grid(const GridOptions& g);
 
 }  // namespace rtm::scene_checks
