@@ -178,25 +178,13 @@ std::vector<std::vector<int>> convex_pieces(const std::vector<Point2>& p) {
 }
 
 std::vector<Primitive> make_polygon_pieces(const std::vector<Vec3>& in) {
-  // Drop repeated consecutive vertices, as make_polygon does, to look at the outline.
-  std::vector<Vec3> v;
-  for (const Vec3& p : in) {
+  for (const Vec3& p : in)
     if (!all_finite(p)) throw std::invalid_argument("polygon vertex is not finite");
-    if (v.empty() || p != v.back()) v.push_back(p);
-  }
-  if (v.size() > 1 && v.front() == v.back()) v.pop_back();
-  if (v.size() < 3) throw DegenerateShape("a polygon needs at least 3 distinct vertices");
-
-  // Newell's normal and the plane, exactly as make_polygon computes them.
-  Vec3 n{0, 0, 0};
-  Aabb box;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const Vec3& a = v[i];
-    const Vec3& b = v[(i + 1) % v.size()];
-    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-    box.extend(a);
-  }
-  const double size = length(box.extent());
+  // The outline and its plane exactly as make_polygon sees them.
+  const PolygonOutline outline = polygon_outline(in);
+  const std::vector<Vec3>& v = outline.v;
+  Vec3 n = outline.newell;
+  const double size = outline.size();
   if (!(length(n) > 1e-12 * size * size)) {
     // Nothing to render only if the corners lie on one line; a symmetric bow tie has zero signed
     // area too, but two visible triangles.

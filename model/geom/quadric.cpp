@@ -339,26 +339,32 @@ Primitive make_plane(const Vec3& n, double d, const Aabb& box) {
   return finish(p);
 }
 
+PolygonOutline polygon_outline(const std::vector<Vec3>& in) {
+  // Repeated consecutive vertices make zero-length edges with no outward normal.
+  PolygonOutline o;
+  for (const Vec3& p : in)
+    if (o.v.empty() || p != o.v.back()) o.v.push_back(p);
+  if (o.v.size() > 1 && o.v.front() == o.v.back()) o.v.pop_back();
+  if (o.v.size() < 3) throw DegenerateShape("a polygon needs at least 3 distinct vertices");
+  // Newell's normal: robust for any planar polygon, whichever corner is degenerate.
+  o.newell = Vec3{0, 0, 0};
+  for (size_t i = 0; i < o.v.size(); ++i) {
+    const Vec3& a = o.v[i];
+    const Vec3& b = o.v[(i + 1) % o.v.size()];
+    o.newell += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+    o.box.extend(a);
+  }
+  return o;
+}
+
 Primitive make_polygon(const std::vector<Vec3>& in) {
   require(in.size() >= 3, "a polygon needs at least 3 vertices");
   for (const Vec3& v : in) require_finite(v, "polygon vertex");
-  // Drop repeated consecutive vertices: they make zero-length edges with no outward normal.
-  std::vector<Vec3> v;
-  for (const Vec3& p : in)
-    if (v.empty() || p != v.back()) v.push_back(p);
-  if (v.size() > 1 && v.front() == v.back()) v.pop_back();
-  if (v.size() < 3) throw DegenerateShape("a polygon needs at least 3 distinct vertices");
-
-  // Newell's normal: robust for any planar polygon, whichever corner is degenerate.
-  Vec3 n{0, 0, 0};
-  Aabb box;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const Vec3& a = v[i];
-    const Vec3& b = v[(i + 1) % v.size()];
-    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-    box.extend(a);
-  }
-  const double size = length(box.extent());
+  const PolygonOutline outline = polygon_outline(in);
+  const std::vector<Vec3>& v = outline.v;
+  Vec3 n = outline.newell;
+  const Aabb& box = outline.box;
+  const double size = outline.size();
   if (!(length(n) > 1e-12 * size * size)) throw DegenerateShape("polygon has zero area");
   n = normalize(n);
   const double d = -dot(n, v[0]);

@@ -115,6 +115,18 @@ Primitive make_hyperboloid2(const Frame& f, double a, double c, double half_heig
 Primitive make_plane(const Vec3& n, double d, const Aabb& box);
 /// A convex planar polygon; vertices counter-clockwise seen from the front.
 Primitive make_polygon(const std::vector<Vec3>& vertices);
+
+/// A polygon's outline as make_polygon and the convex split (geom/polygon.h) both read it:
+/// repeated consecutive vertices (and a closing copy of the first) dropped, Newell's normal
+/// (unnormalised: its length is twice the area) and the box around it. Throws DegenerateShape
+/// when fewer than 3 distinct vertices are left.
+struct PolygonOutline {
+  std::vector<Vec3> v;
+  Vec3 newell;
+  Aabb box;
+  double size() const { return length(box.extent()); }  ///< the scale of its tolerances
+};
+PolygonOutline polygon_outline(const std::vector<Vec3>& vertices);
 /// Raw coefficients, clipped to `box` and the given half-spaces.
 Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, std::vector<HalfSpace> clips);
 
