@@ -10,16 +10,10 @@ int run_config(const std::string& config_file, const std::vector<std::string>& s
   RenderOptions opt;
   opt.config_file = config_file;
   opt.sets = sets;
-  try {
+  return run_command([&] {
     std::cout << describe_config(machine_config(opt));
     return 0;
-  } catch (const UsageError& e) {
-    std::cerr << "rtm: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "rtm: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
 
 }  // namespace rtm

@@ -51,7 +51,7 @@ void clear_outputs(const std::vector<std::string>& paths) {
 int run_render(const RenderOptions& opt) {
   // Outputs are written under temporary names and renamed; a signal removes the temporaries.
   remove_partial_files_on_signals();
-  try {
+  return run_command([&] {
     uint64_t budget = 0;
     try {
       budget = opt.max_memory.empty() ? default_memory_budget() : parse_byte_size(opt.max_memory);
@@ -133,16 +133,7 @@ int run_render(const RenderOptions& opt) {
     write_text_atomically(files.stats, stats.dump(2) + "\n");
     if (!opt.quiet) print_machine_summary(scene, grid, grid_seconds, config, m, err, ref, cache_hit, files);
     return 0;
-  } catch (const UsageError& e) {
-    std::cerr << "rtm: " << e.what() << "\n";
-    return 2;
-  } catch (const MachineLimitError& e) {
-    std::cerr << "rtm: machine configuration: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "rtm: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
 
 }  // namespace rtm

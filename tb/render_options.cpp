@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
+#include <iostream>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -11,6 +12,21 @@
 #include "scene/scene_checks.h"
 
 namespace rtm {
+
+int run_command(const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const UsageError& e) {
+    std::cerr << "rtm: " << e.what() << "\n";
+    return 2;
+  } catch (const MachineLimitError& e) {
+    std::cerr << "rtm: machine configuration: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "rtm: " << e.what() << "\n";
+    return 1;
+  }
+}
 
 namespace {
 

@@ -2,6 +2,7 @@
 // options they build, and the usage errors they can be.
 #pragma once
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -15,6 +16,10 @@ namespace rtm {
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// Runs a command and turns what it throws into rtm's message on stderr and its exit code: 2 for a
+/// bad command line or configuration (UsageError, MachineLimitError), 1 for any other failure.
+int run_command(const std::function<int()>& body);
 
 /// Applies the scene overrides (size, grid, threshold, depth, spawning) to a loaded scene.
 void apply_scene_options(const RenderOptions& opt, Scene& scene);
