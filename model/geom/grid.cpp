@@ -33,6 +33,14 @@ Interval square(Interval a) {
 /// primitive listed.
 constexpr double kVoxelPad = 1e-3;
 
+/// Voxel (x, y, z)'s box grown by kVoxelPad of a cell on every side, as the overlap tests see it.
+Aabb padded_voxel_box(const Grid& g, int x, int y, int z) {
+  Aabb b = g.voxel_box(x, y, z);
+  b.lo -= kVoxelPad * g.cell;
+  b.hi += kVoxelPad * g.cell;
+  return b;
+}
+
 }  // namespace
 
 Aabb Grid::voxel_box(int x, int y, int z) const {
@@ -304,9 +312,7 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
       for (int z = lo[2]; z <= hi[2]; ++z)
         for (int y = lo[1]; y <= hi[1]; ++y)
           for (int x = lo[0]; x <= hi[0]; ++x) {
-            Aabb vb = g.voxel_box(x, y, z);
-            vb.lo -= kVoxelPad * g.cell;
-            vb.hi += kVoxelPad * g.cell;
+            const Aabb vb = padded_voxel_box(g, x, y, z);
             if (vb.overlaps(p.bounds) && sphere_touches_box(c, p.r0, vb)) refs.emplace_back(uint32_t(g.index(x, y, z)), id);
           }
       return;
@@ -351,9 +357,7 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
       for (int z = lo[2]; z <= hi[2]; ++z)
         for (int y = lo[1]; y <= hi[1]; ++y)
           for (int x = lo[0]; x <= hi[0]; ++x) {
-            Aabb vb = g.voxel_box(x, y, z);
-            vb.lo -= kVoxelPad * g.cell;
-            vb.hi += kVoxelPad * g.cell;
+            const Aabb vb = padded_voxel_box(g, x, y, z);
             if (!vb.overlaps(p.bounds)) continue;
             bool touches = quadric_may_vanish(p.q, vb);
             for (size_t k = 0; touches && k < p.clips.size(); ++k) touches = box_touches_halfspace(vb, p.clips[k]);
