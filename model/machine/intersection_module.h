@@ -42,8 +42,6 @@ class IntersectionModule : public UnitModule {
 
   void trace(Waveform& wave);
   MeteredFifo<MacResult>& root_fifo() { return root_fifo_; }
-  /// Whether its clocked MAC's signals are traced (clocked timing only).
-  bool has_clocked_mac() const { return bool(clocked_); }
 
  private:
   void mac_thread();

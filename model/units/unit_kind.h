@@ -24,7 +24,4 @@ inline const char* unit_name(UnitKind k) {
   return "?";
 }
 
-/// Whether a PE has several units of this kind, numbered from 0.
-inline bool replicated(UnitKind k) { return k == UnitKind::Search || k == UnitKind::Mac || k == UnitKind::Root; }
-
 }  // namespace rtm
