@@ -316,6 +316,16 @@ const std::vector<ConfigKey>& config_keys() {
       int_key("accumulate_cycles", "cycles to add a shadow ray's or the background's brightness to the frame buffer",
               &M::accumulate_cycles, from(0, kMaxOpCycles)),
       int_key("fb_dispatch_cycles", "cycles for the front buffer to hand out one ray", &M::fb_dispatch_cycles, from(1, kMaxOpCycles)),
+      int_key("dispatch_interval", "front buffer: cycles between rays handed out (0: unpipelined, each ray's own dispatch time)",
+              &M::dispatch_interval, from(0, kMaxOpCycles)),
+      int_key("search_interval", "search unit: cycles between rays accepted, per 3DDDA pass (0: unpipelined, each ray's own step and read time)",
+              &M::search_interval, from(0, kMaxOpCycles)),
+      bool_key("mac_streaming", "MAC: the next voxel job's products issue while the previous job's drain (false: the MAC empties between jobs)",
+               &M::mac_streaming),
+      int_key("root_interval", "root unit: cycles between primitives accepted (0: unpipelined, one voxel's results at a time)",
+              &M::root_interval, from(0, kMaxOpCycles)),
+      int_key("shade_interval", "shading unit: cycles between rays accepted (0: unpipelined, each ray's own shading time)",
+              &M::shade_interval, from(0, kMaxOpCycles)),
       int_key("front_buffer_capacity", "on-chip front buffer size in rays (overflow spills to local memory)",
               &M::front_buffer_capacity, from(1, kMaxBufferRays)),
       int_key("spill_cycles", "extra cycles per ray moved to or from the spill area", &M::spill_cycles, from(0, kMaxOpCycles)),
@@ -409,6 +419,8 @@ int MachineConfig::safe_credits() const {
 
 void MachineConfig::validate() const {
   for (const ConfigKey& k : config_keys()) k.check(*this);
+  if (timing == Timing::Clocked && mac_streaming)
+    bad("mac_streaming", "the clocked MAC runs one job at a time: set mac_streaming = false with timing = clocked");
   if (loop_credits > safe_credits())
     bad("loop_credits", "must not exceed the smallest FIFO depth past the front buffer (" +
                             std::to_string(safe_credits()) + "), or a full FIFO could deadlock the loop");

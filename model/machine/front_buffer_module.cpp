@@ -8,7 +8,8 @@ FrontBufferModule::FrontBufferModule(sc_core::sc_module_name name, PeContext& ct
       sleep_(ctx.sleeper(UnitKind::FrontBuffer)),
       mem_(mem),
       policy_(ctx, mem.rays_expected),
-      finished_event_(finished) {
+      finished_event_(finished),
+      pipe_(ctx.period.value()) {
   SC_THREAD(run);
 }
 
@@ -24,49 +25,87 @@ void FrontBufferModule::drain() {
   if (ctx_.window.now()) traced_waiting_ = int(policy_.waiting());
 }
 
-void FrontBufferModule::send(const MachineRay& r, uint64_t cycles, uint8_t from) {
-  policy_.dispatched(PeContext::now(), r.id, cycles, from);
+void FrontBufferModule::dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now) {
+  policy_.dispatched(now, r.id, cycles, from);
   probe_.begin(r.id);
-  (*sleep_)(ctx_.cycles(cycles));
-  // With credits, never waits: in_flight <= credits <= the FIFO's depth.
-  write({FifoId::Search, Output::What::Item}, r, UnitKind::FrontBuffer, 0, *sleep_);
-  probe_.end();
+  pipe_.accept(r, now, ctx_.period.value() * cycles, ctx_.period.value() * policy_.interval(cycles));
 }
 
-void FrontBufferModule::run() {
-  // Built once: constructing an event list on every wait costs allocations on the hottest path.
-  inputs_ = ends_in()->data_written_event() | mem_.rays_arrived;
-  for (const FifoSpec& f : fifo_table())
-    if (f.payload == Payload::Ray && has_input(f.id)) inputs_ |= rays_in(f.id)->data_written_event();
+bool FrontBufferModule::decide(uint64_t now) {
   using Next = FrontBufferPolicy<MachineRay>::Next;
-  for (;;) {
-    drain();
-    switch (policy_.next()) {
-      case Next::Queued: {
-        uint64_t cycles = 0;
-        bool spilled = false;
-        const MachineRay r = policy_.pop_queued(cycles, spilled);
-        send(r, cycles, spilled ? kFromSpill : kFromQueue);
-        break;
-      }
-      case Next::Primary: {
-        ctx_.align(*sleep_);
-        uint64_t cycles = 0;
-        const size_t i = policy_.pop_primary(PeContext::now(), cycles);
-        send(primary_ray(ctx_, mem_.rays, i), cycles, kFromHost);
-        break;
-      }
-      case Next::Finished:
-        policy_.finish(PeContext::now());
-        finished_event_.notify(sc_core::SC_ZERO_TIME);
-        return;
-      case Next::Wait:
-        policy_.wait(PeContext::now());
-        sc_core::wait(inputs_);
-        policy_.woke(PeContext::now());
-        break;
-    }
+  if (state_ == State::Aligning) {
+    // The primary ray it decided on goes at the PE clock edge it asked to be woken at.
+    if (now % ctx_.period.value()) return false;
+    state_ = State::Deciding;
+    uint64_t cycles = 0;
+    const size_t i = policy_.pop_primary(now, cycles);
+    dispatch(primary_ray(ctx_, mem_.rays, i), cycles, kFromHost, now);
+    return true;
   }
+  if (state_ == State::Finished) return false;
+  drain();
+  switch (policy_.next()) {
+    case Next::Queued: {
+      uint64_t cycles = 0;
+      bool spilled = false;
+      const MachineRay r = policy_.pop_queued(cycles, spilled);
+      dispatch(r, cycles, spilled ? kFromSpill : kFromQueue, now);
+      return true;
+    }
+    case Next::Primary: {
+      // Rays from the host arrive between PE clock edges.
+      state_ = State::Aligning;
+      const uint64_t c = ctx_.period.value();
+      if (const uint64_t off = now % c) {
+        sleep_->want(now + c - off);
+        return false;
+      }
+      return decide(now);
+    }
+    case Next::Finished:
+      policy_.finish(now);
+      state_ = State::Finished;
+      finished_event_.notify(sc_core::SC_ZERO_TIME);
+      return false;
+    case Next::Wait: return false;
+  }
+  return false;
+}
+
+struct FrontBufferModule::Ops {
+  FrontBufferModule& m;
+  bool waiting = false;
+  sc_core::sc_event_or_list either;
+
+  void woke(uint64_t now) {
+    if (m.state_ != State::Waiting) return;
+    m.policy_.woke(now);
+    m.state_ = State::Deciding;
+  }
+  bool write_head(uint64_t) {
+    // With credits, never full: in_flight <= credits <= the FIFO's depth.
+    return m.try_write({FifoId::Search, Output::What::Item}, m.pipe_.head().item, UnitKind::FrontBuffer, 0);
+  }
+  void retired(const MachineRay&) {
+    if (m.pipe_.empty()) m.probe_.end();
+  }
+  bool accept(uint64_t now) { return m.decide(now); }
+  void wait_for_input() {
+    if (m.state_ != State::Deciding) return;
+    m.policy_.wait(PeContext::now());
+    m.state_ = State::Waiting;
+    waiting = true;
+  }
+  void want(uint64_t t) { m.sleep_->want(t); }
+};
+
+void FrontBufferModule::run() {
+  Ops ops{*this, false, {}};
+  // Built once: constructing an event list on every wait costs allocations on the hottest path.
+  ops.either = ends_in()->data_written_event() | mem_.rays_arrived | sleep_->event();
+  for (const FifoSpec& f : fifo_table())
+    if (f.payload == Payload::Ray && has_input(f.id)) ops.either |= rays_in(f.id)->data_written_event();
+  run_unit(pipe_, ops, *sleep_);
 }
 
 void FrontBufferModule::trace(Waveform& wave) {

@@ -21,18 +21,21 @@ class FrontBufferModule : public UnitModule {
   void trace(Waveform& wave);
 
  private:
+  struct Ops;
   void run();
   void drain();
-  /// Hands a ray to the search units, taking `cycles`.
-  void send(const MachineRay& r, uint64_t cycles, uint8_t from);
+  /// Decides what to hand out when it can; true when it handed out a ray.
+  bool decide(uint64_t now);
+  void dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now);
 
   std::unique_ptr<Sleeper> sleep_;
   LocalMemory& mem_;
   FrontBufferPolicy<MachineRay> policy_;
   sc_core::sc_event& finished_event_;
+  Pipeline<MachineRay> pipe_;
+  enum class State { Deciding, Waiting, Aligning, Finished } state_ = State::Deciding;
   UnitProbe probe_;
   int traced_waiting_ = 0;
-  sc_core::sc_event_or_list inputs_;  ///< any input FIFO written, or primary rays arrived
 };
 
 }  // namespace rtm

@@ -2,33 +2,17 @@
 
 namespace rtm {
 
-LaneDispatchModule::LaneDispatchModule(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int lanes)
-    : sc_module(name), in_(in), lanes_(0) {
-  for (int i = 0; i < lanes; ++i) wake_.push_back(std::make_unique<sc_core::sc_event>());
-  SC_METHOD(dispatch);
-  sensitive << in_.data_written_event();
-  dont_initialize();
-}
-
-void LaneDispatchModule::wait_for_ray(int lane) {
-  lanes_.idle(lane);
-  sc_core::wait(*wake_[size_t(lane)]);
-}
-
-void LaneDispatchModule::dispatch() {
-  // Immediate notifications: the units run next, in the order notified, and each takes one ray.
-  for (int n = in_.num_available(); n > 0 && lanes_.any_idle(); --n) wake_[size_t(lanes_.take())]->notify();
-}
-
 IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
-                                       LaneDispatchModule* lanes, int lane)
+                                       Dispatcher& dispatcher, int lane)
     : UnitModule(name, ctx, {UnitKind::Mac, UnitKind::Root}),
       mac_(ctx, lane),
       root_(ctx, lane),
       mac_sleep_(ctx.sleeper(UnitKind::Mac)),
       root_sleep_(ctx.sleeper(UnitKind::Root, lane)),
-      lanes_(lanes),
-      root_fifo_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind) {
+      dispatcher_(dispatcher),
+      root_fifo_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind),
+      mac_pipe_(ctx.period.value()),
+      root_pipe_(ctx.period.value()) {
   if (clock) {
     clocked_ = std::make_unique<ClockedMac>("mac_unit", mac_.timing(), ctx.config.precision, ctx.period);
     clocked_->clk(*clock);
@@ -73,53 +57,93 @@ void check_clocked(const std::vector<Abg<Real>>& fast, const std::vector<std::ar
 
 }  // namespace
 
-void IntersectionModule::mac_thread() {
-  std::vector<std::array<double, 3>> sums;
-  for (;;) {
-    MacResult m;
-    if (lanes_)
-      while (!rays_in(FifoId::Intersect)->nb_read(m.r)) lanes_->wait_for_ray(mac_.lane());
-    else
-      m.r = rays_in(FifoId::Intersect)->read();
-    mac_probe_.begin(m.r.id);
-    const Work w = mac_.take(m, ctx_.log_time());
-    if (clocked_) {
-      const SceneImage& img = *ctx_.image;
-      const DdaState& s = m.r.examined;
-      const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
-      const MacJob job = img.visit([&](const auto& mem) { return make_job(mem, m.r, v); });
-      uint64_t ran;
-      if (ctx_.keeper) {
-        // Ranked order: the stage wakes exactly as in fast timing; the clocked unit has put
-        // its last sums out half a cycle before.
-        clocked_->start(job, sums);
-        (*mac_sleep_)(ctx_.cycles(w.cycles));
-        ran = clocked_->finish();
-      } else {
-        ran = clocked_->run(job, sums);
-      }
-      if (img.mem32)
-        check_clocked(m.abg32, sums, w.cycles, ran);
+struct IntersectionModule::MacOps {
+  IntersectionModule& x;
+  bool waiting = false;
+  sc_core::sc_event_or_list either;
+  bool checked = false;  ///< the head job's clocked sums were checked
+
+  void woke(uint64_t) { x.dispatcher_.woke(x.mac_.lane()); }
+  bool write_head(uint64_t) {
+    Held& h = x.mac_pipe_.head().item;
+    if (x.clocked_ && !checked) {
+      // The clocked unit has put its last sums out half a cycle before the stage takes them.
+      const uint64_t ran = x.clocked_->finish();
+      if (x.ctx_.image->mem32)
+        check_clocked(h.m.abg32, x.sums_, x.job_cycles_, ran);
       else
-        check_clocked(m.abg64, sums, w.cycles, ran);
-    } else {
-      (*mac_sleep_)(ctx_.cycles(w.cycles));
+        check_clocked(h.m.abg64, x.sums_, x.job_cycles_, ran);
+      checked = true;
     }
-    mac_probe_.end();
-    put(&root_fifo_, m, ctx_, *mac_sleep_);
-    record_put(ctx_, ctx_.log_time(), UnitKind::Mac, mac_.lane(), m.r.id, w.out);
+    if (x.root_fifo_.num_free() == 0) return false;
+    x.root_fifo_.write(h.m);
+    record_put(x.ctx_, x.ctx_.log_time(), UnitKind::Mac, x.mac_.lane(), h.m.r.id, h.out);
+    return true;
   }
+  void retired(const Held&) {
+    checked = false;
+    if (x.mac_pipe_.empty()) x.mac_probe_.end();
+  }
+  bool accept(uint64_t now) {
+    Held h;
+    if (!x.rays_in(FifoId::Intersect)->nb_read(h.m.r)) return false;
+    x.mac_probe_.begin(h.m.r.id);
+    const Work w = x.mac_.take(h.m, x.ctx_.log_time());
+    h.out = w.out;
+    if (x.clocked_) {
+      const SceneImage& img = *x.ctx_.image;
+      const DdaState& s = h.m.r.examined;
+      const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
+      x.job_ = img.visit([&](const auto& mem) { return make_job(mem, h.m.r, v); });
+      x.clocked_->start(x.job_, x.sums_);
+      x.job_cycles_ = w.cycles;
+    }
+    x.mac_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval);
+    return true;
+  }
+  void wait_for_input() {
+    waiting = true;
+    x.dispatcher_.wait(x.mac_.lane());
+  }
+  void want(uint64_t t) { x.mac_sleep_->want(t); }
+};
+
+void IntersectionModule::mac_thread() {
+  MacOps ops{*this, false, {}, false};
+  ops.either = dispatcher_.event(mac_.lane()) | mac_sleep_->event();
+  run_unit(mac_pipe_, ops, *mac_sleep_);
 }
 
-void IntersectionModule::root_thread() {
-  for (;;) {
-    MacResult m = root_fifo_.read();
-    root_probe_.begin(m.r.id);
-    const Work w = root_.take(m, ctx_.log_time());
-    (*root_sleep_)(ctx_.cycles(w.cycles));
-    write(w.out, m.r, UnitKind::Root, root_.lane(), *root_sleep_);
-    root_probe_.end();
+struct IntersectionModule::RootOps {
+  IntersectionModule& x;
+  bool waiting = false;
+  sc_core::sc_event_or_list either;
+
+  void woke(uint64_t) {}
+  bool write_head(uint64_t) {
+    const Held& h = x.root_pipe_.head().item;
+    return x.try_write(h.out, h.m.r, UnitKind::Root, x.root_.lane());
   }
+  void retired(const Held&) {
+    if (x.root_pipe_.empty()) x.root_probe_.end();
+  }
+  bool accept(uint64_t now) {
+    Held h;
+    if (!x.root_fifo_.nb_read(h.m)) return false;
+    x.root_probe_.begin(h.m.r.id);
+    const Work w = x.root_.take(h.m, x.ctx_.log_time());
+    h.out = w.out;
+    x.root_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval);
+    return true;
+  }
+  void wait_for_input() { waiting = true; }
+  void want(uint64_t t) { x.root_sleep_->want(t); }
+};
+
+void IntersectionModule::root_thread() {
+  RootOps ops{*this, false, {}};
+  ops.either = root_fifo_.data_written_event() | root_sleep_->event();
+  run_unit(root_pipe_, ops, *root_sleep_);
 }
 
 void IntersectionModule::trace(Waveform& wave) {

@@ -14,36 +14,25 @@
 
 namespace rtm {
 
-/// With several intersection units: wakes the lowest-numbered idle one for each ray that arrives
-/// (units/intersection.h's LaneDispatcher), instead of leaving it to the kernel's wake-up order.
-class LaneDispatchModule : public sc_core::sc_module {
- public:
-  SC_HAS_PROCESS(LaneDispatchModule);
-  LaneDispatchModule(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int lanes);
-  /// Unit `lane` found the FIFO empty: returns once a ray has been handed to it.
-  void wait_for_ray(int lane);
-
- private:
-  void dispatch();
-
-  MeteredFifo<MachineRay>& in_;
-  LaneDispatcher lanes_;
-  std::vector<std::unique_ptr<sc_core::sc_event>> wake_;
-};
-
 class IntersectionModule : public UnitModule {
  public:
   SC_HAS_PROCESS(IntersectionModule);
   /// With a clock (clocked timing), every MAC job runs on a clock-level MAC unit and is checked
-  /// against the schedule; without one, the fast model times it by formula.
-  /// `lanes`: the dispatcher shared by several units, or null for the only one; `lane`: its number.
-  IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
-                     LaneDispatchModule* lanes, int lane);
+  /// against the schedule; without one, the fast model times it by formula. `dispatcher` hands
+  /// the intersection units their rays; `lane`: this one's number.
+  IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock, Dispatcher& dispatcher,
+                     int lane);
 
   void trace(Waveform& wave);
   MeteredFifo<MacResult>& root_fifo() { return root_fifo_; }
 
  private:
+  struct Held {
+    MacResult m;
+    Output out;
+  };
+  struct MacOps;
+  struct RootOps;
   void mac_thread();
   void root_thread();
 
@@ -51,8 +40,12 @@ class IntersectionModule : public UnitModule {
   RootUnit root_;
   std::unique_ptr<Sleeper> mac_sleep_, root_sleep_;
   std::unique_ptr<ClockedMac> clocked_;  ///< null in fast timing
-  LaneDispatchModule* lanes_;
+  MacJob job_;                           ///< the clocked MAC's job, its sums and the fast model's cycles
+  std::vector<std::array<double, 3>> sums_;
+  uint64_t job_cycles_ = 0;
+  Dispatcher& dispatcher_;
   MeteredFifo<MacResult> root_fifo_;
+  Pipeline<Held> mac_pipe_, root_pipe_;
   UnitProbe mac_probe_, root_probe_;
 };
 

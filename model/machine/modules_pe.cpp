@@ -18,15 +18,16 @@ ModulesPe::ModulesPe(sc_core::sc_module_name name, int index, const MachineConfi
   // (arbitration = kernel).
   front_ = std::make_unique<FrontBufferModule>("front_buffer", ctx, memory, finished_event);
   shading_ = std::make_unique<ShadingModule>("shading", ctx, memory);
+  search_dispatch_ = std::make_unique<Dispatcher>("search_dispatch", *rays_[size_t(FifoId::Search)], c.search_units);
   for (int k = 0; k < c.search_units; ++k)
-    search_.push_back(std::make_unique<SearchModule>(("search" + std::to_string(k)).c_str(), ctx, k));
-  if (c.intersection_units > 1)
-    lanes_ = std::make_unique<LaneDispatchModule>("lane_dispatcher", *rays_[size_t(FifoId::Intersect)],
-                                                  c.intersection_units);
+    search_.push_back(
+        std::make_unique<SearchModule>(("search" + std::to_string(k)).c_str(), ctx, k, *search_dispatch_));
+  intersect_dispatch_ =
+      std::make_unique<Dispatcher>("intersect_dispatch", *rays_[size_t(FifoId::Intersect)], c.intersection_units);
   for (int k = 0; k < c.intersection_units; ++k)
     intersection_.push_back(std::make_unique<IntersectionModule>(("intersection" + std::to_string(k)).c_str(), ctx,
                                                                  c.timing == Timing::Clocked ? clock : nullptr,
-                                                                 lanes_.get(), k));
+                                                                 *intersect_dispatch_, k));
 
   for (const FifoSpec& f : fifo_table()) {
     if (f.per_lane || !units.has(f)) continue;

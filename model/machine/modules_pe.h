@@ -33,7 +33,7 @@ class ModulesPe : public Pe {
 
   std::unique_ptr<FrontBufferModule> front_;
   std::vector<std::unique_ptr<SearchModule>> search_;
-  std::unique_ptr<LaneDispatchModule> lanes_;  ///< with more than one intersection unit
+  std::unique_ptr<Dispatcher> search_dispatch_, intersect_dispatch_;
   std::vector<std::unique_ptr<IntersectionModule>> intersection_;  ///< the paper has one; more is an option
   std::unique_ptr<ShadingModule> shading_;
 };

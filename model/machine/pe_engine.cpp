@@ -32,7 +32,8 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
       lanes_(size_t(pe.config.intersection_units)),
       mac0_(kSearch + size_t(pe.config.search_units)),
       root0_(mac0_ + lanes_),
-      idle_macs_(pe.config.intersection_units) {
+      waiting_search_(0),
+      waiting_macs_(0) {
   for (const FifoSpec& f : fifo_table()) {
     if (!pe.units.has(f)) continue;
     const int depth = pe.config.*f.depth;
@@ -45,15 +46,13 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
       if (f.payload == Payload::Ray && fifo->feeds_front) front_inputs_.emplace_back(fifo, f.returns_credit);
     }
   }
-  due_at_.assign(root0_ + lanes_, kNever);
-  due_.resize(due_at_.size());
+  for (size_t u = 0; u < root0_ + lanes_; ++u) places_.emplace_back(cycle_);
   for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
-  for (size_t u = mac0_; u-- > kSearch;) idle_search_.push_back(u);
   for (size_t lane = 0; lane < lanes_; ++lane) {
     macs_.emplace_back(pe, int(lane));
     roots_.emplace_back(pe, int(lane));
   }
-  front_loop(0);
+  for (size_t u = 0; u < places_.size(); ++u) wake(u, 0);
 }
 
 // ---- the event loop ----
@@ -61,8 +60,8 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
 uint64_t PeEngine::next_instant() {
   uint64_t next = pending_step_;
   due_now_.clear();
-  for (size_t u = 0; u < due_at_.size(); ++u) {
-    const uint64_t at = due_at_[u];
+  for (size_t u = 0; u < places_.size(); ++u) {
+    const uint64_t at = places_[u].at;
     if (at > next) continue;
     if (at < next) {
       next = at;
@@ -74,8 +73,7 @@ uint64_t PeEngine::next_instant() {
 }
 
 bool PeEngine::idle() const {
-  return pending_step_ == kNever &&
-         std::all_of(due_at_.begin(), due_at_.end(), [](uint64_t at) { return at == kNever; });
+  return pending_step_ == kNever && std::all_of(places_.begin(), places_.end(), [](const Place& p) { return p.at == kNever; });
 }
 
 void PeEngine::run_before(uint64_t t) {
@@ -88,28 +86,34 @@ void PeEngine::rays_arrived(uint64_t t, size_t n) {
   pending_step_ = t;
 }
 
-void PeEngine::schedule(size_t unit, uint64_t at, uint32_t item, Output out) {
+void PeEngine::want(size_t unit, uint64_t at) {
+  if (places_[unit].wakeups.want(at, seq_)) {
+    ++seq_;
+    refresh(unit);
+  }
+}
+
+void PeEngine::refresh(size_t unit) {
   // Root units go by their lane: each takes only its own MAC's results, and the modules rank
   // them so (machine/pe_context.h).
+  Place& p = places_[unit];
   const UnitKind kind = kind_at(unit);
   const uint64_t rank = uint64_t(kind) + (kind == UnitKind::Root ? unit - root0_ : 0);
-  due_at_[unit] = at;
-  Due& d = due_[unit];
-  d.order = rank << 48 | seq_++;
-  d.item = item;
-  d.out = out;
+  const auto [at, seq] = p.wakeups.next();
+  p.at = at;
+  p.order = rank << 48 | seq;
 }
 
 void PeEngine::step(uint64_t now) {
   if (pending_step_ == now) pending_step_ = kNever;
-  // The units whose work ends now (found by next_instant), in rank order; their next work ends later.
+  // The units due now (found by next_instant), in rank order.
   for (size_t i = 1; i < due_now_.size(); ++i)  // a few at most: insertion sort
-    for (size_t j = i; j > 0 && due_[due_now_[j]].order < due_[due_now_[j - 1]].order; --j)
+    for (size_t j = i; j > 0 && places_[due_now_[j]].order < places_[due_now_[j - 1]].order; --j)
       std::swap(due_now_[j], due_now_[j - 1]);
   for (size_t u : due_now_) {
-    const Due d = due_[u];
-    due_at_[u] = kNever;
-    wake(u, d, now);
+    places_[u].wakeups.fired(now);
+    refresh(u);
+    wake(u, now);
   }
   // What they wrote becomes visible. The front buffer is poked by a write to any of its inputs.
   bool poked = front_poked_;
@@ -120,12 +124,9 @@ void PeEngine::step(uint64_t now) {
     f->written = false;
     f->reads_now = 0;
   }
-  // Idle units take it, and the front buffer drains its inputs if it was waiting.
+  // Units waiting for input take it, and the front buffer, if it was waiting, drains its inputs.
   take_inputs(now);
-  if (front_waiting_ && !front_.finished() && poked) {
-    front_.woke(now);
-    front_loop(now);
-  }
+  if (front_state_ == FrontState::Waiting && poked) wake(kFront, now);
   // Places freed by reads are there for the next instant's writers.
   for (Fifo* f : touched_) {
     f->reads_now = 0;
@@ -135,19 +136,14 @@ void PeEngine::step(uint64_t now) {
 }
 
 void PeEngine::take_inputs(uint64_t now) {
+  // Replicated units: the lowest-numbered waiting one takes each ray.
   Fifo& search_in = fifo(FifoId::Search);
-  while (!idle_search_.empty() && search_in.visible > 0) {
-    const size_t u = idle_search_.back();
-    idle_search_.pop_back();
-    search_start(u, search_in.read(now), now);
-  }
+  while (waiting_search_.any_idle() && search_in.visible > 0) wake(kSearch + size_t(waiting_search_.take()), now);
   Fifo& mac_in = fifo(FifoId::Intersect);
-  while (idle_macs_.any_idle() && mac_in.visible > 0) mac_start(size_t(idle_macs_.take()), mac_in.read(now), now);
-  // A unit with nothing due is idle.
+  while (waiting_macs_.any_idle() && mac_in.visible > 0) wake(mac0_ + size_t(waiting_macs_.take()), now);
   for (size_t lane = 0; lane < lanes_; ++lane)
-    if (due_at_[root0_ + lane] == kNever && root_fifo_[lane].visible > 0) root_start(lane, root_fifo_[lane].read(now), now);
-  Fifo& shade_in = fifo(FifoId::Shade);
-  if (due_at_[kShading] == kNever && shade_in.visible > 0) shade_start(shade_in.read(now), now);
+    if (places_[root0_ + lane].waiting && root_fifo_[lane].visible > 0) wake(root0_ + lane, now);
+  if (places_[kShading].waiting && fifo(FifoId::Shade).visible > 0) wake(kShading, now);
 }
 
 // ---- rays ----
@@ -177,82 +173,144 @@ inline bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, 
   return true;
 }
 
-// ---- the units: each writes its result when its work ends (one cycle later again while the
-// FIFO is full, as the modules' put() does), then takes its next item ----
+// ---- the units: step_unit (units/unit_step.h) with each kind's operations ----
 
-void PeEngine::wake(size_t unit, const Due& d, uint64_t now) {
-  const uint64_t retry = now + cycle_;
-  switch (kind_at(unit)) {
-    case UnitKind::FrontBuffer: {
-      if (front_aligning_) {
-        front_aligning_ = false;
-        primary(now);
-        return;
-      }
-      const Output to_search{FifoId::Search, Output::What::Item};
-      if (!emit(to_search, slots_[front_ray_], front_ray_, UnitKind::FrontBuffer, 0, now)) return schedule(kFront, retry);
-      front_loop(now);
-      return;
-    }
+struct PeEngine::Ops {
+  PeEngine& e;
+  size_t u;
+  uint64_t now;
 
-    case UnitKind::Search: {
-      const size_t k = unit - kSearch;
-      if (!emit(d.out, slots_[d.item], d.item, UnitKind::Search, int(k), now))
-        return schedule(unit, retry, d.item, d.out);
-      Fifo& in = fifo(FifoId::Search);
-      if (in.visible > 0)
-        search_start(unit, in.read(now), now);
-      else
-        idle_search_.push_back(unit);
-      return;
-    }
-
-    case UnitKind::Mac: {
-      const size_t lane = unit - mac0_;
-      Fifo& out = root_fifo_[lane];
-      if (out.full()) return schedule(unit, retry, d.item, d.out);
-      out.write(d.item, now);
-      record_put(pe_, now, UnitKind::Mac, int(lane), results_[d.item].r.id, d.out);
-      Fifo& in = fifo(FifoId::Intersect);
-      if (in.visible > 0)
-        mac_start(lane, in.read(now), now);
-      else
-        idle_macs_.idle(int(lane));
-      return;
-    }
-
-    case UnitKind::Root: {
-      const size_t lane = unit - root0_;
-      if (!emit(d.out, results_[d.item].r, kNoSlot, UnitKind::Root, int(lane), now))
-        return schedule(unit, retry, d.item, d.out);
-      free_results_.push_back(d.item);
-      if (root_fifo_[lane].visible > 0) root_start(lane, root_fifo_[lane].read(now), now);
-      return;
-    }
-
-    case UnitKind::Shading:
-      // Its outputs in order; a spawned ray is made (numbered) before it waits for room, as in
-      // the module.
-      for (; shade_next_ < shading_.outputs(); ++shade_next_) {
-        const Output o = shading_.output(shade_next_);
-        if (shade_next_ == 0) {
-          if (!emit(o, slots_[shade_ray_], kNoSlot, UnitKind::Shading, 0, now)) return schedule(kShading, retry);
-          continue;
-        }
-        if (!shade_child_made_) {
-          shade_child_ = new_ray(shading_.spawn(slots_[shade_ray_], shade_next_));
-          shade_child_made_ = true;
-        }
-        if (!emit(o, slots_[shade_child_], shade_child_, UnitKind::Shading, 0, now)) return schedule(kShading, retry);
-        shade_child_made_ = false;
-      }
-      free_slots_.push_back(shade_ray_);
-      if (fifo(FifoId::Shade).visible > 0) shade_start(fifo(FifoId::Shade).read(now), now);
-      return;
+  Pipeline<Held>& pipe() { return e.places_[u].pipe; }
+  const Held& head() { return pipe().head().item; }
+  int index() const {
+    return int(u >= e.root0_ ? u - e.root0_ : u >= e.mac0_ ? u - e.mac0_ : u >= kSearch ? u - kSearch : 0);
   }
+
+  bool write_head(uint64_t) {
+    const Held& h = head();
+    switch (e.kind_at(u)) {
+      case UnitKind::FrontBuffer:
+        return e.emit({FifoId::Search, Output::What::Item}, e.slots_[h.item], h.item, UnitKind::FrontBuffer, 0, now);
+      case UnitKind::Search: return e.emit(h.out, e.slots_[h.item], h.item, UnitKind::Search, index(), now);
+      case UnitKind::Mac: {
+        Fifo& out = e.root_fifo_[size_t(index())];
+        if (out.full()) return false;
+        out.write(h.item, now);
+        record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r.id, h.out);
+        return true;
+      }
+      case UnitKind::Root: return e.emit(h.out, e.results_[h.item].r, kNoSlot, UnitKind::Root, index(), now);
+      case UnitKind::Shading: return e.write_shading(now);
+    }
+    return false;
+  }
+
+  void retired(const Held& h) {
+    // What leaves a unit frees what it held: a shaded ray's slot, a root unit's MAC result.
+    if (u == kShading) {
+      e.free_slots_.push_back(h.item);
+      e.shading_.retired();
+      e.shade_next_ = 0;
+    } else if (u >= e.root0_) {
+      e.free_results_.push_back(h.item);
+    }
+  }
+
+  bool accept(uint64_t) {
+    switch (e.kind_at(u)) {
+      case UnitKind::FrontBuffer: return e.front_decide(now);
+      case UnitKind::Search: {
+        Fifo& in = e.fifo(FifoId::Search);
+        if (in.visible == 0) return false;
+        const uint32_t slot = in.read(now);
+        const Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
+        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        return true;
+      }
+      case UnitKind::Mac: {
+        Fifo& in = e.fifo(FifoId::Intersect);
+        if (in.visible == 0) return false;
+        const uint32_t slot = in.read(now);
+        if (e.free_results_.empty()) {
+          e.results_.emplace_back();
+          e.free_results_.push_back(uint32_t(e.results_.size() - 1));
+        }
+        const uint32_t result = e.free_results_.back();
+        e.free_results_.pop_back();
+        MacResult& m = e.results_[result];
+        m.r = e.slots_[slot];
+        e.free_slots_.push_back(slot);  // the ray travels with its MAC result now
+        const Work w = e.macs_[size_t(index())].take(m, now);
+        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        return true;
+      }
+      case UnitKind::Root: {
+        Fifo& in = e.root_fifo_[size_t(index())];
+        if (in.visible == 0) return false;
+        const uint32_t result = in.read(now);
+        const Work w = e.roots_[size_t(index())].take(e.results_[result], now);
+        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        return true;
+      }
+      case UnitKind::Shading: {
+        Fifo& in = e.fifo(FifoId::Shade);
+        if (in.visible == 0) return false;
+        const uint32_t slot = in.read(now);
+        const MachineRay& r = e.slots_[slot];
+        const Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
+        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  void wait_for_input() {
+    switch (e.kind_at(u)) {
+      case UnitKind::FrontBuffer:
+        if (e.front_state_ == FrontState::Deciding) {
+          e.front_.wait(now);
+          e.front_state_ = FrontState::Waiting;
+        }
+        return;
+      case UnitKind::Search: return e.waiting_search_.idle(index());
+      case UnitKind::Mac: return e.waiting_macs_.idle(index());
+      case UnitKind::Root:
+      case UnitKind::Shading: e.places_[u].waiting = true; return;
+    }
+  }
+
+  void want(uint64_t t) { e.want(u, t); }
+};
+
+void PeEngine::wake(size_t unit, uint64_t now) {
+  // Whatever woke it, a unit decides again whether it waits for input.
+  switch (kind_at(unit)) {
+    case UnitKind::FrontBuffer:
+      if (front_state_ == FrontState::Waiting) {
+        front_.woke(now);
+        front_state_ = FrontState::Deciding;
+      }
+      break;
+    case UnitKind::Search: waiting_search_.busy(int(unit - kSearch)); break;
+    case UnitKind::Mac: waiting_macs_.busy(int(unit - mac0_)); break;
+    default: places_[unit].waiting = false;
+  }
+  Ops ops{*this, unit, now};
+  rtm::step_unit(places_[unit].pipe, now, cycle_, ops);
 }
 
-void PeEngine::front_loop(uint64_t now) {
+bool PeEngine::front_decide(uint64_t now) {
+  if (front_state_ == FrontState::Aligning) {
+    // The primary ray it decided on goes at the PE clock edge it asked to be woken at.
+    if (now % cycle_) return false;
+    front_state_ = FrontState::Deciding;
+    uint64_t cycles = 0;
+    const size_t i = front_.pop_primary(now, cycles);
+    dispatch(new_ray(primary_ray(pe_, rays_, i)), cycles, kFromHost, now);
+    return true;
+  }
+  if (front_state_ == FrontState::Finished) return false;
   Fifo& ends = fifo(FifoId::Ends);
   while (ends.visible > 0) {
     ends.read(now);
@@ -261,73 +319,55 @@ void PeEngine::front_loop(uint64_t now) {
   for (const auto& [in, returns_credit] : front_inputs_)
     while (in->visible > 0) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
   using Next = FrontBufferPolicy<uint32_t>::Next;
-  front_waiting_ = false;
   switch (front_.next()) {
     case Next::Queued: {
       uint64_t cycles = 0;
       bool spilled = false;
       const uint32_t slot = front_.pop_queued(cycles, spilled);
-      return dispatch(slot, cycles, spilled ? kFromSpill : kFromQueue, now);
+      dispatch(slot, cycles, spilled ? kFromSpill : kFromQueue, now);
+      return true;
     }
     case Next::Primary:
       // Rays from the host arrive between PE clock edges.
       if (const uint64_t off = now % cycle_) {
-        front_aligning_ = true;
-        return schedule(kFront, now + cycle_ - off);
+        front_state_ = FrontState::Aligning;
+        want(kFront, now + cycle_ - off);
+        return false;
       }
-      return primary(now);
+      front_state_ = FrontState::Aligning;
+      return front_decide(now);
     case Next::Finished:
-      return front_.finish(now);
-    case Next::Wait:
-      front_.wait(now);
-      front_waiting_ = true;
-      return;
+      front_.finish(now);
+      front_state_ = FrontState::Finished;
+      return false;
+    case Next::Wait: return false;
   }
-}
-
-void PeEngine::primary(uint64_t now) {
-  uint64_t cycles = 0;
-  const size_t i = front_.pop_primary(now, cycles);
-  const uint32_t slot = new_ray(primary_ray(pe_, rays_, i));
-  dispatch(slot, cycles, kFromHost, now);
+  return false;
 }
 
 void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now) {
   front_.dispatched(now, slots_[slot].id, cycles, from);
-  front_ray_ = slot;
-  schedule(kFront, now + cycles * cycle_);
+  places_[kFront].pipe.accept({slot, {}}, now, cycles * cycle_, front_.interval(cycles) * cycle_);
 }
 
-void PeEngine::search_start(size_t unit, uint32_t slot, uint64_t now) {
-  const Work w = search_[unit - kSearch].take(slots_[slot], now);
-  schedule(unit, now + w.cycles * cycle_, slot, w.out);
-}
-
-void PeEngine::mac_start(size_t lane, uint32_t slot, uint64_t now) {
-  if (free_results_.empty()) {
-    results_.emplace_back();
-    free_results_.push_back(uint32_t(results_.size() - 1));
+bool PeEngine::write_shading(uint64_t now) {
+  // The oldest shaded ray's outputs in order; a spawned ray is made (numbered) before it waits
+  // for room, as in the module.
+  const uint32_t ray = places_[kShading].pipe.head().item.item;
+  for (; shade_next_ < shading_.outputs(); ++shade_next_) {
+    const Output o = shading_.output(shade_next_);
+    if (shade_next_ == 0) {
+      if (!emit(o, slots_[ray], kNoSlot, UnitKind::Shading, 0, now)) return false;
+      continue;
+    }
+    if (!shade_child_made_) {
+      shade_child_ = new_ray(shading_.spawn(slots_[ray], shade_next_));
+      shade_child_made_ = true;
+    }
+    if (!emit(o, slots_[shade_child_], shade_child_, UnitKind::Shading, 0, now)) return false;
+    shade_child_made_ = false;
   }
-  const uint32_t result = free_results_.back();
-  free_results_.pop_back();
-  MacResult& m = results_[result];
-  m.r = slots_[slot];
-  free_slots_.push_back(slot);  // the ray travels with its MAC result now
-  const Work w = macs_[lane].take(m, now);
-  schedule(mac0_ + lane, now + w.cycles * cycle_, result, w.out);
-}
-
-void PeEngine::root_start(size_t lane, uint32_t result, uint64_t now) {
-  const Work w = roots_[lane].take(results_[result], now);
-  schedule(root0_ + lane, now + w.cycles * cycle_, result, w.out);
-}
-
-void PeEngine::shade_start(uint32_t slot, uint64_t now) {
-  shade_ray_ = slot;
-  const MachineRay& r = slots_[slot];
-  const uint64_t cycles = shading_.take(r, frame_[r.slot], ids_[r.slot], now);
-  shade_next_ = 0;
-  schedule(kShading, now + cycles * cycle_);
+  return true;
 }
 
 // ---- statistics ----

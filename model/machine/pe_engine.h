@@ -8,11 +8,14 @@
 // two process switches and two timed events. docs/machine.md, "The PE engine", states the order it
 // reproduces; the engine itself only schedules.
 //
-// Time is in SystemC time-resolution units (sc_time::value()). Order within one instant, as in
-// the modules: first the units whose work ends then, by UnitKind rank, units of a rank in the
-// order they took their work; each writes its result and takes its next item from what its input
-// FIFO held before the instant; then the items written in the instant become visible, idle units
-// take them, and the front buffer, if it was waiting, drains its inputs.
+// Time is in SystemC time-resolution units (sc_time::value()). Each unit keeps its pipeline
+// (units/pipeline.h) and the wake-ups it asked for (units/wakeups.h), and every wake-up is the
+// same step the modules take (units/unit_step.h). Order within one instant, as in the modules:
+// first the units woken then, by UnitKind rank, units of a rank in the order they asked; each
+// writes its due results and takes its next item from what its input FIFO held before the
+// instant; then the items written in the instant become visible, units waiting for input take
+// them (of replicated units, the lowest-numbered first), and the front buffer, if it was waiting,
+// drains its inputs.
 #pragma once
 
 #include <array>
@@ -27,6 +30,8 @@
 #include "units/intersection.h"
 #include "units/search_unit.h"
 #include "units/shading_unit.h"
+#include "units/unit_step.h"
+#include "units/wakeups.h"
 
 namespace rtm {
 
@@ -99,14 +104,24 @@ class PeEngine {
     bool full() const { return count + reads_now >= ring.size(); }
   };
 
-  /// A unit's pending wake-up: its work (or its wait for room in a full FIFO) ends at due_at_.
-  /// One per unit: a few units, so a scan finds the next instant faster than a heap would.
-  struct Due {
-    uint64_t order = 0;  ///< the unit's rank, then (units of one rank due together) when it took its work
-    uint32_t item = 0;   ///< a search unit's ray slot; a MAC's or root unit's MAC result
-    Output out;          ///< where a search, MAC or root unit's result goes
+  /// What a unit holds in its pipeline: a ray slot (front buffer, search units, shading) or a MAC
+  /// result (MACs, root units), and where a search, MAC or root unit's result goes.
+  struct Held {
+    uint32_t item = 0;
+    Output out;
   };
-  // Places in due_: the front buffer, shading, then the search units, the MACs and the root units.
+  /// A unit: its pipeline, the wake-ups it asked for, and whether it waits for input.
+  struct Place {
+    Pipeline<Held> pipe;
+    Wakeups wakeups;
+    uint64_t at = kNever;  ///< its earliest wake-up ...
+    uint64_t order = 0;    ///< ... ranked: the unit's rank, then when it asked (units of one rank due together)
+    bool waiting = false;  ///< a root unit's or shading's wait for input
+    explicit Place(uint64_t cycle) : pipe(cycle) {}
+  };
+  struct Ops;  // a unit's operations for step_unit (units/unit_step.h)
+
+  // Places: the front buffer, shading, then the search units, the MACs and the root units.
   static constexpr size_t kFront = 0, kShading = 1, kSearch = 2;
   UnitKind kind_at(size_t place) const {
     return place >= root0_ ? UnitKind::Root : place >= mac0_ ? UnitKind::Mac : place >= kSearch ? UnitKind::Search
@@ -116,8 +131,10 @@ class PeEngine {
   /// The next instant, with the units due then in due_now_.
   uint64_t next_instant();
   void step(uint64_t now);
-  void schedule(size_t unit, uint64_t at, uint32_t item = 0, Output out = {});
-  void wake(size_t unit, const Due& d, uint64_t now);
+  void want(size_t unit, uint64_t at);
+  void refresh(size_t unit);
+  /// Wakes a unit (units/unit_step.h).
+  void wake(size_t unit, uint64_t now);
   void take_inputs(uint64_t now);
   Fifo& fifo(FifoId id, size_t lane = 0) { return id == FifoId::Root ? root_fifo_[lane] : *fifos_by_id_[size_t(id)]; }
 
@@ -127,13 +144,10 @@ class PeEngine {
   bool emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now);
   static constexpr uint32_t kNoSlot = UINT32_MAX;
 
-  void front_loop(uint64_t now);
-  void primary(uint64_t now);
+  /// The front buffer's decision when it can hand out a ray: true when it did.
+  bool front_decide(uint64_t now);
   void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now);
-  void search_start(size_t unit, uint32_t slot, uint64_t now);
-  void mac_start(size_t lane, uint32_t slot, uint64_t now);
-  void root_start(size_t lane, uint32_t result, uint64_t now);
-  void shade_start(uint32_t slot, uint64_t now);
+  bool write_shading(uint64_t now);
 
   PeState& pe_;
   std::vector<PixelSum>& frame_;
@@ -154,8 +168,7 @@ class PeEngine {
   /// The front buffer's ray inputs, in the table's order, and whether each returns a credit.
   std::vector<std::pair<Fifo*, bool>> front_inputs_;
 
-  std::vector<uint64_t> due_at_;  ///< kNever: not due, the unit is idle
-  std::vector<Due> due_;
+  std::vector<Place> places_;
   std::vector<size_t> due_now_;
   uint64_t seq_ = 0;
   uint64_t pending_step_ = kNever;  ///< an instant with no unit due but rays arriving
@@ -163,18 +176,16 @@ class PeEngine {
 
   // The units.
   FrontBufferPolicy<uint32_t> front_;
-  bool front_waiting_ = true;    ///< waiting for an input (not dispatching or aligning)
-  bool front_aligning_ = false;  ///< waiting for the PE clock edge to hand out a primary ray
-  uint32_t front_ray_ = 0;
+  enum class FrontState { Deciding, Waiting, Aligning, Finished };
+  FrontState front_state_ = FrontState::Deciding;
   std::vector<SearchUnit> search_;
   std::vector<MacUnit> macs_;
   std::vector<RootUnit> roots_;
   ShadingUnit shading_;
-  const size_t lanes_, mac0_, root0_;  ///< intersection units; where their MACs and root units sit in due_
-  std::vector<size_t> idle_search_;    ///< places in due_
-  LaneDispatcher idle_macs_;
-  uint32_t shade_ray_ = 0;
-  size_t shade_next_ = 0;  ///< shading's next output to write
+  const size_t lanes_, mac0_, root0_;  ///< intersection units; where their MACs and root units are in places_
+  LaneDispatcher waiting_search_;      ///< search units waiting for a ray: the lowest-numbered takes it
+  LaneDispatcher waiting_macs_;
+  size_t shade_next_ = 0;  ///< the oldest shaded ray's next output to write
   uint32_t shade_child_ = 0;
   bool shade_child_made_ = false;
 };

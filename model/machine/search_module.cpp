@@ -2,20 +2,48 @@
 
 namespace rtm {
 
-SearchModule::SearchModule(sc_core::sc_module_name name, PeContext& ctx, int index)
-    : UnitModule(name, ctx, {UnitKind::Search}), unit_(ctx, index), sleep_(ctx.sleeper(UnitKind::Search)) {
+SearchModule::SearchModule(sc_core::sc_module_name name, PeContext& ctx, int index, Dispatcher& dispatcher)
+    : UnitModule(name, ctx, {UnitKind::Search}),
+      unit_(ctx, index),
+      sleep_(ctx.sleeper(UnitKind::Search)),
+      dispatcher_(dispatcher),
+      pipe_(ctx.period.value()) {
   SC_THREAD(run);
 }
 
-void SearchModule::run() {
-  for (;;) {
-    MachineRay r = rays_in(FifoId::Search)->read();
-    probe_.begin(r.id);
-    const Work w = unit_.take(r, ctx_.log_time());
-    (*sleep_)(ctx_.cycles(w.cycles));
-    write(w.out, r, UnitKind::Search, unit_.index(), *sleep_);
-    probe_.end();
+struct SearchModule::Ops {
+  SearchModule& m;
+  bool waiting = false;
+  sc_core::sc_event_or_list either;
+
+  void woke(uint64_t) { m.dispatcher_.woke(m.unit_.index()); }
+  bool write_head(uint64_t) {
+    const Held& h = m.pipe_.head().item;
+    return m.try_write(h.out, h.r, UnitKind::Search, m.unit_.index());
   }
+  void retired(const Held&) {
+    if (m.pipe_.empty()) m.probe_.end();
+  }
+  bool accept(uint64_t now) {
+    Held h;
+    if (!m.rays_in(FifoId::Search)->nb_read(h.r)) return false;
+    m.probe_.begin(h.r.id);
+    const Work w = m.unit_.take(h.r, m.ctx_.log_time());
+    h.out = w.out;
+    m.pipe_.accept(h, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval);
+    return true;
+  }
+  void wait_for_input() {
+    waiting = true;
+    m.dispatcher_.wait(m.unit_.index());
+  }
+  void want(uint64_t t) { m.sleep_->want(t); }
+};
+
+void SearchModule::run() {
+  Ops ops{*this, false, {}};
+  ops.either = dispatcher_.event(unit_.index()) | sleep_->event();
+  run_unit(pipe_, ops, *sleep_);
 }
 
 }  // namespace rtm

@@ -3,7 +3,8 @@
 namespace rtm {
 
 ShadingModule::ShadingModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
-    : UnitModule(name, ctx, {UnitKind::Shading}), unit_(ctx), sleep_(ctx.sleeper(UnitKind::Shading)), mem_(mem) {
+    : UnitModule(name, ctx, {UnitKind::Shading}), unit_(ctx), sleep_(ctx.sleeper(UnitKind::Shading)), mem_(mem),
+      pipe_(ctx.period.value()) {
   if (ctx.units.shadow_rays) generators_[size_t(RayKind::Shadow)] = std::make_unique<SpawnUnit>("shadow_rays");
   if (ctx.units.reflection) generators_[size_t(RayKind::Reflected)] = std::make_unique<SpawnUnit>("reflection");
   if (ctx.units.refraction) generators_[size_t(RayKind::Transmitted)] = std::make_unique<SpawnUnit>("refraction");
@@ -16,19 +17,55 @@ void ShadingModule::trace(Waveform& wave) {
     if (g) g->probe.trace(wave, g->name(), &ctx_.window);
 }
 
-void ShadingModule::run() {
-  for (;;) {
-    const MachineRay r = rays_in(FifoId::Shade)->read();
-    probe_.begin(r.id);
-    const uint64_t cycles = unit_.take(r, mem_.frame[r.slot], mem_.ids[r.slot], ctx_.log_time());
-    for (size_t k = 1; k < unit_.outputs(); ++k) generators_[size_t(unit_.spawned_kind(k - 1))]->probe.begin(r.id);
-    (*sleep_)(ctx_.cycles(cycles));
-    for (auto& g : generators_)
-      if (g) g->probe.end();
-    write(unit_.output(0), r, UnitKind::Shading, 0, *sleep_);
-    for (size_t k = 1; k < unit_.outputs(); ++k) write(unit_.output(k), unit_.spawn(r, k), UnitKind::Shading, 0, *sleep_);
-    probe_.end();
+struct ShadingModule::Ops {
+  ShadingModule& m;
+  bool waiting = false;
+  sc_core::sc_event_or_list either;
+
+  void woke(uint64_t) {}
+  bool write_head(uint64_t) {
+    // The end first, then each spawned ray, made (numbered) before it waits for room.
+    const MachineRay& r = m.pipe_.head().item;
+    for (; m.next_output_ < m.unit_.outputs(); ++m.next_output_) {
+      const Output o = m.unit_.output(m.next_output_);
+      if (m.next_output_ == 0) {
+        if (!m.try_write(o, r, UnitKind::Shading, 0)) return false;
+        continue;
+      }
+      if (!m.child_made_) {
+        if (auto& g = m.generators_[size_t(m.unit_.spawned_kind(m.next_output_ - 1))]) g->probe.begin(r.id);
+        m.child_ = m.unit_.spawn(r, m.next_output_);
+        m.child_made_ = true;
+      }
+      if (!m.try_write(o, m.child_, UnitKind::Shading, 0)) return false;
+      m.child_made_ = false;
+    }
+    return true;
   }
+  void retired(const MachineRay&) {
+    m.unit_.retired();
+    m.next_output_ = 0;
+    if (!m.pipe_.empty()) return;
+    m.probe_.end();
+    for (auto& g : m.generators_)
+      if (g) g->probe.end();
+  }
+  bool accept(uint64_t now) {
+    MachineRay r;
+    if (!m.rays_in(FifoId::Shade)->nb_read(r)) return false;
+    m.probe_.begin(r.id);
+    const Work w = m.unit_.take(r, m.mem_.frame[r.slot], m.mem_.ids[r.slot], m.ctx_.log_time());
+    m.pipe_.accept(r, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval);
+    return true;
+  }
+  void wait_for_input() { waiting = true; }
+  void want(uint64_t t) { m.sleep_->want(t); }
+};
+
+void ShadingModule::run() {
+  Ops ops{*this, false, {}};
+  ops.either = rays_in(FifoId::Shade)->data_written_event() | sleep_->event();
+  run_unit(pipe_, ops, *sleep_);
 }
 
 }  // namespace rtm

@@ -1,5 +1,5 @@
 // The shading unit (paper §6) as a module: shades each ray into the PE's frame buffer and writes
-// its outputs (units/shading_unit.h). Each ray generator (shadow, reflected, transmitted) is a
+// its outputs (units/shading_unit.h), several rays in flight when pipelined. Each ray generator (shadow, reflected, transmitted) is a
 // child module elaborated only when the scene can spawn that kind of ray; its busy flag shows in
 // waveforms.
 #pragma once
@@ -27,11 +27,16 @@ class ShadingModule : public UnitModule {
   void trace(Waveform& wave);
 
  private:
+  struct Ops;
   void run();
 
   ShadingUnit unit_;
   std::unique_ptr<Sleeper> sleep_;
   LocalMemory& mem_;
+  Pipeline<MachineRay> pipe_;
+  size_t next_output_ = 0;  ///< the oldest ray's next output to write
+  MachineRay child_;        ///< that output's ray, once made
+  bool child_made_ = false;
   UnitProbe probe_;
   std::unique_ptr<SpawnUnit> generators_[kRayKinds];  ///< by RayKind; none for primary rays
 };

@@ -5,10 +5,13 @@ namespace rtm {
 Timekeeper::Timekeeper(sc_core::sc_module_name name) : sc_module(name) { SC_THREAD(run); }
 
 void Timekeeper::wait(const sc_core::sc_time& d, int rank, sc_core::sc_event& wake) {
-  const sc_core::sc_time at = sc_core::sc_time_stamp() + d;
+  post(sc_core::sc_time_stamp() + d, rank, wake);
+  sc_core::wait(wake);
+}
+
+void Timekeeper::post(const sc_core::sc_time& at, int rank, sc_core::sc_event& wake) {
   if (due_.empty() || at < due_.top().at) earlier_.notify();
   due_.push({at, rank, seq_++, &wake});
-  sc_core::wait(wake);
 }
 
 void Timekeeper::run() {

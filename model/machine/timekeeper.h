@@ -12,6 +12,8 @@
 
 #include <systemc>
 
+#include "units/wakeups.h"
+
 namespace rtm {
 
 class Timekeeper : public sc_core::sc_module {
@@ -22,6 +24,9 @@ class Timekeeper : public sc_core::sc_module {
   /// Suspends the calling process for `d`; among processes due at the same time, a lower rank
   /// resumes first. `wake` is the caller's own event (one outstanding wait per event).
   void wait(const sc_core::sc_time& d, int rank, sc_core::sc_event& wake);
+  /// Notifies `wake` at absolute time `at` in rank order, without waiting (several may be posted
+  /// for one event).
+  void post(const sc_core::sc_time& at, int rank, sc_core::sc_event& wake);
 
  private:
   struct Due {
@@ -54,10 +59,32 @@ class Sleeper {
       sc_core::wait(d);
   }
 
+  // A unit's wake-ups (units/wakeups.h): want() each time it asks for, then wait() for the earliest
+  // or, if given, an input event (`either`: the input's events | event()).
+  void want(uint64_t ticks) {
+    if (!wakeups_.want(ticks, 0)) return;
+    if (keeper_) keeper_->post(sc_core::sc_time::from_value(ticks), rank_, wake_);
+  }
+  void wait(const sc_core::sc_event_or_list* either) {
+    if (!keeper_) {
+      // The kernel keeps one pending notification per event: the earliest.
+      wake_.cancel();
+      const uint64_t next = wakeups_.next().first;
+      if (next != Wakeups::kNever) wake_.notify(sc_core::sc_time::from_value(next - sc_core::sc_time_stamp().value()));
+    }
+    if (either)
+      sc_core::wait(*either);
+    else
+      sc_core::wait(wake_);
+    wakeups_.fired(sc_core::sc_time_stamp().value());
+  }
+  const sc_core::sc_event& event() const { return wake_; }
+
  private:
   Timekeeper* keeper_ = nullptr;
   int rank_ = 0;
   sc_core::sc_event wake_;
+  Wakeups wakeups_;
 };
 
 }  // namespace rtm

@@ -37,12 +37,30 @@ void UnitModule::bind(FifoId, MeteredFifo<RayEnd>& f) {
   if (ends_out_) ends_out_->bind(f);
 }
 
-void UnitModule::write(const Output& o, const MachineRay& r, UnitKind kind, int index, Sleeper& sleep) {
-  if (o.what == Output::What::End)
-    put(*ends_out_, RayEnd{r.id}, ctx_, sleep);
-  else
-    put(*rays_out_[size_t(o.fifo)], r, ctx_, sleep);
+bool UnitModule::try_write(const Output& o, const MachineRay& r, UnitKind kind, int index) {
+  if (o.what == Output::What::End) {
+    if ((*ends_out_)->num_free() == 0) return false;
+    (*ends_out_)->write(RayEnd{r.id});
+  } else {
+    Out<MachineRay>& out = *rays_out_[size_t(o.fifo)];
+    if (out->num_free() == 0) return false;
+    out->write(r);
+  }
   record_put(ctx_, ctx_.log_time(), kind, index, r.id, o);
+  return true;
+}
+
+Dispatcher::Dispatcher(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int units)
+    : sc_module(name), in_(in), waiting_(0) {
+  for (int i = 0; i < units; ++i) wake_.push_back(std::make_unique<sc_core::sc_event>());
+  SC_METHOD(dispatch);
+  sensitive << in_.data_written_event();
+  dont_initialize();
+}
+
+void Dispatcher::dispatch() {
+  // Immediate notifications: the units run next, in the order notified, and each takes one ray.
+  for (int n = in_.num_available(); n > 0 && waiting_.any_idle(); --n) wake_[size_t(waiting_.take())]->notify();
 }
 
 }  // namespace rtm

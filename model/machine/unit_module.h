@@ -7,14 +7,38 @@
 #include <array>
 #include <initializer_list>
 #include <memory>
+#include <vector>
 
 #include <systemc>
 
 #include "machine/metered_fifo.h"
 #include "machine/pe_context.h"
+#include "units/intersection.h"
 #include "units/output.h"
+#include "units/unit_step.h"
 
 namespace rtm {
+
+/// Replicated units waiting on one FIFO (the search units, the intersection units): each ray that
+/// arrives wakes the lowest-numbered waiting one (units/intersection.h's LaneDispatcher), instead
+/// of leaving it to the kernel's wake-up order.
+class Dispatcher : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(Dispatcher);
+  Dispatcher(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in, int units);
+  /// Unit `k` found the FIFO empty: wake it for the next ray that is its to take.
+  void wait(int k) { waiting_.idle(k); }
+  /// Unit `k` woke for another reason.
+  void woke(int k) { waiting_.busy(k); }
+  const sc_core::sc_event& event(int k) const { return *wake_[size_t(k)]; }
+
+ private:
+  void dispatch();
+
+  MeteredFifo<MachineRay>& in_;
+  LaneDispatcher waiting_;
+  std::vector<std::unique_ptr<sc_core::sc_event>> wake_;
+};
 
 class UnitModule : public sc_core::sc_module {
  public:
@@ -35,8 +59,22 @@ class UnitModule : public sc_core::sc_module {
   bool has_input(FifoId id) const { return rays_in_[size_t(id)] && rays_in_[size_t(id)]->size() > 0; }
   In<RayEnd>& ends_in() { return *ends_in_; }
 
-  /// Writes a unit's output for ray `r` (waiting while its FIFO is full) and records it.
-  void write(const Output& o, const MachineRay& r, UnitKind kind, int index, Sleeper& sleep);
+  /// Writes a unit's output for ray `r` and records it; false (nothing written) when its FIFO is full.
+  bool try_write(const Output& o, const MachineRay& r, UnitKind kind, int index);
+
+  /// Runs a unit forever: each wake-up is units/unit_step.h's step_unit with `ops`, which also
+  /// has `bool waiting` (set by its wait_for_input) and `either` (its input's events | the
+  /// sleeper's), and `woke(now)`, called first on every wake-up.
+  template <class Item, class Ops>
+  [[noreturn]] void run_unit(Pipeline<Item>& pipe, Ops& ops, Sleeper& sleep) {
+    for (;;) {
+      const uint64_t now = PeContext::now();
+      ops.woke(now);
+      ops.waiting = false;
+      step_unit(pipe, now, ctx_.period.value(), ops);
+      sleep.wait(ops.waiting ? &ops.either : nullptr);
+    }
+  }
 
   PeContext& ctx_;
 

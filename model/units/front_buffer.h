@@ -14,6 +14,7 @@
 
 #include <deque>
 
+#include "units/output.h"
 #include "units/pe_state.h"
 
 namespace rtm {
@@ -86,6 +87,9 @@ class FrontBufferPolicy {
   void woke(uint64_t now) {
     if (stalled_) pe_.counters.credit_stall += now - waiting_since_;
   }
+
+  /// Cycles until the next ray may be handed out after one that takes `cycles` (units/pipeline.h).
+  uint64_t interval(uint64_t cycles) const { return pipeline_interval(pe_.config.dispatch_interval, cycles); }
 
   bool finished() const { return finished_; }
   int in_flight() const { return in_flight_; }

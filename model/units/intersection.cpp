@@ -26,6 +26,8 @@ Work MacUnit::take(MacResult& m, uint64_t now) {
   timing_.plan(m.plan);
   Work w;
   w.cycles = m.plan.cycles();
+  // Streaming, the next job's first coefficients load while this job's last primitive issues.
+  w.interval = pe_.config.mac_streaming ? m.plan.issue_span(timing_.coef_load_cycles) : w.cycles;
   w.out = {FifoId::Root, Output::What::Item};
   PeCounters& k = pe_.counters;
   k.mac_products += uint64_t(products);
@@ -56,6 +58,7 @@ Work RootUnit::take(MacResult& m, uint64_t now) {
   pe_.counters.counts.clip_tests += h.clip_tests;
   Work w;
   w.cycles = back_end_cycles(pe_.config, m.plan, clips_);
+  w.interval = pipeline_interval(pe_.config.root_interval, w.cycles, clips_.size());
   pe_.counters.root.busy_cycles += w.cycles;
   ++pe_.counters.root.items;
   switch (intersection_route(*img.scene, r, h)) {

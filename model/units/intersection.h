@@ -66,6 +66,7 @@ class LaneDispatcher {
     for (int i = 0; i < lanes; ++i) idle_.insert(i);
   }
   void idle(int lane) { idle_.insert(lane); }
+  void busy(int lane) { idle_.erase(lane); }
   bool any_idle() const { return !idle_.empty(); }
   /// The lowest idle lane, now busy.
   int take() {

@@ -43,6 +43,13 @@ struct MacTiming {
     uint64_t issue(int p, int j) const { return start[size_t(p)] + uint64_t(j) * add_latency; }
     uint64_t done(int p) const { return issue(p, counts[size_t(p)] - 1) + pipe; }
     uint64_t cycles() const { return counts.empty() ? 0 : done(int(counts.size()) - 1) + 1; }
+    /// Cycles from the job's start until a next job, started then, would issue its first product
+    /// right after this job's last primitive's slot: the job's issue slots, without its first load.
+    uint64_t issue_span(int coef_load_cycles) const {
+      if (counts.empty()) return 0;
+      const size_t last = counts.size() - 1;
+      return start[last] + std::max<uint64_t>(uint64_t(counts[last]) * add_latency, coef_load_cycles) - coef_load_cycles;
+    }
   };
   Job job(const std::vector<int>& counts) const {
     Job j;

@@ -18,9 +18,16 @@ struct Output {
 /// A unit's work on one item: its cycles and where its result goes. Every unit's take() gets the
 /// time it is taken at only for the event log (PeContext::log_time: 0 when there is none).
 struct Work {
-  uint64_t cycles = 0;
+  uint64_t cycles = 0;    ///< latency: from taking the item to its result
+  uint64_t interval = 0;  ///< until the unit can take its next item (units/pipeline.h)
   Output out;
 };
+
+/// A unit's interval for an item of `latency` cycles that passes its first stage `beats` times:
+/// `key` cycles a beat, or, with key 0 (unpipelined), the item's whole latency.
+inline uint64_t pipeline_interval(int key, uint64_t latency, uint64_t beats = 1) {
+  return key > 0 ? uint64_t(key) * beats : latency;
+}
 
 /// Records that unit (kind, index) wrote `out` for ray `ray` at `now`: every scheduler calls it
 /// after each write, so their event logs agree.

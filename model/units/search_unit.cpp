@@ -8,7 +8,9 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
   const bool walk_on = c.search_walk == MachineConfig::SearchWalk::UntilOccupied;
   Work w;
   Route route;
+  uint64_t passes = 0;
   for (;;) {
+    ++passes;
     const bool examined = search_pass(g, r);
     route = search_route(*pe_.image->scene, g, r, examined);
     // Reading the voxel entry only happens when there is a voxel to examine.
@@ -16,6 +18,7 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
     if (examined) ++pe_.counters.counts.voxel_steps;
     if (!(walk_on && route == Route::Feedback)) break;
   }
+  w.interval = pipeline_interval(c.search_interval, w.cycles, passes);
   pe_.counters.search.busy_cycles += w.cycles;
   ++pe_.counters.search.items;
   switch (route) {

@@ -4,17 +4,26 @@
 
 namespace rtm {
 
-uint64_t ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id, uint64_t now) {
+Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id, uint64_t now) {
   const MachineConfig& c = pe_.config;
   const Scene& s = *pe_.image->scene;
-  out_.rays.clear();
+  // Grow the ring when full, keeping its order (head_ .. taken_ − 1).
+  if (taken_ - head_ == outs_.size()) {
+    std::vector<ShadeOut> grown(outs_.size() * 2 + 1);
+    for (size_t i = head_; i < taken_; ++i) grown[i - head_] = std::move(outs_[i % outs_.size()]);
+    outs_ = std::move(grown);
+    taken_ -= head_;
+    head_ = 0;
+  }
+  ShadeOut& out = outs_[taken_++ % outs_.size()];
+  out.rays.clear();
   uint64_t cycles = 0;
   switch (r.arrival) {
     case MachineRay::Arrival::Hit:
       if (r.ray.kind == RayKind::Primary) primary_id = int32_t(r.prim);
-      shade_hit(s, r.ray, r.t_hit, s.primitives[r.prim], out_);
-      pixel.add(out_.brightness);
-      cycles = uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles) * out_.rays.size();
+      shade_hit(s, r.ray, r.t_hit, s.primitives[r.prim], out);
+      pixel.add(out.brightness);
+      cycles = uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles) * out.rays.size();
       break;
     case MachineRay::Arrival::LightReached:
       pixel.add(r.ray.brightness);
@@ -25,17 +34,17 @@ uint64_t ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primar
       cycles = uint64_t(c.accumulate_cycles);
       break;
   }
-  for (const Ray& child : out_.rays)
+  for (const Ray& child : out.rays)
     if (!pe_.units.generates(child.kind))
       throw std::logic_error("a left-out ray generator was needed: the scene analysis is wrong");
   pe_.counters.shade.busy_cycles += cycles;
   ++pe_.counters.shade.items;
   if (pe_.log) pe_.log->take(now, UnitKind::Shading, 0, r.id, cycles);
-  return cycles;
+  return {cycles, pipeline_interval(c.shade_interval, cycles), output(0)};
 }
 
 MachineRay ShadingUnit::spawn(const MachineRay& parent, size_t k) {
-  const Ray& child = out_.rays[k - 1];
+  const Ray& child = head().rays[k - 1];
   MachineRay m;
   m.ray = child;
   m.slot = parent.slot;

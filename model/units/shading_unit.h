@@ -13,21 +13,32 @@ class ShadingUnit {
  public:
   explicit ShadingUnit(PeState& pe) : pe_(pe) {}
 
-  /// Shades `r` into its pixel at `now`; returns the cycles. Its outputs are then output(0 .. outputs() − 1).
-  uint64_t take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id, uint64_t now);
-  size_t outputs() const { return 1 + out_.rays.size(); }
+  /// Shades `r` into its pixel at `now`. Its outputs are listed by outputs() and output() once it
+  /// is the oldest ray in the unit (the returned Work's `out` is output(0)).
+  Work take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id, uint64_t now);
+
+  // The oldest ray's outputs: results leave a pipelined unit in order.
+  size_t outputs() const { return 1 + head().rays.size(); }
   Output output(size_t k) const {
     return k == 0 ? Output{FifoId::Ends, Output::What::End} : Output{FifoId::Spawn, Output::What::Item};
   }
   /// Output k > 0's ray, numbered now: call it once, when the scheduler first tries to write it
   /// (rays are numbered in the order they are made, and a write may wait for room).
   MachineRay spawn(const MachineRay& parent, size_t k);
-  /// The kinds of ray the current one spawns, in output order (output k is spawned_kind(k − 1)).
-  RayKind spawned_kind(size_t i) const { return out_.rays[i].kind; }
+  /// The kinds of ray the oldest one spawns, in output order (output k is spawned_kind(k − 1)).
+  RayKind spawned_kind(size_t i) const { return head().rays[i].kind; }
+  /// The oldest ray's outputs are written.
+  void retired() {
+    ++head_;
+    if (head_ == taken_) head_ = taken_ = 0;  // empty: start the ring over
+  }
 
  private:
+  const ShadeOut& head() const { return outs_[head_ % outs_.size()]; }
+
   PeState& pe_;
-  ShadeOut out_;
+  std::vector<ShadeOut> outs_;  ///< a ring: the rays in the unit, from head_ to taken_
+  size_t head_ = 0, taken_ = 0;
 };
 
 }  // namespace rtm

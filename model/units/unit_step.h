@@ -1,0 +1,36 @@
+// One wake-up of a unit, the same under both schedulers: write the results that are due, take the
+// next item if the unit can, then say what to wake it for. Each scheduler supplies the operations
+// on its own FIFOs and clock:
+//   bool write_head(now)  writes the head item's results; false when a FIFO is full
+//   void retired(item)    the head item has left the unit
+//   bool accept(now)      takes the next item (Pipeline::accept); false when there is none
+//   void wait_for_input() wake me when an input arrives
+//   void want(t)          wake me at t (a repeated time is one wake-up: units/wakeups.h)
+#pragma once
+
+#include <cstdint>
+
+#include "units/pipeline.h"
+
+namespace rtm {
+
+template <class Item, class Ops>
+void step_unit(Pipeline<Item>& pipe, uint64_t now, uint64_t cycle, Ops& ops) {
+  for (;;) {
+    while (!pipe.empty() && pipe.head().due <= now) {
+      // A full FIFO stalls the pipeline: try again next cycle, as a hardware handshake would.
+      if (!ops.write_head(now)) return ops.want(now + cycle);
+      ops.retired(pipe.retire(now));
+    }
+    if (!pipe.can_accept(now)) break;
+    if (!ops.accept(now)) {
+      ops.wait_for_input();
+      break;
+    }
+    // An item without latency is done at once: go round again.
+  }
+  if (!pipe.empty()) ops.want(pipe.head().due);
+  if (pipe.ready() > now) ops.want(pipe.ready());
+}
+
+}  // namespace rtm
