@@ -1,4 +1,4 @@
-// `rtm config`: every machine configuration key with its value and meaning.
+// `rtm config`: every machine configuration key with its value and meaning, or the docs' tables.
 #include <iostream>
 
 #include "options.h"
@@ -6,12 +6,15 @@
 
 namespace rtm {
 
-int run_config(const std::string& config_file, const std::vector<std::string>& sets) {
-  RenderOptions opt;
-  opt.config_file = config_file;
-  opt.sets = sets;
+int run_config(const RenderOptions& opt, bool markdown) {
   return run_command([&] {
-    std::cout << describe_config(machine_config(opt));
+    const MachineConfig c = machine_config(opt);  // a bad preset is a usage error here too
+    if (!markdown)
+      std::cout << describe_config(c);
+    else if (opt.preset.empty())
+      std::cout << config_keys_markdown();
+    else
+      std::cout << preset_markdown(c.preset);
     return 0;
   });
 }

@@ -1,5 +1,4 @@
 // rtm: the command-line front end of the ray-tracing machine model.
-#include <iostream>
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
@@ -24,6 +23,11 @@ int sc_main(int argc, char* argv[]) {
   CLI::App app{"rtm - a SystemC model of the Gwun/Murakami/Tomita parallel ray-tracing machine"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rtm 0.1");
+
+  // Every preset with its meaning, from their one declaration.
+  std::string preset_help = "Machine preset, applied before --config and --set:";
+  for (const rtm::Preset& p : rtm::presets()) preset_help += " " + p.name + " (" + p.meaning + ");";
+  preset_help.back() = '.';
 
   rtm::RenderOptions r;
   CLI::App* render = app.add_subcommand("render", "Render a whole frame (the built-in default scene if SCENE is omitted)");
@@ -54,6 +58,7 @@ int sc_main(int argc, char* argv[]) {
                    "Degenerate shapes (zero area, radius or length) are errors instead of skipped with a warning");
   render->add_flag("--skip-unknown", r.skip_unknown,
                    "Skip NFF records rtm does not know (renderers' extensions), with one warning per kind");
+  render->add_option("--preset", r.preset, preset_help);
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
   // --pes and --search-units are checked as their configuration keys (machine/config.cpp).
@@ -71,14 +76,16 @@ int sc_main(int argc, char* argv[]) {
                      "Write every unit event (cycle, PE, unit, ray, what happened) to this file, one line each; "
                      "the same for the PE engine and the modules (docs/architecture.md)");
 
-  std::string config_file;
-  std::vector<std::string> sets;
+  rtm::RenderOptions c;
   bool markdown = false;
   CLI::App* config = app.add_subcommand(
       "config", "Print every machine configuration key with its value, meaning and range, as a YAML file --config reads");
-  CLI::Option* from = config->add_option("--config", config_file, "Start from this configuration file");
-  CLI::Option* set = config->add_option("--set", sets, "Override KEY=VALUE (repeatable)");
-  config->add_flag("--markdown", markdown, "Instead, docs/machine.md's table of the keys and their defaults (scripts/config-doc)")
+  config->add_option("--preset", c.preset, preset_help);
+  CLI::Option* from = config->add_option("--config", c.config_file, "Then this configuration file");
+  CLI::Option* set = config->add_option("--set", c.sets, "Then override KEY=VALUE (repeatable)");
+  config->add_flag("--markdown", markdown,
+                   "Instead, docs/machine.md's table of the keys and their defaults, or with --preset of the keys "
+                   "on which the preset differs from them (scripts/config-doc)")
       ->excludes(from)
       ->excludes(set);
 
@@ -100,11 +107,7 @@ int sc_main(int argc, char* argv[]) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   if (render->parsed()) return rtm::run_render(r);
-  if (config->parsed() && markdown) {
-    std::cout << rtm::config_keys_markdown();
-    return 0;
-  }
-  if (config->parsed()) return rtm::run_config(config_file, sets);
+  if (config->parsed()) return rtm::run_config(c, markdown);
   if (pov->parsed()) return rtm::run_pov(pov_opt);
   if (cache->parsed()) return rtm::run_cache(cache_action);
   return 2;

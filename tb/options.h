@@ -26,7 +26,8 @@ struct RenderOptions {
   bool skip_unknown = false;   ///< unknown NFF records are skipped with a warning, not errors
 
   // The machine
-  std::string config_file;           ///< machine configuration (YAML key: value)
+  std::string preset;                ///< machine preset, applied first; empty: default
+  std::string config_file;           ///< machine configuration (YAML key: value), applied after the preset
   std::vector<std::string> sets;     ///< key=value overrides, applied after the file
   std::optional<int> pes;
   std::string timing, precision, partition, mac_schedule;
@@ -39,7 +40,9 @@ struct RenderOptions {
 
 /// Runs `rtm render`; returns the process exit code.
 int run_render(const RenderOptions& opt);
-/// Runs `rtm config`: prints the machine configuration as a YAML file --config reads back.
-int run_config(const std::string& config_file, const std::vector<std::string>& sets);
+/// Runs `rtm config`: prints the machine configuration of opt's preset, file and --set options as
+/// a YAML file --config reads back, or with `markdown` docs/machine.md's table of the keys (of
+/// how the preset differs from the defaults, with a preset).
+int run_config(const RenderOptions& opt, bool markdown);
 
 }  // namespace rtm

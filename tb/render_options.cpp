@@ -93,6 +93,13 @@ void apply_scene_options(const RenderOptions& opt, Scene& scene) {
 
 MachineConfig machine_config(const RenderOptions& opt) {
   MachineConfig c;
+  if (!opt.preset.empty()) {
+    try {
+      apply_preset(c, opt.preset);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--preset: ") + e.what());
+    }
+  }
   if (!opt.config_file.empty()) {
     try {
       load_config_file(c, opt.config_file);

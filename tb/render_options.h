@@ -23,7 +23,7 @@ int run_command(const std::function<int()>& body);
 
 /// Applies the scene overrides (size, grid, threshold, depth, spawning) to a loaded scene.
 void apply_scene_options(const RenderOptions& opt, Scene& scene);
-/// The configuration file, then --set, then the dedicated flags; validated.
+/// The preset, then the configuration file, then --set, then the dedicated flags; validated.
 MachineConfig machine_config(const RenderOptions& opt);
 /// The waveform and progress options, checked against the configuration's PEs.
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c);

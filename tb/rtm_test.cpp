@@ -85,7 +85,8 @@ TEST(Cli, MachineStatsHaveEveryDocumentedKey) {
   const json j = render(tmp, "m", kScenes + "balls-1.nff --size 24x24 --pes 2");
   ASSERT_FALSE(j.is_null());
   for (const char* k : {"scene", "width", "height", "rays", "voxel_steps", "intersection_tests", "wall_seconds", "pes",
-                        "timing", "precision", "cycles", "sim_time_ns", "mac", "per_pe", "fifo", "error", "utilisation"})
+                        "timing", "precision", "cycles", "sim_time_ns", "mac", "per_pe", "fifo", "error", "utilisation",
+                        "preset", "config"})
     EXPECT_TRUE(j.contains(k)) << k;
   for (const char* k : {"rmse", "psnr_db", "max_abs", "pixels_over_1_255"}) EXPECT_TRUE(j["error"].contains(k)) << k;
   EXPECT_EQ(j["per_pe"].size(), 2u);
@@ -170,18 +171,94 @@ TEST(Cli, ABadConfigFileExits2NamingFileAndLine) {
       << c.err;
 }
 
-// docs/machine.md's key table is `rtm config --markdown`; scripts/config-doc rewrites it.
-TEST(Cli, TheDocsKeyTableIsTheGeneratedOne) {
+// docs/machine.md's generated tables are `rtm config --markdown` (the keys) and
+// `rtm config --markdown --preset paper` (how paper differs); scripts/config-doc rewrites them.
+TEST(Cli, TheDocsTablesAreTheGeneratedOnes) {
   Tmp tmp;
-  const Proc r = run_rtm("config --markdown", tmp);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string doc = slurp(std::string(RTM_SOURCE_DIR) + "/docs/machine.md");
-  const std::string begin = "<!-- config-keys:begin -->\n", end = "<!-- config-keys:end -->";
-  const size_t from = doc.find(begin), to = doc.find(end);
-  ASSERT_NE(from, std::string::npos);
-  ASSERT_NE(to, std::string::npos);
-  EXPECT_EQ(doc.substr(from + begin.size(), to - from - begin.size()), r.out)
-      << "docs/machine.md's key table is out of date: run scripts/config-doc";
+  for (const auto& [marker, args] : {std::pair{"config-keys", ""}, std::pair{"preset-paper", " --preset paper"}}) {
+    const Proc r = run_rtm(std::string("config --markdown") + args, tmp);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string begin = std::string("<!-- ") + marker + ":begin -->\n", end = std::string("<!-- ") + marker + ":end -->";
+    const size_t from = doc.find(begin), to = doc.find(end);
+    ASSERT_NE(from, std::string::npos) << marker;
+    ASSERT_NE(to, std::string::npos) << marker;
+    EXPECT_EQ(doc.substr(from + begin.size(), to - from - begin.size()), r.out)
+        << "docs/machine.md's " << marker << " table is out of date: run scripts/config-doc";
+  }
+}
+
+// The paper preset renders, and the statistics say which preset a run started from.
+TEST(Cli, APresetRendersAndTheStatsRecordIt) {
+  Tmp tmp;
+  const std::string scene = kScenes + "balls-1.nff --size 16x16";
+  const json paper = render(tmp, "paper", scene + " --preset paper");
+  const json plain = render(tmp, "plain", scene);
+  ASSERT_FALSE(paper.is_null() || plain.is_null());
+  EXPECT_EQ(paper["preset"], "paper");
+  EXPECT_EQ(plain["preset"], "default");
+  EXPECT_EQ(paper["config"]["mac_schedule"], "full");
+  EXPECT_EQ(paper["config"]["recentre"], "false");
+  EXPECT_EQ(paper["mac"]["products"].get<uint64_t>(), 28 * paper["intersection_tests"].get<uint64_t>());
+  EXPECT_LE(paper["error"]["pixels_over_1_255"].get<int>(), 16 * 16 / 100);
+  // The same picture: the presets differ in arithmetic and schedule, not in what is traced.
+  EXPECT_EQ(paper["rays"], plain["rays"]);
+}
+
+// Preset, then configuration file, then --set: each changes what the one before left.
+TEST(Cli, APresetComesBeforeTheFileAndTheFileBeforeSet) {
+  Tmp tmp;
+  spit(tmp / "f.yaml", "mac_schedule: sparse\nrecentre: true\npes: 2\n");
+  const Proc r = run_rtm("config --preset paper --config " + (tmp / "f.yaml") + " --set recentre=false --set pes=3", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* line : {"\npreset: paper ", "\nmac_schedule: sparse ", "\nrecentre: false ", "\npes: 3 ",
+                           "\ncoef_scaling: none "})
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << " in\n" << r.out;
+  // A file's preset comes before its own keys too, wherever it is written.
+  spit(tmp / "g.yaml", "mac_schedule: sparse\npreset: paper\n");
+  const Proc g = run_rtm("config --config " + (tmp / "g.yaml"), tmp);
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_NE(g.out.find("\nmac_schedule: sparse "), std::string::npos) << g.out;
+  EXPECT_NE(g.out.find("\ncoef_scaling: none "), std::string::npos) << g.out;
+}
+
+// `rtm config --preset paper` is a file --config reads back as the same machine, the same run.
+TEST(Cli, APresetsConfigLoadsBackAsTheSameConfiguration) {
+  Tmp tmp;
+  const Proc paper = run_rtm("config --preset paper", tmp);
+  ASSERT_EQ(paper.exit_code, 0) << paper.err;
+  EXPECT_NE(paper.out.find("\npreset: paper "), std::string::npos) << paper.out;
+  spit(tmp / "paper.yaml", paper.out);
+  const Proc again = run_rtm("config --config " + (tmp / "paper.yaml"), tmp);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.out, paper.out);
+  EXPECT_NE(paper.out, run_rtm("config", tmp).out);
+  const std::string scene = kScenes + "balls-1.nff --size 12x12";
+  const json from_file = render(tmp, "file", scene + " --config " + (tmp / "paper.yaml"));
+  const json from_preset = render(tmp, "preset", scene + " --preset paper");
+  ASSERT_FALSE(from_file.is_null() || from_preset.is_null());
+  EXPECT_EQ(from_file["preset"], "paper");
+  EXPECT_EQ(from_file["config"], from_preset["config"]);
+  EXPECT_EQ(from_file["cycles"], from_preset["cycles"]);
+}
+
+// An unknown preset is a bad command line or a bad file (exit 2), named where it was written.
+TEST(Cli, AnUnknownPresetExits2SayingWhichAreKnown) {
+  Tmp tmp;
+  const Proc r = run_rtm("render " + kScenes + "balls-1.nff --size 8x8 -q --preset papr --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("rtm: --preset: preset: expected one of default, paper, got 'papr'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  for (const char* command : {"config --preset papr", "config --markdown --preset papr"}) {
+    const Proc c = run_rtm(command, tmp);
+    EXPECT_EQ(c.exit_code, 2) << command;
+    EXPECT_NE(c.err.find("expected one of default, paper, got 'papr'"), std::string::npos) << command << ": " << c.err;
+  }
+  spit(tmp / "bad.yaml", "pes: 2\npreset: papr\n");
+  const Proc f = run_rtm("config --config " + (tmp / "bad.yaml"), tmp);
+  EXPECT_EQ(f.exit_code, 2);
+  EXPECT_NE(f.err.find(tmp / "bad.yaml" + ":2: preset: expected one of default, paper, got 'papr'"), std::string::npos)
+      << f.err;
 }
 
 // The machine against the reference, several scenes and PE counts.

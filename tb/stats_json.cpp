@@ -117,6 +117,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
               {"grid", m.needs.grid}}}}},
           {"per_pe", per_pe},
           {"fifo", fifo},
+          {"preset", c.preset},
           {"config", config}};
 }
 

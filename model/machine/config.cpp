@@ -1,6 +1,7 @@
 #include "machine/config.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -359,10 +360,68 @@ const std::vector<ConfigKey>& config_keys() {
   return keys;
 }
 
+// The presets, each declared once: a name, what it means, and the keys it sets on top of
+// MachineConfig{}, each with why. `paper` also sets keys whose default is the paper's today, so
+// that it stays the paper's machine when a default changes; docs/machine.md's table shows only
+// the keys where it differs, and its "Presets" section says which readings are the model's.
+const std::vector<Preset>& presets() {
+  static const std::vector<Preset> all = {
+      {kDefaultPreset, "the model's defaults: the paper's structure, with the arithmetic and the MAC schedule the measurements chose", {}},
+      {"paper", "the paper's machine: what Gwun, Murakami and Tomita describe and, where they are silent, the most literal reading",
+       {
+           {"partition", "scanlines", "silent (§2: pixel-parallel screen partitioning, no scheme named): rows dealt to the PEs in turn"},
+           {"precision", "fp32", "silent (§5.2: floating-point multipliers and adder, no width given): single precision"},
+           {"mac_schedule", "full", "§5.2: the adder accumulates 6 products for α, 12 for β and 10 for γ, for every primitive"},
+           {"leave_out", "false", "§3.1, §6: one machine for every scene: each PE has its shadow and branch-ray units whether the scene uses them or not"},
+           {"recentre", "false", "§5.2: the RAM holds the quadric's coefficients and the latches the ray's V, both in world space"},
+           {"discriminant", "plain", "silent (the root unit is not described): b^2 - 4ac as written, two rounded products"},
+           {"coef_scaling", "none", "§5.2: the RAM holds the quadric's own coefficients A ... J, unscaled"},
+           {"origin_latch", "machine", "§5.2: the latches hold V in the MAC's own floating point (wide forms V - c in fp64 first; with world coefficients c = 0 and the two give the same bits)"},
+           {"search_units", "4", "§4.1, Fig. 1: four search units"},
+           {"search_walk", "per_voxel", "§4.2: a ray in an empty voxel goes back to the front buffer"},
+           {"intersection_units", "1", "§5, Fig. 1: one intersection stage with one MAC"},
+           {"mul_latency", "1", "§5.2: two multipliers and an adder chained as a 3-stage pipeline: a cycle a stage"},
+           {"add_latency", "1", "§5.2: two multipliers and an adder chained as a 3-stage pipeline: a cycle a stage"},
+           {"flow_control", "credits", "silent (what keeps the feedback loop from deadlocking is left open): credits, which change no ray's work; without them gears-1 at 64x64 deadlocks"},
+           {"ray_generation", "host", "§3.2: the host generates one primary ray per pixel"},
+           {"broadcast", "false", "§3.1-3.2: the host transfers the data to every PE, each into its own local memory"},
+           {"ray_block", "0", "§3.2: pre-processing first, then the transfer: every ray is generated before any is sent"},
+           {"gather", "after_all", "silent (frame-buffer gathering is left open): the host reads the frame buffers once every PE is done"},
+       }},
+  };
+  return all;
+}
+
+namespace {
+
+/// "one of default, paper"
+std::string preset_names() {
+  std::string s;
+  for (const Preset& p : presets()) s += (s.empty() ? "one of " : ", ") + p.name;
+  return s;
+}
+
+const Preset& find_preset(const std::string& name) {
+  for (const Preset& p : presets())
+    if (p.name == name) return p;
+  bad("preset", "expected " + preset_names() + ", got '" + name + "'");
+}
+
+}  // namespace
+
 void set_config(MachineConfig& c, const std::string& key, const std::string& value) {
   for (const ConfigKey& k : config_keys())
     if (k.name == key) return k.set(c, value);
+  if (key == "preset") bad(key, "not a key but where the keys start: --preset NAME, or preset: NAME in a --config file");
   bad(key, "unknown machine configuration key (rtm config lists them)");
+}
+
+void apply_preset(MachineConfig& c, const std::string& name) {
+  const Preset& p = find_preset(name);
+  if (c.preset != kDefaultPreset && c.preset != name)
+    bad("preset", "'" + name + "' after '" + c.preset + "': a configuration starts from one preset");
+  for (const Preset::Override& o : p.overrides) set_config(c, o.key, o.value);
+  c.preset = name;
 }
 
 void load_config_file(MachineConfig& c, const std::string& path) {
@@ -378,28 +437,36 @@ void load_config_file(MachineConfig& c, const std::string& path) {
   }
   if (root.IsNull()) return;
   if (!root.IsMap()) throw ConfigError(path, root.Mark().line + 1, "expected a map of key: value");
-  for (const auto& kv : root) {
-    const int line = kv.first.Mark().line + 1;
-    if (!kv.second.IsScalar()) throw ConfigError(path, line, kv.first.Scalar() + ": expected a single value");
-    try {
-      set_config(c, kv.first.Scalar(), kv.second.Scalar());
-    } catch (const std::invalid_argument& e) {
-      throw ConfigError(path, line, e.what());
+  // The preset is what the other keys change, so it goes first, wherever the file has it.
+  for (const bool preset_pass : {true, false})
+    for (const auto& kv : root) {
+      const std::string& key = kv.first.Scalar();
+      if ((key == "preset") != preset_pass) continue;
+      const int line = kv.first.Mark().line + 1;
+      if (!kv.second.IsScalar()) throw ConfigError(path, line, key + ": expected a single value");
+      try {
+        if (preset_pass)
+          apply_preset(c, kv.second.Scalar());
+        else
+          set_config(c, key, kv.second.Scalar());
+      } catch (const std::invalid_argument& e) {
+        throw ConfigError(path, line, e.what());
+      }
     }
-  }
 }
 
 std::string describe_config(const MachineConfig& c) {
+  std::vector<std::array<std::string, 3>> lines = {
+      {"preset: " + c.preset, "the preset the keys below start from, applied first", preset_names()}};
+  for (const ConfigKey& k : config_keys()) lines.push_back({k.name + ": " + k.get(c), k.meaning, k.accepted()});
   size_t width = 0;
-  for (const ConfigKey& k : config_keys()) width = std::max(width, k.name.size() + 2 + k.get(c).size());
+  for (const auto& l : lines) width = std::max(width, l[0].size());
   std::ostringstream s;
   s << "# rtm machine configuration (docs/machine.md): key: value  # meaning (what it accepts)\n"
        "# rtm render --config FILE reads it back.\n";
-  for (const ConfigKey& k : config_keys()) {
-    const std::string kv = k.name + ": " + k.get(c);
-    // A YAML comment runs to the end of the line, so any one-line meaning can follow the value.
-    s << kv << std::string(width - kv.size() + 2, ' ') << "# " << k.meaning << " (" << k.accepted() << ")\n";
-  }
+  // A YAML comment runs to the end of the line, so any one-line meaning can follow the value.
+  for (const auto& [kv, meaning, accepted] : lines)
+    s << kv << std::string(width - kv.size() + 2, ' ') << "# " << meaning << " (" << accepted << ")\n";
   return s.str();
 }
 
@@ -410,6 +477,25 @@ std::string config_keys_markdown() {
   for (const ConfigKey& k : config_keys())
     s << "| `" << k.name << "` | " << cell(k.get(defaults)) << " | " << cell(k.accepted()) << " | " << cell(k.meaning)
       << " |\n";
+  return s.str();
+}
+
+std::string preset_markdown(const std::string& name) {
+  const Preset& p = find_preset(name);
+  const MachineConfig defaults;
+  MachineConfig preset;
+  apply_preset(preset, name);
+  auto why = [&](const std::string& key) {
+    for (const Preset::Override& o : p.overrides)
+      if (o.key == key) return o.why;
+    return std::string();
+  };
+  std::ostringstream s;
+  s << "| key | " << kDefaultPreset << " | " << name << " | why |\n|---|---|---|---|\n";
+  for (const ConfigKey& k : config_keys())
+    if (k.get(preset) != k.get(defaults))
+      s << "| `" << k.name << "` | " << cell(k.get(defaults)) << " | " << cell(k.get(preset)) << " | " << cell(why(k.name))
+        << " |\n";
   return s.str();
 }
 

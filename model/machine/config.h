@@ -1,7 +1,8 @@
 // The machine configuration: every timing parameter, FIFO depth and unit count in one place.
 // Plain data, parsed once by the testbench and handed to the modules' constructors. What each
 // member means and accepts is declared once, with its key, in config_keys() (config.cpp);
-// `rtm config` and docs/machine.md list them. The defaults are the initialisers here.
+// `rtm config` and docs/machine.md list them. The defaults are the initialisers here; a preset
+// (presets(), config.cpp) is a named set of keys applied on top of them.
 #pragma once
 
 #include <climits>
@@ -21,7 +22,13 @@ enum class Timing { Fast, Clocked };
 enum class Precision { Fp32, Fp64 };
 enum class FlowControl { Credits, None };
 
+/// The preset of MachineConfig{} itself: no key changed.
+inline constexpr const char* kDefaultPreset = "default";
+
 struct MachineConfig {
+  /// The preset the keys started from (apply_preset); the statistics record it.
+  std::string preset = kDefaultPreset;
+
   // Multiprocessor
   int pes = 1;
   Partition partition = Partition::Scanlines;
@@ -151,15 +158,37 @@ struct ConfigKey {
 };
 const std::vector<ConfigKey>& config_keys();
 
+/// A named machine: keys set, in order, on top of MachineConfig{}. Each preset is declared once,
+/// in presets(); `rtm render --preset`, a configuration file's `preset:`, a sweep's `preset:` and
+/// docs/machine.md's table of how a preset differs from the defaults all read that declaration.
+struct Preset {
+  struct Override {
+    std::string key, value;  ///< as set_config takes them, the value as the key prints it
+    std::string why;         ///< one line: what in the paper (or which reading of it) says so
+  };
+  std::string name;
+  std::string meaning;  ///< one line
+  std::vector<Override> overrides;
+};
+const std::vector<Preset>& presets();
+
 /// Sets one key from text; throws std::invalid_argument ("unknown key", "not a number", ...).
 void set_config(MachineConfig& c, const std::string& key, const std::string& value);
-/// Reads a YAML file holding one flat map of `key: value` pairs (the keys of config_keys()).
-/// Throws ConfigError.
+/// Sets the keys of preset `name` and records it in c.preset. c must not have started from another
+/// preset: one configuration has one starting point. Throws std::invalid_argument naming the
+/// known presets.
+void apply_preset(MachineConfig& c, const std::string& name);
+/// Reads a YAML file holding one flat map of `key: value` pairs (the keys of config_keys()), and
+/// optionally `preset: NAME`, which is applied first, wherever the file has it. Throws ConfigError.
 void load_config_file(MachineConfig& c, const std::string& path);
-/// A YAML file load_config_file reads back as c: one `key: value  # meaning (accepted)` a line.
+/// A YAML file load_config_file reads back as c: its preset, then one
+/// `key: value  # meaning (accepted)` a line.
 std::string describe_config(const MachineConfig& c);
 /// docs/machine.md's table of every key: name, default, what it accepts, meaning.
 std::string config_keys_markdown();
+/// docs/machine.md's table of every key on which preset `name` differs from the defaults: both
+/// values and why. Throws std::invalid_argument for an unknown preset.
+std::string preset_markdown(const std::string& name);
 
 const char* to_string(Partition p);
 const char* to_string(Timing t);

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -221,6 +222,105 @@ TEST(ConfigKeys, AnUnknownKeyIsRefusedWithWhereTheyAreListed) {
   EXPECT_EQ(refusal("warp_drive", "1"), "warp_drive: unknown machine configuration key (rtm config lists them)");
 }
 
+const Preset& preset(const std::string& name) {
+  for (const Preset& p : presets())
+    if (p.name == name) return p;
+  throw std::invalid_argument("no preset " + name);
+}
+
+/// The message apply_preset refuses `name` with on c, or "" if it takes it.
+std::string preset_refusal(MachineConfig c, const std::string& name) {
+  try {
+    apply_preset(c, name);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Presets, EachIsDeclaredOnceWithKnownKeysAndValuesAsTheKeysPrintThem) {
+  std::set<std::string> names;
+  for (const Preset& p : presets()) {
+    EXPECT_TRUE(names.insert(p.name).second) << p.name;
+    EXPECT_FALSE(p.meaning.empty()) << p.name;
+    EXPECT_EQ(p.meaning.find('\n'), std::string::npos) << p.name;
+    std::set<std::string> keys;
+    for (const Preset::Override& o : p.overrides) {
+      EXPECT_TRUE(keys.insert(o.key).second) << p.name << ": " << o.key << " twice";
+      EXPECT_FALSE(o.why.empty()) << p.name << ": " << o.key;
+      EXPECT_EQ(o.why.find('\n'), std::string::npos) << p.name << ": " << o.key;
+      EXPECT_EQ(refusal(o.key, o.value), "") << p.name;
+    }
+    MachineConfig c;
+    ASSERT_EQ(preset_refusal(c, p.name), "");
+    apply_preset(c, p.name);
+    EXPECT_NO_THROW(c.validate()) << p.name;
+    for (const Preset::Override& o : p.overrides) EXPECT_EQ(key(o.key).get(c), o.value) << p.name << ": " << o.key;
+  }
+  EXPECT_EQ(presets().front().name, kDefaultPreset);
+  EXPECT_TRUE(preset(kDefaultPreset).overrides.empty()) << "default is MachineConfig{} itself";
+}
+
+TEST(Presets, PaperSetsEveryKeyAsDeclaredAndLeavesTheOthers) {
+  MachineConfig c;
+  apply_preset(c, "paper");
+  EXPECT_EQ(c.preset, "paper");
+  for (const Preset::Override& o : preset("paper").overrides) EXPECT_EQ(key(o.key).get(c), o.value) << o.key;
+  // Every key the preset does not set is the default's.
+  std::set<std::string> set_keys;
+  for (const Preset::Override& o : preset("paper").overrides) set_keys.insert(o.key);
+  for (const ConfigKey& k : config_keys())
+    if (!set_keys.count(k.name)) EXPECT_EQ(k.get(c), k.get(MachineConfig{})) << k.name;
+  // The paper's machine in the members themselves: a slip in the declaration's text shows here.
+  EXPECT_EQ(c.mac_schedule, MachineConfig::MacSchedule::Full);
+  EXPECT_FALSE(c.recentre);
+  EXPECT_EQ(c.coef_scaling, CoefScaling::None);
+  EXPECT_EQ(c.origin_latch, OriginLatch::Machine);
+  EXPECT_EQ(c.search_walk, MachineConfig::SearchWalk::PerVoxel);
+  EXPECT_EQ(c.ray_generation, MachineConfig::RayGeneration::Host);
+  EXPECT_EQ(c.ray_block, 0);
+  EXPECT_FALSE(c.broadcast);
+  EXPECT_EQ(c.gather, MachineConfig::Gather::AfterAll);
+  EXPECT_EQ(c.search_units, 4);
+  EXPECT_EQ(c.intersection_units, 1);
+  EXPECT_EQ(c.flow_control, FlowControl::Credits);
+}
+
+TEST(Presets, AnUnknownOrASecondDifferentPresetIsRefused) {
+  EXPECT_EQ(preset_refusal({}, "papr"), "preset: expected one of default, paper, got 'papr'");
+  MachineConfig paper;
+  apply_preset(paper, "paper");
+  EXPECT_EQ(preset_refusal(paper, "paper"), "") << "the same one again changes nothing";
+  EXPECT_EQ(preset_refusal(paper, "default"), "preset: 'default' after 'paper': a configuration starts from one preset");
+  MachineConfig d;
+  apply_preset(d, kDefaultPreset);
+  EXPECT_EQ(values(d), values(MachineConfig{}));
+  EXPECT_EQ(preset_refusal(d, "paper"), "") << "default changes no key, so any preset may follow it";
+  EXPECT_EQ(refusal("preset", "paper"),
+            "preset: not a key but where the keys start: --preset NAME, or preset: NAME in a --config file");
+}
+
+// docs/machine.md's table: the keys on which paper differs from default, each with its why.
+TEST(Presets, TheMarkdownTableListsExactlyTheKeysThatDiffer) {
+  MachineConfig paper;
+  apply_preset(paper, "paper");
+  const std::string table = preset_markdown("paper");
+  EXPECT_EQ(table.rfind("| key | default | paper | why |\n|---|---|---|---|\n", 0), 0u) << table;
+  size_t rows = 0;
+  for (const ConfigKey& k : config_keys()) {
+    const bool differs = k.get(paper) != k.get(MachineConfig{});
+    rows += differs;
+    EXPECT_EQ(table.find("| `" + k.name + "` |") != std::string::npos, differs) << k.name;
+  }
+  EXPECT_GE(rows, 5u);
+  EXPECT_EQ(size_t(std::count(table.begin(), table.end(), '\n')), rows + 2);
+  for (const Preset::Override& o : preset("paper").overrides)
+    if (key(o.key).get(paper) != key(o.key).get(MachineConfig{}))
+      EXPECT_NE(table.find(" | " + o.why + " |\n"), std::string::npos) << o.key;
+  EXPECT_EQ(preset_markdown(kDefaultPreset), "| key | default | default | why |\n|---|---|---|---|\n");
+  EXPECT_THROW(preset_markdown("papr"), std::invalid_argument);
+}
+
 class ConfigFile : public ::testing::Test {
  protected:
   // Each test runs in its own process, perhaps beside others.
@@ -235,6 +335,51 @@ TEST_F(ConfigFile, TheDescriptionReadsBackAsTheSameConfiguration) {
   MachineConfig d;
   load_config_file(d, path);
   EXPECT_EQ(values(d), values(c));
+}
+
+TEST_F(ConfigFile, APresetsDescriptionReadsBackAsTheSameConfiguration) {
+  MachineConfig c;
+  apply_preset(c, "paper");
+  set_config(c, "pes", "8");
+  write(describe_config(c));
+  MachineConfig d;
+  load_config_file(d, path);
+  EXPECT_EQ(values(d), values(c));
+  EXPECT_EQ(d.preset, "paper");
+}
+
+// A preset is what the file's keys change, wherever in the file it is written.
+TEST_F(ConfigFile, ThePresetGoesFirstWhereverItIsWritten) {
+  write("mac_schedule: sparse\npes: 3\npreset: paper\n");
+  MachineConfig c;
+  load_config_file(c, path);
+  EXPECT_EQ(c.preset, "paper");
+  EXPECT_EQ(c.mac_schedule, MachineConfig::MacSchedule::Sparse) << "the file's key wins over its preset";
+  EXPECT_FALSE(c.recentre) << "the preset's other keys stay";
+  EXPECT_EQ(c.pes, 3);
+}
+
+TEST_F(ConfigFile, ABadPresetNamesTheFileAndTheLine) {
+  write("pes: 4\n\npreset: papr\n");
+  MachineConfig c;
+  try {
+    load_config_file(c, path);
+    FAIL() << "preset: papr was taken";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(std::string(e.what()), path + ":3: preset: expected one of default, paper, got 'papr'");
+  }
+  write("preset: [paper]\n");
+  EXPECT_THROW(load_config_file(c, path), ConfigError);
+  write("preset: default\n");
+  MachineConfig paper;
+  apply_preset(paper, "paper");
+  try {
+    load_config_file(paper, path);
+    FAIL() << "a file starting from default was applied on top of paper";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ":1: preset: 'default' after 'paper': a configuration starts from one preset");
+  }
 }
 
 TEST_F(ConfigFile, ErrorsNameTheFileTheLineAndTheKey) {

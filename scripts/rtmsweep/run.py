@@ -42,6 +42,8 @@ def rtm_command(rtm, job, out_png, out_json):
     for key, opt in AXIS_OPTIONS.items():
         if job.get(key) is not None:
             cmd += [opt, str(job[key])]
+    if job.get("preset"):
+        cmd += ["--preset", job["preset"]]
     if job.get("config"):
         cmd += ["--config", job["config"]]
     for key, value in job.get("set", {}).items():
@@ -73,7 +75,10 @@ def build_row(job, status, error, exit_code, stats=None, host=None):
     for key in AXIS_OPTIONS:
         row[key] = job[key] if job.get(key) is not None else s.get(key, cfg.get(key))
     for key in job.get("set_keys", []):
-        row[key] = job.get("variant") if key == "variant" else job.get("set", {}).get(key, cfg.get(key))
+        if key in ("variant", "preset"):
+            row[key] = job.get(key, s.get(key))  # a job without a preset: the one rtm says it used
+        else:
+            row[key] = job.get("set", {}).get(key, cfg.get(key))
     summary = s.get("summary")
     if isinstance(summary, dict):
         for key in columns.SUMMARY_COLUMNS:

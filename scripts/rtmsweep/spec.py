@@ -1,8 +1,8 @@
 """A sweep spec (docs/sweeps.md, "The spec"): parsed and checked once, then expanded into jobs.
 
 A job is one configuration as a dict: the rtm render arguments (scene, size, pes, partition,
-search_units, timing, precision, config, set), its run id, and what sweep-run needs to make its
-row (set_keys, variant, images, timeout). scripts/sweep hands each job to sweep-run as JSON.
+search_units, timing, precision, preset, config, set), its run id, and what sweep-run needs to make
+its row (set_keys, variant, images, timeout). scripts/sweep hands each job to sweep-run as JSON.
 """
 
 import dataclasses
@@ -16,8 +16,8 @@ import yaml
 
 # Top-level spec axes, each an rtm render option (run.AXIS_OPTIONS).
 AXES = ["pes", "partition", "search_units", "timing", "precision"]
-SPEC_KEYS = {"name", "description", "scene_dir", "scenes", "sizes", "set", "variants", "config", "timeout",
-             "images"} | set(AXES)
+SPEC_KEYS = {"name", "description", "scene_dir", "scenes", "sizes", "set", "variants", "preset", "config",
+             "timeout", "images"} | set(AXES)
 NAME_PATTERN = r"[A-Za-z0-9._-]+"
 
 
@@ -27,10 +27,12 @@ class SpecError(Exception):
 
 @dataclasses.dataclass
 class Variant:
-    """A named machine: fixed `set` values and its own values of top-level axes."""
+    """A named machine: fixed `set` values and its own values of top-level axes, on top of its
+    own preset (None: the spec's)."""
     name: str
     settings: dict
     axes: dict
+    preset: str = None
 
 
 @dataclasses.dataclass
@@ -41,14 +43,22 @@ class Spec:
     axes: dict              # AXES -> list of values ([None]: not passed to rtm)
     set_values: dict        # `set` key -> list of values as rtm reads them, in spec order
     variants: list          # of Variant; empty when the spec has none
+    preset: str = None      # --preset of every run whose variant names none
     config: str = None      # --config file for every run
     timeout: float = None   # seconds per run
     images: bool = True     # keep each run's PNG
 
     @property
+    def presets(self):
+        """The presets the spec names, in order (top level first)."""
+        named = [self.preset] + [v.preset for v in self.variants]
+        return list(dict.fromkeys(p for p in named if p is not None))
+
+    @property
     def set_keys(self):
-        """The spec's own CSV columns, in order: `variant` (if any), then the `set` keys."""
-        return (["variant"] if self.variants else []) + list(self.set_values)
+        """The spec's own CSV columns, in order: `variant` (if any), `preset` (if the spec names
+        one), then the `set` keys."""
+        return (["variant"] if self.variants else []) + (["preset"] if self.presets else []) + list(self.set_values)
 
     def jobs(self):
         """The cartesian product, one job per distinct configuration; the PE count varies
@@ -66,6 +76,10 @@ class Spec:
             identity.update(variant.axes)
             if variant.name is not None:
                 identity["variant"] = variant.name
+            # Only when named, so that the ids of specs without presets stay what they were.
+            preset = variant.preset or self.preset
+            if preset is not None:
+                identity["preset"] = preset
             rid = run_id(identity)
             if rid in seen:
                 continue  # a value listed twice
@@ -115,6 +129,15 @@ def _is_int(v):
     return isinstance(v, int) and not isinstance(v, bool)
 
 
+def _preset(value, where):
+    """A preset's name (rtm checks that it knows it), or None."""
+    if value is None:
+        return None
+    if not isinstance(value, str) or not re.fullmatch(NAME_PATTERN, value):
+        raise SpecError(f"{where}: {value!r} is not a preset name (rtm render --help lists them)")
+    return value
+
+
 def _sizes(value):
     sizes = []
     for s in _as_list(value, "sizes"):
@@ -138,9 +161,12 @@ def _variants(value, set_values, config_keys):
         name = str(name)
         if not re.fullmatch(NAME_PATTERN, name):
             raise SpecError(f"variants: {name!r}: use letters, digits, '.', '_' and '-'")
-        fixed, axis_values = {}, {}
+        fixed, axis_values, preset = {}, {}, None
         for key, v in (settings or {}).items():
             key = str(key)
+            if key == "preset":
+                preset = _preset(v, f"variants: {name}: preset")
+                continue
             if key == "pes" or key in set_values:
                 raise SpecError(f"variants: {name}: {key} is also a sweep axis; set it in one place")
             if key in AXES:
@@ -150,7 +176,7 @@ def _variants(value, set_values, config_keys):
             if config_keys is not None and key not in config_keys:
                 raise SpecError(f"variants: {name}: {key}: unknown machine configuration key (rtm config lists them)")
             fixed[key] = text(v)
-        variants.append(Variant(name, fixed, axis_values))
+        variants.append(Variant(name, fixed, axis_values, preset))
     return variants
 
 
@@ -189,6 +215,9 @@ def parse(data, base, config_keys=None, default_name="sweep"):
         key = str(key)
         if key in AXES:
             raise SpecError(f"set: {key} is a top-level key of the spec (write {key}: [...])")
+        if key == "preset":
+            raise SpecError("set: preset is not a key but where the keys start: write preset: NAME at the top "
+                            "level or in a variant")
         if config_keys is not None and key not in config_keys:
             raise SpecError(f"set: {key}: unknown machine configuration key (rtm config lists them)")
         set_values[key] = [text(v) for v in _as_list(values, f"set.{key}")]
@@ -203,7 +232,8 @@ def parse(data, base, config_keys=None, default_name="sweep"):
     if not isinstance(images, bool):
         raise SpecError(f"images: {images!r} is not true or false")
     return Spec(name=name, scenes=scenes, sizes=sizes, axes=axes, set_values=set_values,
-                variants=variants, config=config, timeout=timeout, images=images)
+                variants=variants, preset=_preset(data.get("preset"), "preset"), config=config, timeout=timeout,
+                images=images)
 
 
 def load(path, config_keys=None):

@@ -56,6 +56,17 @@ def config_keys(rtm):
     return set(keys) if isinstance(keys, dict) and keys else None
 
 
+def preset_error(rtm, name):
+    """rtm's message if it does not know preset NAME, else None (also when rtm can't be run: its
+    runs will say)."""
+    try:
+        p = subprocess.run([rtm, "config", "--preset", name], capture_output=True, text=True, timeout=60,
+                           env=dict(os.environ, SYSTEMC_DISABLE_COPYRIGHT_MESSAGE="1"))
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return (p.stderr.strip() or f"rtm config exited {p.returncode}") if p.returncode else None
+
+
 def jobs_tsv(jobs):
     """GNU parallel's input: one line per job, RUN_ID, SCENE and the job's JSON."""
     return "".join(f"{j['id']}\t{j['scene']}\t{json.dumps(j, sort_keys=True)}\n" for j in jobs)
@@ -179,6 +190,10 @@ def main(argv=None):
         the_spec = spec.load(args.spec, config_keys(rtm))
     except spec.SpecError as e:
         die(f"{args.spec}: {e}")
+    for preset in the_spec.presets:
+        error = preset_error(rtm, preset)
+        if error:
+            die(f"{args.spec}: preset {preset}: {error}")
     all_jobs = the_spec.jobs()
     order = [j["id"] for j in all_jobs]  # results.csv's order: every shard's runs, as the spec lists them
     jobs = all_jobs

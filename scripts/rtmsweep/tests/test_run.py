@@ -27,6 +27,18 @@ def test_the_rtm_command_passes_every_setting():
                                                                     "--stats", "b", "-q"]
 
 
+def test_a_preset_goes_to_rtm_and_into_its_column():
+    job = dict(JOB, preset="paper", config="/m.yaml", set_keys=["variant", "preset", "loop_credits"])
+    cmd = run.rtm_command("/bin/rtm", job, "o.png", "o.json")
+    assert cmd[cmd.index("--preset"):cmd.index("--preset") + 4] == ["--preset", "paper", "--config", "/m.yaml"]
+    assert run.build_row(job, "failed", "rtm: bad", 2, None, host="h")["preset"] == "paper"
+    # A job without one: the preset the run's statistics say it used (its --config file may name one).
+    no_preset = dict(job)
+    del no_preset["preset"]
+    assert run.build_row(no_preset, "ok", "", 0, {"preset": "default", "summary": summary()}, host="h")["preset"] == \
+        "default"
+
+
 def test_the_error_is_rtms_last_message():
     assert run.error_line("warning\nrtm: first\nmore\nrtm: the one\ntrailing\n\n") == "rtm: the one"
     assert run.error_line("Segmentation fault\n  \n") == "Segmentation fault"

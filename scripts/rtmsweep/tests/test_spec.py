@@ -83,7 +83,33 @@ def test_variants_are_one_more_axis_with_their_own_settings():
     assert all(j["set_keys"] == ["variant", "loop_credits"] for j in jobs)
 
 
+def test_a_preset_is_passed_on_top_level_or_per_variant_and_gets_a_column():
+    s = parse("scenes: [a.nff]\npes: [1]\npreset: paper\nset: {loop_credits: [0]}\n"
+              "variants:\n  paper: {}\n  improved: {preset: default, broadcast: true}\n")
+    paper, improved = s.jobs()
+    assert s.presets == ["paper", "default"]
+    assert s.set_keys == ["variant", "preset", "loop_credits"]
+    assert paper["preset"] == "paper" and improved["preset"] == "default"  # the variant's own wins
+    assert improved["set"] == {"broadcast": "true", "loop_credits": "0"}
+    only_variant = parse("scenes: [a.nff]\nvariants:\n  paper: {preset: paper}\n  improved: {broadcast: true}\n")
+    paper, improved = only_variant.jobs()
+    assert only_variant.set_keys == ["variant", "preset"]
+    assert paper["preset"] == "paper" and "preset" not in improved  # rtm's default; the CSV shows what it used
+    top = parse("scenes: [a.nff]\npreset: paper\n")
+    assert top.set_keys == ["preset"] and top.jobs()[0]["preset"] == "paper"
+
+
+def test_a_preset_changes_the_run_id_and_no_preset_keeps_the_old_one():
+    plain = parse("scenes: [a.nff]\n").jobs()[0]
+    paper = parse("scenes: [a.nff]\npreset: paper\n").jobs()[0]
+    assert plain["id"] != paper["id"]
+    assert "preset" not in plain and parse("scenes: [a.nff]\n").set_keys == []
+
+
 @pytest.mark.parametrize("text, message", [
+    ("scenes: [a.nff]\npreset: [paper]\n", "preset: ['paper'] is not a preset name"),
+    ("scenes: [a.nff]\nvariants: {x: {preset: 'a b'}}\n", "variants: x: preset: 'a b' is not a preset name"),
+    ("scenes: [a.nff]\nset: {preset: [paper]}\n", "set: preset is not a key"),
     ("scenes: [a.nff]\npe: [1, 2]\n", "unknown key(s) pe"),
     ("pes: [1]\n", "scenes: at least one scene file is required"),
     ("scenes: [a.nff]\nsizes: [32by32]\n", "not WxH"),

@@ -238,6 +238,28 @@ def test_variants_are_whole_machines_compared_side_by_side(sweep, tmp_path):
         assert row["partition"] == ("pixels" if improved else "scanlines"), row["run_id"]
 
 
+def test_a_variant_can_start_from_a_preset(sweep, tmp_path):
+    out = tmp_path / "out"
+    spec = write_spec(tmp_path / "spec.yaml", "name: presets\nscenes: [balls-1.nff]\nsizes: [16x16]\npes: [1]\n"
+                      "variants:\n  paper: {preset: paper}\n  improved: {broadcast: true}\n")
+    r = sweep(spec, out, "--jobs", "2", "--no-plots")
+    assert r.returncode == 0, r.stdout + r.stderr
+    head, rows = read_csv(out / "results.csv")
+    assert head == columns.header(["variant", "preset"])
+    assert [(r["variant"], r["preset"]) for r in rows] == [("paper", "paper"), ("improved", "default")]
+    for row in rows:
+        assert row["status"] == "ok", row["error"]
+        stats = json.loads((out / "runs" / f"{row['run_id']}.json").read_text())
+        assert stats["preset"] == row["preset"]
+        assert stats["config"]["mac_schedule"] == ("full" if row["variant"] == "paper" else "sparse")
+    # A preset rtm does not know stops the sweep before any run.
+    bad = write_spec(tmp_path / "bad.yaml", "scenes: [balls-1.nff]\nsizes: [16x16]\npreset: papr\n")
+    r = sweep(bad, tmp_path / "bad-out")
+    assert r.returncode == 2
+    assert "preset papr: rtm: --preset: preset: expected one of default, paper, got 'papr'" in r.stderr, r.stderr
+    assert not (tmp_path / "bad-out").exists()
+
+
 def test_a_bad_spec_is_rejected_up_front(sweep, tmp_path):
     out = tmp_path / "out"
     for text, message in [("scenes: [balls-1.nff]\npe: [1, 2]\n", "unknown key(s) pe"),
