@@ -505,8 +505,6 @@ int MachineConfig::safe_credits() const {
 
 void MachineConfig::validate() const {
   for (const ConfigKey& k : config_keys()) k.check(*this);
-  if (timing == Timing::Clocked && mac_streaming)
-    bad("mac_streaming", "the clocked MAC runs one job at a time: set mac_streaming = false with timing = clocked");
   if (loop_credits > safe_credits())
     bad("loop_credits", "must not exceed the smallest FIFO depth past the front buffer (" +
                             std::to_string(safe_credits()) + "), or a full FIFO could deadlock the loop");

@@ -269,8 +269,11 @@ TEST(Presets, PaperSetsEveryKeyAsDeclaredAndLeavesTheOthers) {
   // Every key the preset does not set is the default's.
   std::set<std::string> set_keys;
   for (const Preset::Override& o : preset("paper").overrides) set_keys.insert(o.key);
-  for (const ConfigKey& k : config_keys())
-    if (!set_keys.count(k.name)) EXPECT_EQ(k.get(c), k.get(MachineConfig{})) << k.name;
+  for (const ConfigKey& k : config_keys()) {
+    if (!set_keys.count(k.name)) {
+      EXPECT_EQ(k.get(c), k.get(MachineConfig{})) << k.name;
+    }
+  }
   // The paper's machine in the members themselves: a slip in the declaration's text shows here.
   EXPECT_EQ(c.mac_schedule, MachineConfig::MacSchedule::Full);
   EXPECT_FALSE(c.recentre);
@@ -314,9 +317,11 @@ TEST(Presets, TheMarkdownTableListsExactlyTheKeysThatDiffer) {
   }
   EXPECT_GE(rows, 5u);
   EXPECT_EQ(size_t(std::count(table.begin(), table.end(), '\n')), rows + 2);
-  for (const Preset::Override& o : preset("paper").overrides)
-    if (key(o.key).get(paper) != key(o.key).get(MachineConfig{}))
+  for (const Preset::Override& o : preset("paper").overrides) {
+    if (key(o.key).get(paper) != key(o.key).get(MachineConfig{})) {
       EXPECT_NE(table.find(" | " + o.why + " |\n"), std::string::npos) << o.key;
+    }
+  }
   EXPECT_EQ(preset_markdown(kDefaultPreset), "| key | default | default | why |\n|---|---|---|---|\n");
   EXPECT_THROW(preset_markdown("papr"), std::invalid_argument);
 }

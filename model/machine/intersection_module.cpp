@@ -42,17 +42,21 @@ MacJob make_job(const SceneMemory<Real>& mem, const MachineRay& r, int64_t voxel
   return job;
 }
 
-/// The clocked MAC must reproduce the schedule's sums bit for bit; anything else is a model bug.
+/// The fast MAC model must predict the clocked MAC's sums bit for bit and its cycles exactly;
+/// anything else is a model bug. The clocked sums are then the ones the root unit takes.
 template <class Real>
-void check_clocked(const std::vector<Abg<Real>>& fast, const std::vector<std::array<double, 3>>& clocked,
-                   uint64_t fast_cycles, uint64_t clocked_cycles) {
-  bool same = fast.size() == clocked.size() && fast_cycles == clocked_cycles;
+void take_clocked(std::vector<Abg<Real>>& fast, const ClockedMac::Done& clocked, uint64_t fast_cycles, bool ran) {
+  bool same = ran && fast.size() == clocked.sums.size() && fast_cycles == clocked.cycles;
   for (size_t i = 0; same && i < fast.size(); ++i)
-    same = double(fast[i].a) == clocked[i][0] && double(fast[i].b) == clocked[i][1] && double(fast[i].g) == clocked[i][2];
+    same = double(fast[i].a) == clocked.sums[i][0] && double(fast[i].b) == clocked.sums[i][1] &&
+           double(fast[i].g) == clocked.sums[i][2];
   if (!same)
-    SC_REPORT_FATAL("rtm/pe/mac", ("clocked MAC disagrees with the fast MAC model: " + std::to_string(clocked_cycles) +
+    SC_REPORT_FATAL("rtm/pe/mac", (std::string("the fast MAC model disagrees with the clocked MAC: ") +
+                                   (ran ? std::to_string(clocked.cycles) : std::string("still running at")) +
                                    " cycles against " + std::to_string(fast_cycles))
                                       .c_str());
+  for (size_t i = 0; i < fast.size(); ++i)
+    fast[i] = {Real(clocked.sums[i][0]), Real(clocked.sums[i][1]), Real(clocked.sums[i][2])};
 }
 
 }  // namespace
@@ -67,15 +71,19 @@ struct IntersectionModule::MacOps {
   bool write_head(uint64_t) {
     Held& h = x.mac_pipe_.head().item;
     if (x.clocked_ && !checked) {
-      // The clocked unit has put its last sums out half a cycle before the stage takes them.
-      const uint64_t ran = x.clocked_->finish();
+      // The clocked unit has put the job's last sums out half a cycle before the stage takes them.
+      ClockedMac::Done done;
+      const bool ran = x.clocked_->finish(done);
       if (x.ctx_.image->mem32)
-        check_clocked(h.m.abg32, x.sums_, x.job_cycles_, ran);
+        take_clocked(h.m.abg32, done, x.job_cycles_.front(), ran);
       else
-        check_clocked(h.m.abg64, x.sums_, x.job_cycles_, ran);
+        take_clocked(h.m.abg64, done, x.job_cycles_.front(), ran);
+      x.job_cycles_.pop_front();
       checked = true;
     }
-    if (x.root_fifo_.num_free() == 0) return false;
+    const bool full = x.root_fifo_.num_free() == 0;
+    if (x.clocked_) x.clocked_->stall(full);  // a result that cannot leave holds the whole MAC
+    if (full) return false;
     x.root_fifo_.write(h.m);
     record_put(x.ctx_, x.ctx_.log_time(), UnitKind::Mac, x.mac_.lane(), h.m.r.id, h.out);
     return true;
@@ -94,9 +102,8 @@ struct IntersectionModule::MacOps {
       const SceneImage& img = *x.ctx_.image;
       const DdaState& s = h.m.r.examined;
       const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
-      x.job_ = img.visit([&](const auto& mem) { return make_job(mem, h.m.r, v); });
-      x.clocked_->start(x.job_, x.sums_);
-      x.job_cycles_ = w.cycles;
+      x.clocked_->start(img.visit([&](const auto& mem) { return make_job(mem, h.m.r, v); }));
+      x.job_cycles_.push_back(w.cycles);
     }
     x.mac_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval);
     return true;

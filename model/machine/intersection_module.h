@@ -3,6 +3,7 @@
 // next, as the paper's pipelining intends. The work is units/intersection.h's.
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -40,9 +41,7 @@ class IntersectionModule : public UnitModule {
   RootUnit root_;
   std::unique_ptr<Sleeper> mac_sleep_, root_sleep_;
   std::unique_ptr<ClockedMac> clocked_;  ///< null in fast timing
-  MacJob job_;                           ///< the clocked MAC's job, its sums and the fast model's cycles
-  std::vector<std::array<double, 3>> sums_;
-  uint64_t job_cycles_ = 0;
+  std::deque<uint64_t> job_cycles_;       ///< the fast model's cycles of each job in the clocked MAC
   Dispatcher& dispatcher_;
   MeteredFifo<MacResult> root_fifo_;
   Pipeline<Held> mac_pipe_, root_pipe_;

@@ -67,7 +67,9 @@ class Driver : public sc_core::sc_module {
           counts.push_back(sparse ? int(job.ops.back().size()) : kMacProducts);
         }
         const sc_core::sc_time start = sc_core::sc_time_stamp();
-        const uint64_t cycles = macs_[m]->run(job, sums);
+        const ClockedMac::Done done = macs_[m]->run(job);
+        const uint64_t cycles = done.cycles;
+        sums = done.sums;
         ++jobs;
         if (cycles != c.timing.job(counts).cycles() || (!sparse && cycles != c.timing.job_cycles(n))) ++cycle_mismatches;
         if (sc_core::sc_time_stamp() - start != period * double(cycles)) ++time_mismatches;
