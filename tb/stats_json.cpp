@@ -21,13 +21,20 @@ nlohmann::json counts_json(const TraceCounts& c) {
           {"clip_tests", c.clip_tests}};
 }
 
-nlohmann::json utilisation_json(const FrameUtilisation& u) {
+nlohmann::json utilisation_json(const UnitShares& u) {
   return {{"front_buffer", u.front_buffer}, {"search", u.search}, {"mac", u.mac}, {"root", u.root}, {"shading", u.shading}};
 }
 
 nlohmann::json pe_utilisation_json(const FrameProfile& f) {
-  return {{"front_buffer", f.front_buffer}, {"search", f.search},   {"mac", f.mac},
-          {"root", f.root},                 {"shading", f.shading}, {"credit_stall", f.credit_stall}};
+  nlohmann::json j = utilisation_json(f.busy);
+  j["credit_stall"] = f.credit_stall;
+  return j;
+}
+
+/// One PE's figure `of` per unit (replicated units: summed).
+nlohmann::json unit_figures(const PeCounters& p, uint64_t UnitStats::*of) {
+  return {{"front_buffer", p.front.*of}, {"search", p.search.*of}, {"mac", p.mac.*of}, {"root", p.root.*of},
+          {"shading", p.shade.*of}};
 }
 
 nlohmann::json phases_json(const FrameProfile& f) {
@@ -62,12 +69,10 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"credit_stall_cycles", ticks(p.credit_stall)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
-                      {"busy_cycles",
-                       {{"front_buffer", p.front.busy_cycles},
-                        {"search", p.search.busy_cycles},
-                        {"mac", p.mac.busy_cycles},
-                        {"root", p.root.busy_cycles},
-                        {"shading", p.shade.busy_cycles}}}});
+                      {"busy_cycles", unit_figures(p, &UnitStats::busy_cycles)},
+                      {"issue_cycles", unit_figures(p, &UnitStats::issue_cycles)},
+                      {"held_cycles", unit_figures(p, &UnitStats::held_cycles)},
+                      {"starved_cycles", unit_figures(p, &UnitStats::starved_cycles)}});
   nlohmann::json fifo;
   for (const FifoSummary& f : m.fifos) fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
   nlohmann::json config;
@@ -94,6 +99,9 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
             {"scene_bytes", m.scene_bytes}}},
           {"utilisation", utilisation_json(s.utilisation)},
           {"pe_utilisation", pe_utilisation_json(s.profile)},
+          {"pe_issue", utilisation_json(s.profile.issue)},
+          {"pe_occupancy", utilisation_json(s.profile.occupancy)},
+          {"pe_starved", utilisation_json(s.profile.starved)},
           {"phases", phases_json(s.profile)},
           {"load_imbalance", s.profile.imbalance},
           {"mac_bound_cycles", s.mac_bound_cycles},
@@ -146,6 +154,8 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
   flatten_into(j, "rays_", rays_json(m.counts));
   flatten_into(j, "util_", utilisation_json(s.utilisation));
   flatten_into(j, "pe_util_", pe_utilisation_json(s.profile));
+  flatten_into(j, "pe_issue_", utilisation_json(s.profile.issue));
+  flatten_into(j, "pe_starved_", utilisation_json(s.profile.starved));
   flatten_into(j, "", phases_json(s.profile));
   return j;
 }

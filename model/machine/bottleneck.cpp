@@ -10,11 +10,9 @@ std::string bottleneck(const FrameProfile& p) {
   const double host = p.total > 0 ? p.host_preprocess / p.total : 0;
   const double link = p.total > 0 ? (p.transfer + p.gather) / p.total : 0;
   if (host + link >= 0.5) return host >= link ? "host_preprocessing" : "interconnect";
-  const std::vector<std::pair<double, const char*>> units = {{p.mac, "mac"},
-                                                             {p.search, "search"},
-                                                             {p.root, "root"},
-                                                             {p.shading, "shading"},
-                                                             {p.front_buffer, "front_buffer"}};
+  const UnitShares& u = p.issue;
+  const std::vector<std::pair<double, const char*>> units = {
+      {u.mac, "mac"}, {u.search, "search"}, {u.root, "root"}, {u.shading, "shading"}, {u.front_buffer, "front_buffer"}};
   const auto top = *std::max_element(units.begin(), units.end());
   if (top.first >= 0.6) return top.second;
   if (p.credit_stall >= 0.3) return "loop_credits";

@@ -5,14 +5,22 @@
 
 namespace rtm {
 
+/// A fraction per kind of PE unit (replicated units: per unit, so 1 is every unit, all the time).
+struct UnitShares {
+  double front_buffer = 0, search = 0, mac = 0, root = 0, shading = 0;
+};
+
 struct FrameProfile {
   double total = 0;             ///< the frame's cycles
   double host_preprocess = 0;   ///< voxel and primary-ray generation (overlapping transfers when streaming)
   double transfer = 0;          ///< scene and rays to the PEs, after pre-processing
   double pe = 0;                ///< the PEs' work: transfer done to the last PE done
   double gather = 0;            ///< frame buffers back to the host
-  /// Busy fraction of each PE unit over the PEs' working windows (search: per unit).
-  double search = 0, mac = 0, root = 0, shading = 0, front_buffer = 0;
+  // Of the PEs' working windows, per unit (units/pipeline.h's UnitStats):
+  UnitShares busy;       ///< holding any item
+  UnitShares issue;      ///< its entry taken by an item's interval: how close it is to saturated
+  UnitShares occupancy;  ///< mean items inside
+  UnitShares starved;    ///< able to take an item, none there
   double credit_stall = 0;      ///< fraction of the working windows the front buffer had rays but no credit
   double imbalance = 1;         ///< max / mean PE working window
 };
@@ -21,8 +29,9 @@ struct FrameProfile {
 /// front_buffer, loop_credits (too few rays allowed in flight: back-pressure), load_imbalance,
 /// or latency (nothing saturated: the loop's latency with the rays available).
 /// Rules, in order: host pre-processing and the link together taking half the frame (the larger
-/// of the two is named); a PE unit busy >= 60% of
-/// the working window; credit stalls >= 30%; imbalance >= 1.3; the largest host/link share if
+/// of the two is named); a PE unit whose entry is taken (`issue`) >= 60% of the working window
+/// (for an unpipelined unit the same as busy; a pipelined one can hold items all the time and
+/// still take more); credit stalls >= 30%; imbalance >= 1.3; the largest host/link share if
 /// >= 25%; else latency.
 std::string bottleneck(const FrameProfile& p);
 

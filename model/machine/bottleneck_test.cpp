@@ -11,8 +11,8 @@ FrameProfile busy_pes() {
   p.host_preprocess = 50;
   p.transfer = 20;
   p.gather = 10;
-  p.mac = 0.3;
-  p.search = 0.2;
+  p.issue.mac = 0.3;
+  p.issue.search = 0.2;
   return p;
 }
 
@@ -32,14 +32,22 @@ TEST(Bottleneck, HostOrLinkTakingHalfTheFrame) {
 
 TEST(Bottleneck, TheBusiestUnitWhenItIsSaturated) {
   FrameProfile p = busy_pes();
-  p.mac = 0.92;
+  p.issue.mac = 0.92;
   EXPECT_EQ(bottleneck(p), "mac");
-  p.mac = 0.5;
-  p.search = 0.7;
+  p.issue.mac = 0.5;
+  p.issue.search = 0.7;
   EXPECT_EQ(bottleneck(p), "search");
-  p.search = 0.1;
-  p.shading = 0.65;
+  p.issue.search = 0.1;
+  p.issue.shading = 0.65;
   EXPECT_EQ(bottleneck(p), "shading");
+}
+
+TEST(Bottleneck, APipelinedUnitHoldingItemsAllTheTimeIsNotSaturated) {
+  FrameProfile p = busy_pes();
+  p.busy.root = 0.98;  // a long latency, items inside nearly always ...
+  p.issue.root = 0.2;  // ... but its entry mostly free
+  p.issue.mac = 0.7;
+  EXPECT_EQ(bottleneck(p), "mac");
 }
 
 TEST(Bottleneck, BackPressureImbalanceAndLatency) {

@@ -9,23 +9,25 @@ namespace rtm {
 
 namespace {
 
-/// Busy fraction of each unit over the frame.
-FrameUtilisation utilisation(const MachineResult& m, const MachineConfig& c) {
-  FrameUtilisation u;
-  const double cycles = double(m.cycles) * c.pes;
-  if (cycles <= 0) return u;
+/// Each unit's figure `of` (a UnitStats member), summed over the PEs and per replicated unit.
+UnitShares sum(const MachineResult& m, const MachineConfig& c, uint64_t UnitStats::*of) {
+  UnitShares u;
   for (const PeCounters& p : m.per_pe) {
-    u.front_buffer += double(p.front.busy_cycles);
-    u.search += double(p.search.busy_cycles) / c.search_units;
-    u.mac += double(p.mac.busy_cycles) / c.intersection_units;
-    u.root += double(p.root.busy_cycles) / c.intersection_units;
-    u.shading += double(p.shade.busy_cycles);
+    u.front_buffer += double(p.front.*of);
+    u.search += double(p.search.*of) / c.search_units;
+    u.mac += double(p.mac.*of) / c.intersection_units;
+    u.root += double(p.root.*of) / c.intersection_units;
+    u.shading += double(p.shade.*of);
   }
-  for (double* x : {&u.front_buffer, &u.search, &u.mac, &u.root, &u.shading}) *x /= cycles;
   return u;
 }
 
-/// Phases, unit utilisation over the PEs' working windows, credit stalls and load imbalance.
+UnitShares divided(UnitShares u, double by) {
+  for (double* x : {&u.front_buffer, &u.search, &u.mac, &u.root, &u.shading}) *x = by > 0 ? *x / by : 0;
+  return u;
+}
+
+/// Phases, unit figures over the PEs' working windows, credit stalls and load imbalance.
 FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
   FrameProfile f;
@@ -40,14 +42,12 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
     window += w;
     longest = std::max(longest, w);
     stall += sc_core::sc_time::from_value(p.credit_stall) / period;
-    f.search += double(p.search.busy_cycles) / c.search_units;
-    f.mac += double(p.mac.busy_cycles) / c.intersection_units;
-    f.root += double(p.root.busy_cycles) / c.intersection_units;
-    f.shading += double(p.shade.busy_cycles);
-    f.front_buffer += double(p.front.busy_cycles);
   }
+  f.busy = divided(sum(m, c, &UnitStats::busy_cycles), window);
+  f.issue = divided(sum(m, c, &UnitStats::issue_cycles), window);
+  f.occupancy = divided(sum(m, c, &UnitStats::held_cycles), window);
+  f.starved = divided(sum(m, c, &UnitStats::starved_cycles), window);
   if (window > 0) {
-    for (double* u : {&f.search, &f.mac, &f.root, &f.shading, &f.front_buffer}) *u /= window;
     f.credit_stall = stall / window;
     f.imbalance = longest / (window / double(m.per_pe.size()));
   }
@@ -58,7 +58,7 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
 
 FrameStats frame_stats(const MachineResult& m, const MachineConfig& c) {
   FrameStats s;
-  s.utilisation = utilisation(m, c);
+  s.utilisation = divided(sum(m, c, &UnitStats::busy_cycles), double(m.cycles) * c.pes);
   s.profile = profile(m, c);
   s.bottleneck = bottleneck(s.profile);
   s.mac_bound_cycles = std::ceil(double(m.mac_products) / c.pes);

@@ -11,11 +11,8 @@ namespace rtm {
 struct MachineConfig;
 struct MachineResult;
 
-/// Busy fraction of each PE unit over the whole frame, averaged over the PEs (replicated units:
-/// per unit, so 1 is every unit busy every cycle).
-struct FrameUtilisation {
-  double front_buffer = 0, search = 0, mac = 0, root = 0, shading = 0;
-};
+/// Busy fraction of each PE unit over the whole frame, averaged over the PEs.
+using FrameUtilisation = UnitShares;
 
 struct FrameStats {
   FrameUtilisation utilisation;  ///< over the frame

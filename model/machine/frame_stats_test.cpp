@@ -38,6 +38,9 @@ struct TwoPes {
     a.mac.busy_cycles = 1600;
     a.root.busy_cycles = 400;
     a.shade.busy_cycles = 240;
+    a.search.issue_cycles = 600;
+    a.search.held_cycles = 6000;
+    a.search.starved_cycles = 1200;
     PeCounters& b = m.per_pe[1];
     b.start = ticks(150);
     b.finish = ticks(650);
@@ -70,22 +73,28 @@ TEST(FrameStats, ProfileOverTheWorkingWindows) {
   EXPECT_DOUBLE_EQ(f.pe, 1000);
   EXPECT_DOUBLE_EQ(f.gather, 50);
   // The working windows add up to 1500 cycles.
-  EXPECT_DOUBLE_EQ(f.front_buffer, 450.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.search, 750.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.mac, 1000.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.root, 300.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.shading, 300.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy.front_buffer, 450.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy.search, 750.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy.mac, 1000.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy.root, 300.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy.shading, 300.0 / 1500);
+  // A pipelined unit: its entry, the items inside it and its starvation, per search unit.
+  EXPECT_DOUBLE_EQ(f.issue.search, 150.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.occupancy.search, 1500.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.starved.search, 300.0 / 1500);
   EXPECT_DOUBLE_EQ(f.credit_stall, 150.0 / 1500);
   EXPECT_DOUBLE_EQ(f.imbalance, 1000.0 / 750);
 }
 
 TEST(FrameStats, TheBottleneckOfTheProfile) {
   TwoPes t;
+  t.result.per_pe[0].mac.issue_cycles = 1600;
+  t.result.per_pe[1].mac.issue_cycles = 400;
   FrameStats s = frame_stats(t.result, t.config);
-  EXPECT_EQ(s.bottleneck, "mac") << "the MAC lanes are busy 2/3 of the working windows";
+  EXPECT_EQ(s.bottleneck, "mac") << "the MAC lanes' entries are taken 2/3 of the working windows";
   EXPECT_EQ(s.bottleneck, bottleneck(s.profile));
-  t.result.per_pe[0].mac.busy_cycles = 600;
-  t.result.per_pe[1].mac.busy_cycles = 200;
+  t.result.per_pe[0].mac.issue_cycles = 600;
+  t.result.per_pe[1].mac.issue_cycles = 200;
   s = frame_stats(t.result, t.config);
   EXPECT_EQ(s.bottleneck, "load_imbalance") << "nothing saturated, PE 0 works 1.33 x the mean";
 }
@@ -109,7 +118,7 @@ TEST(FrameStats, AnEmptyRunHasNoUtilisationAndNoImbalance) {
   const MachineResult m;
   const FrameStats s = frame_stats(m, c);
   EXPECT_DOUBLE_EQ(s.utilisation.mac, 0);
-  EXPECT_DOUBLE_EQ(s.profile.mac, 0);
+  EXPECT_DOUBLE_EQ(s.profile.busy.mac, 0);
   EXPECT_DOUBLE_EQ(s.profile.imbalance, 1);
   EXPECT_EQ(s.bottleneck, "latency");
 }

@@ -117,7 +117,7 @@ class PeEngine {
     uint64_t at = kNever;  ///< its earliest wake-up ...
     uint64_t order = 0;    ///< ... ranked: the unit's rank, then when it asked (units of one rank due together)
     bool waiting = false;  ///< a root unit's or shading's wait for input
-    explicit Place(uint64_t cycle) : pipe(cycle) {}
+    Place(uint64_t cycle, UnitStats* stats) : pipe(cycle, stats) {}
   };
   struct Ops;  // a unit's operations for step_unit (units/unit_step.h)
 

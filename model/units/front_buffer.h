@@ -70,8 +70,6 @@ class FrontBufferPolicy {
   /// A ray (`id`) goes past the front buffer: it takes a credit and `cycles` of the front buffer.
   void dispatched(uint64_t now, uint32_t id, uint64_t cycles, uint8_t from) {
     ++in_flight_;
-    pe_.counters.front.busy_cycles += cycles;
-    ++pe_.counters.front.items;
     if (pe_.log) pe_.log->take(now, UnitKind::FrontBuffer, 0, id, cycles, from);
   }
   void finish(uint64_t now) {

@@ -33,8 +33,6 @@ Work MacUnit::take(MacResult& m, uint64_t now) {
   k.mac_products += uint64_t(products);
   k.mac_products_saved += uint64_t(n) * kMacProducts - uint64_t(products);
   k.mac_cycles_saved += timing_.job_cycles(n) - w.cycles;
-  k.mac.busy_cycles += w.cycles;
-  ++k.mac.items;
   if (pe_.log) pe_.log->take(now, UnitKind::Mac, lane_, m.r.id, w.cycles);
   return w;
 }
@@ -59,8 +57,6 @@ Work RootUnit::take(MacResult& m, uint64_t now) {
   Work w;
   w.cycles = back_end_cycles(pe_.config, m.plan, clips_);
   w.interval = pipeline_interval(pe_.config.root_interval, w.cycles, clips_.size());
-  pe_.counters.root.busy_cycles += w.cycles;
-  ++pe_.counters.root.items;
   switch (intersection_route(*img.scene, r, h)) {
     case Route::Shade: w.out = {FifoId::Shade, Output::What::Item}; break;
     case Route::Feedback: w.out = {FifoId::FeedbackIntersect, Output::What::Item}; break;

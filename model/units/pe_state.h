@@ -9,15 +9,11 @@
 #include "render/reference.h"
 #include "render/shade.h"
 #include "units/event_log.h"
+#include "units/pipeline.h"
 #include "units/scene_image.h"
 
 namespace rtm {
 
-/// Busy cycles and items of one unit.
-struct UnitStats {
-  uint64_t busy_cycles = 0;
-  uint64_t items = 0;
-};
 
 /// Times are in SystemC time-resolution units (ticks, sc_time::value()).
 struct PeCounters {
@@ -26,7 +22,17 @@ struct PeCounters {
   uint64_t mac_products_saved = 0;  ///< skipped by sparse schedules, against the paper's 28 per test
   uint64_t mac_cycles_saved = 0;    ///< MAC busy cycles saved by sparse schedules
   uint64_t spills = 0;
-  UnitStats front, search, mac, root, shade;  ///< search: summed over the replicated units
+  UnitStats front, search, mac, root, shade;  ///< replicated units: summed
+  UnitStats& unit(UnitKind k) {
+    switch (k) {
+      case UnitKind::FrontBuffer: return front;
+      case UnitKind::Search: return search;
+      case UnitKind::Mac: return mac;
+      case UnitKind::Root: return root;
+      case UnitKind::Shading: break;
+    }
+    return shade;
+  }
   uint64_t start = 0;         ///< the first primary ray handed out
   uint64_t finish = 0;        ///< the last ray ended
   uint64_t credit_stall = 0;  ///< rays waiting but no credit to send them

@@ -10,6 +10,10 @@
 //    waited. A unit whose acceptance was already possible when the stall began may accept again
 //    once the result is written.
 // With I = L a unit holds one item at a time: unpipelined. docs/machine.md, "Pipelined units".
+//
+// It also keeps the unit's statistics (UnitStats), in whole cycles: busy while it holds any item,
+// its entry occupied for each item's interval, item-cycles held (occupancy once divided by
+// time), and starved while it could take an item but its input was empty (from its first item on).
 #pragma once
 
 #include <algorithm>
@@ -18,16 +22,26 @@
 
 namespace rtm {
 
+/// One unit's statistics, or the sum over replicated units.
+struct UnitStats {
+  uint64_t items = 0;
+  uint64_t busy_cycles = 0;     ///< holding at least one item
+  uint64_t issue_cycles = 0;    ///< the intervals of the items taken: the entry's utilisation
+  uint64_t held_cycles = 0;     ///< the sum over items of the cycles each spent inside
+  uint64_t starved_cycles = 0;  ///< able to take an item, none there
+};
+
 template <class Item>
 class Pipeline {
  public:
   struct Slot {
     Item item;
     uint64_t due;
+    uint64_t accepted;
   };
 
-  /// `cycle`: one cycle in the time unit the caller uses.
-  explicit Pipeline(uint64_t cycle = 1) : cycle_(cycle) {}
+  /// `cycle`: one cycle in the time unit the caller uses; `stats`: where to count (may be null).
+  explicit Pipeline(uint64_t cycle = 1, UnitStats* stats = nullptr) : cycle_(cycle), stats_(stats ? stats : &own_) {}
 
   bool empty() const { return in_.empty(); }
   size_t size() const { return in_.size(); }
@@ -41,17 +55,34 @@ class Pipeline {
   /// Accepts `item` at `now` (can_accept(now)); returns when its result is due.
   uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval) {
     uint64_t due = now + latency;
+    if (in_.empty()) busy_since_ = now;
     if (!in_.empty()) due = std::max(due, in_.back().due + cycle_);
-    in_.push_back({item, due});
+    in_.push_back({item, due, now});
     ready_ = now + interval;
+    ++stats_->items;
+    stats_->issue_cycles += interval / cycle_;
+    fed_ = true;
     return due;
+  }
+
+  /// The unit waits for input from `now` (it could take an item): starved until it wakes.
+  void starve(uint64_t now) {
+    if (fed_ && !starving_) starving_ = true, starved_since_ = now;
+  }
+  /// The unit woke at `now`: a wait for input, if any, is over.
+  void woke(uint64_t now) {
+    if (!starving_) return;
+    starving_ = false;
+    stats_->starved_cycles += (now - starved_since_) / cycle_;
   }
 
   /// The head's result was written at `now` (>= its due): removes and returns it.
   Item retire(uint64_t now) {
     const uint64_t due = in_.front().due, stall = now - due;
     Item item = in_.front().item;
+    stats_->held_cycles += (now - in_.front().accepted) / cycle_;
     in_.pop_front();
+    if (in_.empty()) stats_->busy_cycles += (now - busy_since_) / cycle_;
     if (stall > 0) {
       for (Slot& s : in_) s.due += stall;
       ready_ = ready_ > due ? ready_ + stall : std::max(ready_, now);
@@ -61,8 +92,12 @@ class Pipeline {
 
  private:
   uint64_t cycle_;
+  UnitStats own_;
+  UnitStats* stats_;
   std::deque<Slot> in_;
   uint64_t ready_ = 0;
+  uint64_t busy_since_ = 0, starved_since_ = 0;
+  bool fed_ = false, starving_ = false;
 };
 
 }  // namespace rtm

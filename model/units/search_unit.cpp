@@ -19,8 +19,6 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
     if (!(walk_on && route == Route::Feedback)) break;
   }
   w.interval = pipeline_interval(c.search_interval, w.cycles, passes);
-  pe_.counters.search.busy_cycles += w.cycles;
-  ++pe_.counters.search.items;
   switch (route) {
     case Route::Intersect: w.out = {FifoId::Intersect, Output::What::Item}; break;
     case Route::Feedback: w.out = {FifoId::FeedbackSearch, Output::What::Item}; break;

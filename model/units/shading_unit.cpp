@@ -37,8 +37,6 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
   for (const Ray& child : out.rays)
     if (!pe_.units.generates(child.kind))
       throw std::logic_error("a left-out ray generator was needed: the scene analysis is wrong");
-  pe_.counters.shade.busy_cycles += cycles;
-  ++pe_.counters.shade.items;
   if (pe_.log) pe_.log->take(now, UnitKind::Shading, 0, r.id, cycles);
   return {cycles, pipeline_interval(c.shade_interval, cycles), output(0)};
 }

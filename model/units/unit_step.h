@@ -16,6 +16,7 @@ namespace rtm {
 
 template <class Item, class Ops>
 void step_unit(Pipeline<Item>& pipe, uint64_t now, uint64_t cycle, Ops& ops) {
+  pipe.woke(now);
   for (;;) {
     while (!pipe.empty() && pipe.head().due <= now) {
       // A full FIFO stalls the pipeline: try again next cycle, as a hardware handshake would.
@@ -24,6 +25,7 @@ void step_unit(Pipeline<Item>& pipe, uint64_t now, uint64_t cycle, Ops& ops) {
     }
     if (!pipe.can_accept(now)) break;
     if (!ops.accept(now)) {
+      pipe.starve(now);
       ops.wait_for_input();
       break;
     }

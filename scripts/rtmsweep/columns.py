@@ -21,6 +21,8 @@ SUMMARY_COLUMNS = [
     "sim_time_ns", "voxel_steps", "intersection_tests", "mac_products", "mac_busy_cycles",
     "pe_util_front_buffer", "pe_util_search", "pe_util_mac", "pe_util_root", "pe_util_shading",
     "pe_util_credit_stall",
+    "pe_issue_front_buffer", "pe_issue_search", "pe_issue_mac", "pe_issue_root", "pe_issue_shading",
+    "pe_starved_front_buffer", "pe_starved_search", "pe_starved_mac", "pe_starved_root", "pe_starved_shading",
 ]
 # The sweep's own: how rtm exited, where it ran, which file it read.
 RUN_COLUMNS = ["exit_code", "host", "scene_file"]
