@@ -65,7 +65,9 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
   render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
-  render->add_option("--vcd-window", r.vcd_window, "Waveform window FROM:TO in PE cycles (either may be empty)");
+  render->add_option("--vcd-window", r.vcd_window,
+                     "Waveform window FROM:TO in PE cycles (either may be empty), or peN+FROM:TO counted from PE N's "
+                     "first primary ray (e.g. pe0+0:2000: PE 0's first 2000 cycles of work)");
   render->add_option("--vcd-pes", r.vcd_pes, "PEs to trace, comma-separated (default 0)");
   render->add_option("--event-log", r.event_log,
                      "Write every unit event (cycle, PE, unit, ray, what happened) to this file, one line each; "

@@ -67,6 +67,9 @@ int run_render(const RenderOptions& opt) {
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
     MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
+    if (!mopt.vcd.empty() && config.timing == Timing::Fast)
+      std::cerr << "rtm: warning: --vcd in fast timing records the FIFOs and each unit's busy flag and ray; the MAC "
+                   "pipeline's signals (m1_*, m2_*, acc, product_counter) need --timing clocked\n";
     mopt.max_memory = budget;
 
     RenderFiles files;
@@ -109,6 +112,7 @@ int run_render(const RenderOptions& opt) {
     }
 
     const MachineResult m = run_machine(scene, grid, config, mopt);
+    for (const std::string& w : m.warnings) std::cerr << "rtm: warning: " << w << "\n";
     if (m.deadlock) {
       std::cerr << "rtm: deadlock: the simulation stopped with rays outstanding; no image written\n"
                 << m.deadlock_report;

@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -355,7 +356,9 @@ TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   std::istringstream lines(gtkw);
   int named = 0;
   for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("SystemC.machine.", 0) != 0) continue;
+    if (line.rfind("+{", 0) != 0) continue;  // +{alias} SystemC.machine.NAME
+    line = line.substr(line.find("} ") + 2);
+    ASSERT_EQ(line.rfind("SystemC.machine.", 0), 0u) << line;
     ++named;
     std::string leaf = line.substr(line.rfind('.') + 1);
     leaf = leaf.substr(0, leaf.find('['));
@@ -377,6 +380,80 @@ TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   const auto [changes, late] = vcd_changes(slurp(tmp / "v.vcd"), (from + 2000) * 10);
   EXPECT_GT(changes, 100);
   EXPECT_EQ(late, 0);
+}
+
+/// The times (in the VCD's unit) of every value change after the initial values at time 0.
+std::vector<uint64_t> vcd_change_times(const std::string& vcd) {
+  std::istringstream body(vcd.substr(vcd.find("$enddefinitions")));
+  uint64_t now = 0;
+  std::vector<uint64_t> times;
+  for (std::string line; std::getline(body, line);) {
+    if (line.empty() || line[0] == '$') continue;
+    if (line[0] == '#')
+      now = std::stoull(line.substr(1));
+    else if (now > 0)
+      times.push_back(now);
+  }
+  return times;
+}
+
+TEST(Machine, AWindowCountedFromAPesStartRecordsItsFirstCycles) {
+  Tmp tmp;
+  const std::string scene = "render " + kScenes + "balls-1.nff --size 12x12 --timing clocked --pes 2 -q";
+  const Proc r = run_rtm(scene + " --vcd-pes 1 --vcd-window pe1+0:300 --vcd " + (tmp / "w.vcd") + " --out " + (tmp / "w.png"), tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  const uint64_t start = stats(tmp / "w.json")["per_pe"][1]["start_cycle"].get<uint64_t>();
+  ASSERT_GT(start, 1000u);  // after the host's pre-processing
+  const std::vector<uint64_t> times = vcd_change_times(slurp(tmp / "w.vcd"));
+  ASSERT_GT(times.size(), 100u);
+  EXPECT_GE(*std::min_element(times.begin(), times.end()), start * 10);  // 10 ns a cycle
+  EXPECT_LE(*std::max_element(times.begin(), times.end()), (start + 300) * 10);
+  EXPECT_NE(slurp(tmp / "w.gtkw").find("[timestart] " + std::to_string(start * 10) + "\n"), std::string::npos);
+
+  // A window in the host's pre-processing records nothing, and says so once, with what would.
+  const Proc early = run_rtm(scene + " --vcd-window 100:200 --vcd " + (tmp / "e.vcd") + " --out " + (tmp / "e.png"), tmp);
+  ASSERT_EQ(early.exit_code, 0) << early.err;
+  EXPECT_TRUE(vcd_change_times(slurp(tmp / "e.vcd")).empty());
+  EXPECT_EQ(early.err, "rtm: warning: --vcd-window: cycles 100..200 hold none of the traced PEs' work (PE 0 cycles " +
+                           std::to_string(stats(tmp / "e.json")["per_pe"][0]["start_cycle"].get<uint64_t>()) + ".." +
+                           std::to_string(stats(tmp / "e.json")["per_pe"][0]["cycles"].get<uint64_t>()) +
+                           "), so the waveform recorded nothing; e.g. --vcd-window pe0+0:2000 records the first 2000 "
+                           "cycles of PE 0's work\n");
+
+  // A PE without pixels never starts; a PE that does not exist is a bad command line.
+  const Proc idle = run_rtm("render " + kScenes + "balls-1.nff --size 4x4 --timing clocked --pes 2 --partition blocks -q" +
+                                " --vcd-window pe1+0:100 --vcd " + (tmp / "i.vcd") + " --out " + (tmp / "i.png"),
+                            tmp);
+  ASSERT_EQ(idle.exit_code, 0) << idle.err;
+  EXPECT_NE(idle.err.find("rtm: warning: --vcd-window: PE 1 never started (it has no pixels)"), std::string::npos) << idle.err;
+  const Proc none = run_rtm(scene + " --vcd-window pe2+0:100 --vcd " + (tmp / "n.vcd"), tmp);
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("names PE 2, but there are 2 PEs (pe0..pe1)"), std::string::npos) << none.err;
+}
+
+TEST(Cli, WarnsThatAFastWaveformHasNoMac) {
+  Tmp tmp;
+  const Proc fast = run_rtm("render " + kScenes + "balls-1.nff --size 8x8 -q --vcd " + (tmp / "f.vcd") + " --out " + (tmp / "f.png"), tmp);
+  EXPECT_EQ(fast.exit_code, 0) << fast.err;
+  EXPECT_NE(fast.err.find("rtm: warning: --vcd in fast timing"), std::string::npos) << fast.err;
+  EXPECT_NE(fast.err.find("need --timing clocked"), std::string::npos) << fast.err;
+  EXPECT_EQ(std::count(fast.err.begin(), fast.err.end(), '\n'), 1) << fast.err;
+}
+
+// --vcd creates its folder as --out does; where it cannot write, one line says why (as for --out).
+TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
+  Tmp tmp;
+  const std::string scene = "render " + kScenes + "balls-1.nff --size 8x8 --timing clocked -q";
+  const Proc made = run_rtm(scene + " --vcd " + (tmp / "new/deeper/w.vcd") + " --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(made.exit_code, 0) << made.err;
+  EXPECT_TRUE(fs::exists(tmp / "new/deeper/w.vcd"));
+  EXPECT_TRUE(fs::exists(tmp / "new/deeper/w.gtkw"));
+  spit(tmp / "file", "");
+  const Proc r = run_rtm(scene + " --vcd " + (tmp / "file/w.vcd") + " --out " + (tmp / "p.png"), tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "rtm: " + (tmp / "file/w.vcd") + ": cannot write: Not a directory\n");
+  EXPECT_FALSE(fs::exists(tmp / "p.png"));
 }
 
 TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {

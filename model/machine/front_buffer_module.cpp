@@ -53,6 +53,7 @@ void FrontBufferModule::run() {
         ctx_.align(*sleep_);
         uint64_t cycles = 0;
         const size_t i = policy_.pop_primary(PeContext::now(), cycles);
+        if (i == 0) ctx_.window.pe_started(ctx_.pe);  // a window counted from this PE's start opens
         send(primary_ray(ctx_, mem_.rays, i), cycles, kFromHost);
         break;
       }
