@@ -432,8 +432,12 @@ TEST(Machine, AWindowCountedFromAPesStartRecordsItsFirstCycles) {
   EXPECT_NE(none.err.find("names PE 2, but there are 2 PEs (pe0..pe1)"), std::string::npos) << none.err;
 }
 
-TEST(Cli, WarnsThatAFastWaveformHasNoMac) {
+TEST(Cli, WarnsOfIdlePesAndOfAFastWaveformWithoutTheMac) {
   Tmp tmp;
+  const Proc idle = run_rtm("render --pes 3 --partition blocks --size 10x10 -q --out " + (tmp / "i.png"), tmp);
+  EXPECT_EQ(idle.exit_code, 0) << idle.err;
+  EXPECT_EQ(idle.err, "rtm: warning: 2 of 3 PEs have no pixels to render (partition blocks, tile 16, 10x10 pixels): "
+                      "they stay idle\n");
   const Proc fast = run_rtm("render " + kScenes + "balls-1.nff --size 8x8 -q --vcd " + (tmp / "f.vcd") + " --out " + (tmp / "f.png"), tmp);
   EXPECT_EQ(fast.exit_code, 0) << fast.err;
   EXPECT_NE(fast.err.find("rtm: warning: --vcd in fast timing"), std::string::npos) << fast.err;
