@@ -432,6 +432,34 @@ TEST(Machine, AWindowCountedFromAPesStartRecordsItsFirstCycles) {
   EXPECT_NE(none.err.find("names PE 2, but there are 2 PEs (pe0..pe1)"), std::string::npos) << none.err;
 }
 
+// Every waveform example of the README and docs/ records something: each runs as written, from
+// the checkout (build/rtm the binary under test, out/ a scratch folder).
+TEST(Docs, EveryWaveformExampleRecordsActivity) {
+  std::vector<std::string> examples;
+  std::vector<fs::path> pages{fs::path(RTM_SOURCE_DIR) / "README.md"};
+  for (const auto& e : fs::directory_iterator(fs::path(RTM_SOURCE_DIR) / "docs"))
+    if (e.path().extension() == ".md") pages.push_back(e.path());
+  for (const fs::path& page : pages) {
+    std::istringstream lines(slurp(page.string()));
+    for (std::string line; std::getline(lines, line);)
+      if (line.rfind("build/rtm render", 0) == 0 && line.find(" --vcd ") != std::string::npos)
+        examples.push_back(line.substr(0, line.find("  #")));
+  }
+  ASSERT_GE(examples.size(), 2u);
+  for (std::string cmd : examples) {
+    Tmp tmp;
+    for (size_t at; (at = cmd.find(" out/")) != std::string::npos;) cmd.replace(at, 5, " " + (tmp / ""));
+    cmd.replace(0, 9, RTM_BINARY);
+    if (cmd.find(" --out ") == std::string::npos) cmd += " --out " + (tmp / "image.png");
+    const Proc r = sh("cd " + std::string(RTM_SOURCE_DIR) + " && " + cmd + " -q", tmp);
+    ASSERT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
+    EXPECT_EQ(r.err.find("recorded nothing"), std::string::npos) << cmd << "\n" << r.err;
+    std::string vcd = cmd.substr(cmd.find(" --vcd ") + 7);
+    vcd = vcd.substr(0, vcd.find(' '));
+    EXPECT_GT(vcd_change_times(slurp(vcd)).size(), 1000u) << cmd;
+  }
+}
+
 TEST(Cli, WarnsOfIdlePesAndOfAFastWaveformWithoutTheMac) {
   Tmp tmp;
   const Proc idle = run_rtm("render --pes 3 --partition blocks --size 10x10 -q --out " + (tmp / "i.png"), tmp);
