@@ -13,6 +13,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "machine/nearest_name.h"
+
 namespace rtm {
 namespace {
 
@@ -352,7 +354,11 @@ const std::vector<ConfigKey>& config_keys() {
 void set_config(MachineConfig& c, const std::string& key, const std::string& value) {
   for (const ConfigKey& k : config_keys())
     if (k.name == key) return k.set(c, value);
-  bad(key, "unknown machine configuration key (rtm config lists them)");
+  std::vector<std::string> names;
+  for (const ConfigKey& k : config_keys()) names.push_back(k.name);
+  const std::string near = nearest_name(key, names);
+  bad(key, "unknown machine configuration key" + (near.empty() ? "" : "; did you mean " + near + "?") +
+               " (rtm config lists them)");
 }
 
 void load_config_file(MachineConfig& c, const std::string& path) {
