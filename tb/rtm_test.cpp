@@ -460,6 +460,25 @@ TEST(Docs, EveryWaveformExampleRecordsActivity) {
   }
 }
 
+// scripts/run passes its arguments to rtm render, an --out or --stats included (it used to pass
+// its own --out too, and CLI11 refused two). Run from a copy whose setup does nothing.
+TEST(Cli, ScriptsRunLetsTheUserNameTheOutputs) {
+  Tmp tmp;
+  fs::create_directories(tmp / "scripts");
+  fs::copy_file(fs::path(RTM_SOURCE_DIR) / "scripts/run", tmp / "scripts/run");
+  spit(tmp / "scripts/setup", "#!/bin/sh\n");
+  fs::permissions(tmp / "scripts/setup", fs::perms::owner_all);
+  const std::string run = "RTM_BUILD_DIR=" + fs::path(RTM_BINARY).parent_path().string() + " " + (tmp / "scripts/run");
+  const Proc mine = sh(run + " --size 8x8 -q --out " + (tmp / "mine.png"), tmp);
+  EXPECT_EQ(mine.exit_code, 0) << mine.err;
+  EXPECT_TRUE(fs::exists(tmp / "mine.png"));
+  EXPECT_TRUE(fs::exists(tmp / "mine.json"));
+  const Proc plain = sh(run + " --size 8x8 -q", tmp);
+  EXPECT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_TRUE(fs::exists(tmp / "out/default.png"));
+  EXPECT_TRUE(fs::exists(tmp / "out/default.json"));
+}
+
 TEST(Cli, WarnsOfIdlePesAndOfAFastWaveformWithoutTheMac) {
   Tmp tmp;
   const Proc idle = run_rtm("render --pes 3 --partition blocks --size 10x10 -q --out " + (tmp / "i.png"), tmp);
