@@ -4,6 +4,7 @@
 #include "machine/gtkw.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
+#include "machine/progress.h"
 #include "machine/sim_time.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
@@ -205,15 +206,18 @@ class Machine : public sc_core::sc_module {
       const auto now = std::chrono::steady_clock::now();
       if (now - last_draw < std::chrono::milliseconds(500) || now - start < std::chrono::seconds(1)) continue;
       last_draw = now;
-      uint64_t primaries = 0, rays = 0;
+      Progress p;
+      bool all_done = true;
       for (auto& pe : pes) {
-        primaries += pe->ctx.counters.counts.rays[0];
-        rays += pe->ctx.counters.counts.total_rays();
+        p.pixels_started += pe->ctx.counters.counts.rays[0];
+        all_done = all_done && pe->finished();
       }
-      std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles, %.3g GiB   ",
-                   (unsigned long long)rays, 100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
-                   sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS),
-                   double(resident_bytes()) / double(1 << 30));
+      const bool generated = host->times.rays != sc_core::SC_ZERO_TIME;  // the host's primary rays
+      p.phase = all_done ? "gather" : p.pixels_started ? "PEs" : generated ? "transfer" : "host";
+      p.pixels = total_pixels_;
+      p.seconds = std::chrono::duration<double>(now - start).count();
+      p.resident_bytes = resident_bytes();
+      std::fprintf(stderr, "\r%-79s", progress_line(p).c_str());
       std::fflush(stderr);
       drew = true;
     }
