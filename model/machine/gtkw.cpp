@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 #include <vector>
 
@@ -63,7 +64,9 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
   const std::string cycle = std::string("PE cycle = time / ") + clock + " ns";
   std::ostringstream out;
   out << "[*] rtm waveform; " << cycle << "\n"
-      << "[dumpfile] \"" << vcd_path << "\"\n"
+      // Both absolute: GTKWave then finds the VCD from any folder, and after both were moved.
+      << "[dumpfile] \"" << std::filesystem::absolute(vcd_path).string() << "\"\n"
+      << "[savefile] \"" << std::filesystem::absolute(gtkw_path).string() << "\"\n"
       << "[timestart] " << view.from_ns << "\n"
       << "[size] " << kWidth << " " << kHeight << "\n"
       << "[pos] -1 -1\n";
