@@ -122,12 +122,13 @@ std::string vcd_hash(std::string vcd) {
   return h.hex();
 }
 
-/// Over the GTKWave save file less its `[dumpfile]` line, which names the scratch folder.
+/// Over the GTKWave save file less its `[dumpfile]` and `[savefile]` lines, which name the
+/// scratch folder.
 std::string gtkw_hash(const std::string& gtkw) {
   std::istringstream lines(gtkw);
   Fnv1a h;
   for (std::string line; std::getline(lines, line);)
-    if (line.rfind("[dumpfile]", 0) != 0) h.text(line + "\n");
+    if (line.rfind("[dumpfile]", 0) != 0 && line.rfind("[savefile]", 0) != 0) h.text(line + "\n");
   return h.hex();
 }
 

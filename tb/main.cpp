@@ -1,19 +1,58 @@
 // rtm: the command-line front end of the ray-tracing machine model.
+#include <algorithm>
+#include <iostream>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <systemc>
 
 #include "machine/config.h"
+#include "machine/nearest_name.h"
 #include "options.h"
 #include "pov_export.h"
 #include "reference_cache.h"
 #include "render/ray.h"
+#include "render_options.h"
 
 namespace {
 // The kernel's banner would land in the middle of rtm's own output. It is printed before
 // sc_main runs, so the variable is set by a static initialiser.
 const bool kQuietKernel = [] { return setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0) == 0; }();
+
+/// " (did you mean --pes?)" for the first word of the command line that names no command, or no
+/// option of its command, but is close to one; else "".
+std::string did_you_mean(CLI::App& app, int argc, char* argv[]) {
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) commands.push_back(sub->get_name());
+  const CLI::App* command = nullptr;
+  auto suggest = [](const std::string& typed, const std::vector<std::string>& known) {
+    if (std::find(known.begin(), known.end(), typed) != known.end()) return std::string();
+    const std::string near = rtm::nearest_name(typed, known);
+    return near.empty() ? near : " (did you mean " + near + "?)";
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] != '-') {  // the command, else a value or a scene
+      if (command) continue;
+      if (std::find(commands.begin(), commands.end(), word) != commands.end()) {
+        command = app.get_subcommand(word);
+        continue;
+      }
+      if (std::string s = suggest(word, commands); !s.empty()) return s;
+      continue;
+    }
+    std::vector<std::string> options;
+    for (const CLI::Option* o : (command ? command : &app)->get_options()) {
+      for (const std::string& n : o->get_lnames()) options.push_back("--" + n);
+      for (const std::string& n : o->get_snames()) options.push_back("-" + n);
+    }
+    if (std::string s = suggest(word.substr(0, word.find('=')), options); !s.empty()) return s;
+  }
+  return "";
+}
+
 }  // namespace
 
 int sc_main(int argc, char* argv[]) {
@@ -70,7 +109,9 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
   render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
-  render->add_option("--vcd-window", r.vcd_window, "Waveform window FROM:TO in PE cycles (either may be empty)");
+  render->add_option("--vcd-window", r.vcd_window,
+                     "Waveform window FROM:TO in PE cycles (either may be empty), or peN+FROM:TO counted from PE N's "
+                     "first primary ray (e.g. pe0+0:2000: PE 0's first 2000 cycles of work)");
   render->add_option("--vcd-pes", r.vcd_pes, "PEs to trace, comma-separated (default 0)");
   render->add_option("--event-log", r.event_log,
                      "Write every unit event (cycle, PE, unit, ray, what happened) to this file, one line each; "
@@ -99,16 +140,19 @@ int sc_main(int argc, char* argv[]) {
   rtm::PovOptions pov_opt;
   CLI::App* pov = rtm::add_pov_command(app, pov_opt);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    // CLI11 prints the help, the version or the error; its own codes (105 for a value out of
-    // range, 106 for a missing subcommand, ...) are all one thing to rtm: a bad command line.
-    return app.exit(e) == 0 ? 0 : 2;
-  }
-  if (render->parsed()) return rtm::run_render(r);
-  if (config->parsed()) return rtm::run_config(c, markdown);
-  if (pov->parsed()) return rtm::run_pov(pov_opt);
-  if (cache->parsed()) return rtm::run_cache(cache_action);
-  return 2;
+  return rtm::run_command([&] {
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      // CLI11 prints the help and the version; any error of its own (its codes: 105 for a value
+      // out of range, 106 for a missing subcommand, ...) is a bad command line like rtm's own.
+      if (e.get_exit_code() == int(CLI::ExitCodes::Success)) return app.exit(e);
+      throw rtm::UsageError(e.what() + did_you_mean(app, argc, argv));
+    }
+    if (render->parsed()) return rtm::run_render(r);
+    if (config->parsed()) return rtm::run_config(c, markdown);
+    if (pov->parsed()) return rtm::run_pov(pov_opt);
+    if (cache->parsed()) return rtm::run_cache(cache_action);
+    return 2;
+  });
 }

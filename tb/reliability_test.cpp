@@ -55,12 +55,20 @@ TEST(Reliability, EveryBadCommandLineExits2NamingTheOption) {
       {"render --pes", "--pes"},                      // a missing value
       {"", "subcommand"},                             // no command at all
       {"frobnicate", "subcommand"},
+      // A mistyped name: the nearest one (CLI11 said "arguments were not expected", exit 109).
+      {"render --pe 16", "not expected: --pe (did you mean --pes?)"},
+      {"render --sizee 8x8", "(did you mean --size?)"},
+      {"render --vcdwindow 1:2", "(did you mean --vcd-window?)"},
+      {"rendr", "(did you mean render?)"},
+      {"render --set search_unit=2", "search_unit: unknown machine configuration key; did you mean search_units?"},
   };
   for (const UsageCase& c : cases) {
     Tmp tmp;
     const Proc r = run_rtm(std::string(c.args) + " --out " + (tmp / "o.png") + " -q", tmp);
     EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("rtm: ", 0), 0u) << c.args << "\n" << r.err;  // one line, rtm's
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << "\n" << r.err;
     EXPECT_FALSE(fs::exists(tmp / "o.png")) << c.args;
   }
   Tmp tmp;

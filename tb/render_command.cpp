@@ -9,6 +9,7 @@
 
 #include "byte_size.h"
 #include "machine/machine.h"
+#include "machine/partition.h"
 #include "memory_budget.h"
 #include "options.h"
 #include "printed_summary.h"
@@ -67,6 +68,14 @@ int run_render(const RenderOptions& opt) {
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
     MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
+    if (const int idle = opt.reference ? 0 : pes_without_pixels(scene.camera.width, scene.camera.height, config))
+      std::cerr << "rtm: warning: " << idle << " of " << config.pes << " PEs have no pixels to render (partition "
+                << to_string(config.partition)
+                << (config.partition == Partition::Blocks ? ", tile " + std::to_string(config.tile) : std::string())
+                << ", " << scene.camera.width << "x" << scene.camera.height << " pixels): they stay idle\n";
+    if (!mopt.vcd.empty() && config.timing == Timing::Fast)
+      std::cerr << "rtm: warning: --vcd in fast timing records the FIFOs and each unit's busy flag and ray; the MAC "
+                   "pipeline's signals (m1_*, m2_*, acc, product_counter) need --timing clocked\n";
     mopt.max_memory = budget;
 
     RenderFiles files;
@@ -109,6 +118,7 @@ int run_render(const RenderOptions& opt) {
     }
 
     const MachineResult m = run_machine(scene, grid, config, mopt);
+    for (const std::string& w : m.warnings) std::cerr << "rtm: warning: " << w << "\n";
     if (m.deadlock) {
       std::cerr << "rtm: deadlock: the simulation stopped with rays outstanding; no image written\n"
                 << m.deadlock_report;

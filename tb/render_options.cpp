@@ -141,15 +141,23 @@ MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c)
   m.progress = !opt.quiet;
   if (!opt.vcd_window.empty()) {
     std::smatch w;
-    if (!std::regex_match(opt.vcd_window, w, std::regex(R"((\d*):(\d*))")))
-      throw UsageError("--vcd-window: expected FROM:TO in cycles, got '" + opt.vcd_window + "'");
+    if (!std::regex_match(opt.vcd_window, w, std::regex(R"((?:pe(\d{1,6})\+)?(\d*):(\d*))")))
+      throw UsageError("--vcd-window: expected FROM:TO in cycles, or peN+FROM:TO in cycles after PE N's first "
+                       "primary ray, got '" + opt.vcd_window + "'");
     try {
-      if (w[1].length()) m.vcd_from_cycle = std::stoull(w[1]);
-      if (w[2].length()) m.vcd_to_cycle = std::stoull(w[2]);
+      if (w[2].length()) m.vcd_from_cycle = std::stoull(w[2]);
+      if (w[3].length()) m.vcd_to_cycle = std::stoull(w[3]);
     } catch (const std::out_of_range&) {
       throw UsageError("--vcd-window: a cycle past 2^64 in '" + opt.vcd_window + "'");
     }
     if (m.vcd_to_cycle < m.vcd_from_cycle) throw UsageError("--vcd-window: TO is before FROM");
+    if (w[1].length()) {
+      m.vcd_anchor_pe = std::stoi(w[1]);
+      if (m.vcd_anchor_pe >= c.pes)
+        throw UsageError("--vcd-window: '" + opt.vcd_window + "' names PE " + w[1].str() + ", but there " +
+                         (c.pes == 1 ? "is 1 PE" : "are " + std::to_string(c.pes) + " PEs") + " (pe0..pe" +
+                         std::to_string(c.pes - 1) + ")");
+    }
   }
   if (!opt.vcd_pes.empty()) {
     m.vcd_pes.clear();

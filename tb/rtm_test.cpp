@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -432,7 +433,9 @@ TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   std::istringstream lines(gtkw);
   int named = 0;
   for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("SystemC.machine.", 0) != 0) continue;
+    if (line.rfind("+{", 0) != 0) continue;  // +{alias} SystemC.machine.NAME
+    line = line.substr(line.find("} ") + 2);
+    ASSERT_EQ(line.rfind("SystemC.machine.", 0), 0u) << line;
     ++named;
     std::string leaf = line.substr(line.rfind('.') + 1);
     leaf = leaf.substr(0, leaf.find('['));
@@ -454,6 +457,131 @@ TEST(Machine, VcdHoldsTheDeclaredSignalsAndTheSaveFileNamesThem) {
   const auto [changes, late] = vcd_changes(slurp(tmp / "v.vcd"), (from + 2000) * 10);
   EXPECT_GT(changes, 100);
   EXPECT_EQ(late, 0);
+}
+
+/// The times (in the VCD's unit) of every value change after the initial values at time 0.
+std::vector<uint64_t> vcd_change_times(const std::string& vcd) {
+  std::istringstream body(vcd.substr(vcd.find("$enddefinitions")));
+  uint64_t now = 0;
+  std::vector<uint64_t> times;
+  for (std::string line; std::getline(body, line);) {
+    if (line.empty() || line[0] == '$') continue;
+    if (line[0] == '#')
+      now = std::stoull(line.substr(1));
+    else if (now > 0)
+      times.push_back(now);
+  }
+  return times;
+}
+
+TEST(Machine, AWindowCountedFromAPesStartRecordsItsFirstCycles) {
+  Tmp tmp;
+  const std::string scene = "render " + kScenes + "balls-1.nff --size 12x12 --timing clocked --pes 2 -q";
+  const Proc r = run_rtm(scene + " --vcd-pes 1 --vcd-window pe1+0:300 --vcd " + (tmp / "w.vcd") + " --out " + (tmp / "w.png"), tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  const uint64_t start = stats(tmp / "w.json")["per_pe"][1]["start_cycle"].get<uint64_t>();
+  ASSERT_GT(start, 1000u);  // after the host's pre-processing
+  const std::vector<uint64_t> times = vcd_change_times(slurp(tmp / "w.vcd"));
+  ASSERT_GT(times.size(), 100u);
+  EXPECT_GE(*std::min_element(times.begin(), times.end()), start * 10);  // 10 ns a cycle
+  EXPECT_LE(*std::max_element(times.begin(), times.end()), (start + 300) * 10);
+  EXPECT_NE(slurp(tmp / "w.gtkw").find("[timestart] " + std::to_string(start * 10) + "\n"), std::string::npos);
+
+  // A window in the host's pre-processing records nothing, and says so once, with what would.
+  const Proc early = run_rtm(scene + " --vcd-window 100:200 --vcd " + (tmp / "e.vcd") + " --out " + (tmp / "e.png"), tmp);
+  ASSERT_EQ(early.exit_code, 0) << early.err;
+  EXPECT_TRUE(vcd_change_times(slurp(tmp / "e.vcd")).empty());
+  EXPECT_EQ(early.err, "rtm: warning: --vcd-window: cycles 100..200 hold none of the traced PEs' work (PE 0 cycles " +
+                           std::to_string(stats(tmp / "e.json")["per_pe"][0]["start_cycle"].get<uint64_t>()) + ".." +
+                           std::to_string(stats(tmp / "e.json")["per_pe"][0]["cycles"].get<uint64_t>()) +
+                           "), so the waveform recorded nothing; e.g. --vcd-window pe0+0:2000 records the first 2000 "
+                           "cycles of PE 0's work\n");
+
+  // A PE without pixels never starts; a PE that does not exist is a bad command line.
+  const Proc idle = run_rtm("render " + kScenes + "balls-1.nff --size 4x4 --timing clocked --pes 2 --partition blocks -q" +
+                                " --vcd-window pe1+0:100 --vcd " + (tmp / "i.vcd") + " --out " + (tmp / "i.png"),
+                            tmp);
+  ASSERT_EQ(idle.exit_code, 0) << idle.err;
+  EXPECT_NE(idle.err.find("rtm: warning: --vcd-window: PE 1 never started (it has no pixels)"), std::string::npos) << idle.err;
+  const Proc none = run_rtm(scene + " --vcd-window pe2+0:100 --vcd " + (tmp / "n.vcd"), tmp);
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("names PE 2, but there are 2 PEs (pe0..pe1)"), std::string::npos) << none.err;
+}
+
+// Every waveform example of the README and docs/ records something: each runs as written, from
+// the checkout (build/rtm the binary under test, out/ a scratch folder).
+TEST(Docs, EveryWaveformExampleRecordsActivity) {
+  std::vector<std::string> examples;
+  std::vector<fs::path> pages{fs::path(RTM_SOURCE_DIR) / "README.md"};
+  for (const auto& e : fs::directory_iterator(fs::path(RTM_SOURCE_DIR) / "docs"))
+    if (e.path().extension() == ".md") pages.push_back(e.path());
+  for (const fs::path& page : pages) {
+    std::istringstream lines(slurp(page.string()));
+    for (std::string line; std::getline(lines, line);)
+      if (line.rfind("build/rtm render", 0) == 0 && line.find(" --vcd ") != std::string::npos)
+        examples.push_back(line.substr(0, line.find("  #")));
+  }
+  ASSERT_GE(examples.size(), 2u);
+  for (std::string cmd : examples) {
+    Tmp tmp;
+    for (size_t at; (at = cmd.find(" out/")) != std::string::npos;) cmd.replace(at, 5, " " + (tmp / ""));
+    cmd.replace(0, 9, RTM_BINARY);
+    if (cmd.find(" --out ") == std::string::npos) cmd += " --out " + (tmp / "image.png");
+    const Proc r = sh("cd " + std::string(RTM_SOURCE_DIR) + " && " + cmd + " -q", tmp);
+    ASSERT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
+    EXPECT_EQ(r.err.find("recorded nothing"), std::string::npos) << cmd << "\n" << r.err;
+    std::string vcd = cmd.substr(cmd.find(" --vcd ") + 7);
+    vcd = vcd.substr(0, vcd.find(' '));
+    EXPECT_GT(vcd_change_times(slurp(vcd)).size(), 1000u) << cmd;
+  }
+}
+
+// scripts/run passes its arguments to rtm render, an --out or --stats included (it used to pass
+// its own --out too, and CLI11 refused two). Run from a copy whose setup does nothing.
+TEST(Cli, ScriptsRunLetsTheUserNameTheOutputs) {
+  Tmp tmp;
+  fs::create_directories(tmp / "scripts");
+  fs::copy_file(fs::path(RTM_SOURCE_DIR) / "scripts/run", tmp / "scripts/run");
+  spit(tmp / "scripts/setup", "#!/bin/sh\n");
+  fs::permissions(tmp / "scripts/setup", fs::perms::owner_all);
+  const std::string run = "RTM_BUILD_DIR=" + fs::path(RTM_BINARY).parent_path().string() + " " + (tmp / "scripts/run");
+  const Proc mine = sh(run + " --size 8x8 -q --out " + (tmp / "mine.png"), tmp);
+  EXPECT_EQ(mine.exit_code, 0) << mine.err;
+  EXPECT_TRUE(fs::exists(tmp / "mine.png"));
+  EXPECT_TRUE(fs::exists(tmp / "mine.json"));
+  const Proc plain = sh(run + " --size 8x8 -q", tmp);
+  EXPECT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_TRUE(fs::exists(tmp / "out/default.png"));
+  EXPECT_TRUE(fs::exists(tmp / "out/default.json"));
+}
+
+TEST(Cli, WarnsOfIdlePesAndOfAFastWaveformWithoutTheMac) {
+  Tmp tmp;
+  const Proc idle = run_rtm("render --pes 3 --partition blocks --size 10x10 -q --out " + (tmp / "i.png"), tmp);
+  EXPECT_EQ(idle.exit_code, 0) << idle.err;
+  EXPECT_EQ(idle.err, "rtm: warning: 2 of 3 PEs have no pixels to render (partition blocks, tile 16, 10x10 pixels): "
+                      "they stay idle\n");
+  const Proc fast = run_rtm("render " + kScenes + "balls-1.nff --size 8x8 -q --vcd " + (tmp / "f.vcd") + " --out " + (tmp / "f.png"), tmp);
+  EXPECT_EQ(fast.exit_code, 0) << fast.err;
+  EXPECT_NE(fast.err.find("rtm: warning: --vcd in fast timing"), std::string::npos) << fast.err;
+  EXPECT_NE(fast.err.find("need --timing clocked"), std::string::npos) << fast.err;
+  EXPECT_EQ(std::count(fast.err.begin(), fast.err.end(), '\n'), 1) << fast.err;
+}
+
+// --vcd creates its folder as --out does; where it cannot write, one line says why (as for --out).
+TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
+  Tmp tmp;
+  const std::string scene = "render " + kScenes + "balls-1.nff --size 8x8 --timing clocked -q";
+  const Proc made = run_rtm(scene + " --vcd " + (tmp / "new/deeper/w.vcd") + " --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(made.exit_code, 0) << made.err;
+  EXPECT_TRUE(fs::exists(tmp / "new/deeper/w.vcd"));
+  EXPECT_TRUE(fs::exists(tmp / "new/deeper/w.gtkw"));
+  spit(tmp / "file", "");
+  const Proc r = run_rtm(scene + " --vcd " + (tmp / "file/w.vcd") + " --out " + (tmp / "p.png"), tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "rtm: " + (tmp / "file/w.vcd") + ": cannot write: Not a directory\n");
+  EXPECT_FALSE(fs::exists(tmp / "p.png"));
 }
 
 TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {

@@ -14,6 +14,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "machine/nearest_name.h"
+
 namespace rtm {
 namespace {
 
@@ -413,7 +415,11 @@ void set_config(MachineConfig& c, const std::string& key, const std::string& val
   for (const ConfigKey& k : config_keys())
     if (k.name == key) return k.set(c, value);
   if (key == "preset") bad(key, "not a key but where the keys start: --preset NAME, or preset: NAME in a --config file");
-  bad(key, "unknown machine configuration key (rtm config lists them)");
+  std::vector<std::string> names;
+  for (const ConfigKey& k : config_keys()) names.push_back(k.name);
+  const std::string near = nearest_name(key, names);
+  bad(key, "unknown machine configuration key" + (near.empty() ? "" : "; did you mean " + near + "?") +
+               " (rtm config lists them)");
 }
 
 void apply_preset(MachineConfig& c, const std::string& name) {

@@ -39,6 +39,7 @@ bool FrontBufferModule::decide(uint64_t now) {
     state_ = State::Deciding;
     uint64_t cycles = 0;
     const size_t i = policy_.pop_primary(now, cycles);
+    if (i == 0) ctx_.window.pe_started(ctx_.pe);  // a window counted from this PE's start opens
     dispatch(primary_ray(ctx_, mem_.rays, i), cycles, kFromHost, now);
     return true;
   }

@@ -1,6 +1,9 @@
 #include "machine/gtkw.h"
 
-#include <map>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <sstream>
 #include <vector>
 
@@ -9,40 +12,92 @@
 namespace rtm {
 namespace {
 
-/// The group of a signal machine.peN.UNIT...: "PE N UNIT", or "PE N FIFOs" for a PE's FIFOs.
-std::string group_of(const std::string& name) {
+// GTKWave 3.3's trace flags (analyzer.h, TR_*): the flag word of the traces that follow.
+constexpr unsigned kDec = 0x4, kBin = 0x8, kRightJustify = 0x20, kBlank = 0x200, kReal = 0x40000,
+                   kGroupBegin = 0x800000, kGroupEnd = 0x1000000;
+
+// The window GTKWave opens, and the width of its name column: the longest alias fits.
+constexpr int kWidth = 1600, kHeight = 900, kNamesWidth = 340;
+// Of the window's width, what the waves get (the rest: names, borders, scroll bar), kept a little
+// short so the whole range is in view.
+constexpr double kWavePixels = kWidth - kNamesWidth - 120;
+
+std::vector<std::string> parts_of(const std::string& name) {
   std::vector<std::string> parts;
   std::istringstream s(name);
   for (std::string p; std::getline(s, p, '.');) parts.push_back(p);
-  if (parts.size() < 4) return "machine";
-  const std::string pe = "PE " + parts[1].substr(2);
+  return parts;
+}
+
+/// The PE and unit a signal machine.peN.UNIT... belongs to: "peN", "peN/UNIT" ("peN/FIFOs" for
+/// a FIFO of the PE's own).
+std::pair<std::string, std::string> group_of(const std::string& name) {
+  const std::vector<std::string> parts = parts_of(name);
+  if (parts.size() < 4) return {"machine", "machine"};
   const std::string& unit = parts[2];
   const bool fifo = unit.size() > 5 && unit.compare(unit.size() - 5, 5, "_fifo") == 0;
-  return pe + " " + (fifo ? "FIFOs" : unit);
+  return {parts[1], parts[1] + "/" + (fifo ? "FIFOs" : unit)};
+}
+
+std::string flags(unsigned f) {
+  char text[16];
+  std::snprintf(text, sizeof text, "@%x\n", f);
+  return text;
 }
 
 }  // namespace
 
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave) {
-  // GTKWave's trace flags: 0x4 decimal, 0x8 binary, 0x20 right-justified, 0x40000 real.
-  static const char* const kFlags[] = {"@28", "@24", "@40024"};
-  std::vector<std::string> order;
-  std::map<std::string, std::vector<const Waveform::Signal*>> groups;
-  for (const Waveform::Signal& s : wave.signals()) {
-    auto& g = groups[group_of(s.name)];
-    if (g.empty()) order.push_back(group_of(s.name));
-    g.push_back(&s);
-  }
+std::string gtkw_alias(const std::string& signal) {
+  std::vector<std::string> parts = parts_of(signal);
+  if (!parts.empty() && parts.front() == "machine") parts.erase(parts.begin());
+  std::string alias;
+  for (const std::string& p : parts) alias += (alias.empty() ? "" : "/") + p;
+  return alias;
+}
+
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave, const GtkwView& view) {
+  // GTKWave shows 2^-zoom ns over 200 pixels.
+  const double span = double(std::max<uint64_t>(1, view.to_ns - view.from_ns));
+  const double zoom = -std::log2(span * 200 / kWavePixels);
+  char clock[32];
+  std::snprintf(clock, sizeof clock, "%g", view.clock_ns);
+  const std::string cycle = std::string("PE cycle = time / ") + clock + " ns";
   std::ostringstream out;
-  out << "[dumpfile] \"" << vcd_path << "\"\n[timestart] 0\n";
-  for (const std::string& title : order) {
-    out << "@200\n-" << title << "\n";
-    for (const Waveform::Signal* s : groups[title]) {
-      // The VCD's top scope is SystemC; a 32-bit value's name carries its bit range.
-      out << kFlags[int(s->format)] << "\nSystemC." << s->name
-          << (s->format == Waveform::Format::Decimal ? "[" + std::to_string(s->bits - 1) + ":0]" : "") << "\n";
-    }
+  out << "[*] rtm waveform; " << cycle << "\n"
+      // Both absolute: GTKWave then finds the VCD from any folder, and after both were moved.
+      << "[dumpfile] \"" << std::filesystem::absolute(vcd_path).string() << "\"\n"
+      << "[savefile] \"" << std::filesystem::absolute(gtkw_path).string() << "\"\n"
+      << "[timestart] " << view.from_ns << "\n"
+      << "[size] " << kWidth << " " << kHeight << "\n"
+      << "[pos] -1 -1\n";
+  char zoom_line[64];
+  std::snprintf(zoom_line, sizeof zoom_line, "*%.6f -1\n", zoom);  // no marker
+  out << zoom_line << "[signals_width] " << kNamesWidth << "\n[sst_expanded] 0\n";
+  out << flags(kBlank) << "-" << cycle << "\n";
+
+  // Groups in the order their first signal was traced; GTKWave closes them in reverse.
+  std::vector<std::string> open;
+  auto close_to = [&](size_t depth) {
+    for (; open.size() > depth; open.pop_back()) out << flags(kBlank | kGroupEnd) << "-" << open.back() << "\n";
+  };
+  auto enter = [&](size_t depth, const std::string& title) {
+    if (open.size() > depth && open[depth] == title) return;
+    close_to(depth);
+    out << flags(kBlank | kGroupBegin) << "-" << title << "\n";
+    open.push_back(title);
+  };
+  for (const Waveform::Signal& s : wave.signals()) {
+    const auto [pe, unit] = group_of(s.name);
+    enter(0, pe);
+    enter(1, unit);
+    const unsigned f = s.format == Waveform::Format::Bit    ? kBin | kRightJustify
+                       : s.format == Waveform::Format::Real ? kReal | kDec | kRightJustify
+                                                            : kDec | kRightJustify;
+    // The VCD's top scope is SystemC's; a multi-bit value's name carries its bit range.
+    out << flags(f) << "+{" << gtkw_alias(s.name) << "} SystemC." << s.name
+        << (s.format == Waveform::Format::Decimal ? "[" + std::to_string(s.bits - 1) + ":0]" : "") << "\n";
   }
+  close_to(0);
   write_text_atomically(gtkw_path, out.str());
 }
 

@@ -1,13 +1,25 @@
-// The GTKWave save file for a waveform: every signal that was traced, grouped by PE and unit
-// (FIFO occupancies of a PE in a group of their own), in the order they were traced.
+// The GTKWave save file for a waveform: every signal that was traced, in the order traced, one
+// group per PE holding one group per unit (a PE's FIFOs in a group of their own), each signal
+// under its hierarchical name; the window opens large, on the time the traced PEs worked.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "machine/waveform.h"
 
 namespace rtm {
 
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave);
+/// What the save file shows first.
+struct GtkwView {
+  uint64_t from_ns = 0, to_ns = 0;  ///< the time range in view (the VCD's time unit is 1 ns)
+  double clock_ns = 10;             ///< the PE clock period: how the ruler's ns become cycles
+};
+
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave, const GtkwView& view);
+
+/// The name GTKWave shows for a traced signal: its hierarchy below the machine, joined by '/'
+/// (GTKWave cuts a name at its dots and shows only the last part, four `busy` in a row).
+std::string gtkw_alias(const std::string& signal);
 
 }  // namespace rtm

@@ -4,6 +4,7 @@
 #include "machine/gtkw.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
+#include "machine/progress.h"
 #include "machine/sim_time.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
@@ -11,7 +12,9 @@
 #include "render/scene_needs.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -203,15 +206,18 @@ class Machine : public sc_core::sc_module {
       const auto now = std::chrono::steady_clock::now();
       if (now - last_draw < std::chrono::milliseconds(500) || now - start < std::chrono::seconds(1)) continue;
       last_draw = now;
-      uint64_t primaries = 0, rays = 0;
+      Progress p;
+      bool all_done = true;
       for (auto& pe : pes) {
-        primaries += pe->ctx.counters.counts.rays[0];
-        rays += pe->ctx.counters.counts.total_rays();
+        p.pixels_started += pe->ctx.counters.counts.rays[0];
+        all_done = all_done && pe->finished();
       }
-      std::fprintf(stderr, "\r%llu rays, %5.1f%% of primary rays issued, %.3g cycles, %.3g GiB   ",
-                   (unsigned long long)rays, 100.0 * double(primaries) / double(std::max<uint64_t>(1, total_pixels_)),
-                   sc_core::sc_time_stamp() / sc_time(config_.clock_ns, sc_core::SC_NS),
-                   double(resident_bytes()) / double(1 << 30));
+      const bool generated = host->times.rays != sc_core::SC_ZERO_TIME;  // the host's primary rays
+      p.phase = all_done ? "gather" : p.pixels_started ? "PEs" : generated ? "transfer" : "host";
+      p.pixels = total_pixels_;
+      p.seconds = std::chrono::duration<double>(now - start).count();
+      p.resident_bytes = resident_bytes();
+      std::fprintf(stderr, "\r%-79s", progress_line(p).c_str());
       std::fflush(stderr);
       drew = true;
     }
@@ -289,6 +295,60 @@ void check_threads_fit(size_t threads, const MachineConfig& c) {
                           std::to_string(fit) + " PEs of this configuration fit");
 }
 
+/// Creates the file (and its folder) as every output is, or says in one line why it cannot.
+void open_for_writing(const std::string& path, const std::string& final_path) {
+  std::error_code ec;
+  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir, ec);
+  errno = 0;
+  if (!std::ofstream(path, std::ios::binary))
+    throw std::runtime_error(final_path + ": cannot write: " + (ec ? ec.message() : std::strerror(errno ? errno : EACCES)));
+}
+
+/// A time in whole PE cycles, as the stats give it.
+uint64_t cycles_of(sc_time t, const MachineConfig& c) {
+  return uint64_t(std::llround(t / sc_time(c.clock_ns, sc_core::SC_NS)));
+}
+
+/// What the save file shows of a waveform: its window, narrowed to the time the traced PEs
+/// worked (before, during the host's phases, nothing of theirs changes). A window that holds
+/// none of that recorded nothing: that is a warning.
+GtkwView recorded_view(const std::vector<std::unique_ptr<Pe>>& pes, const std::vector<int>& traced, sc_time end,
+                       const MachineConfig& c, std::vector<std::string>& warnings) {
+  const TraceWindow& w = pes[size_t(traced.front())]->ctx.window;
+  auto ns = [](sc_time t) { return uint64_t(std::llround(t.to_seconds() * 1e9)); };
+  GtkwView view{0, ns(end), c.clock_ns};
+  if (!w.placed()) {
+    warnings.push_back("--vcd-window: PE " + std::to_string(w.anchor->pe) +
+                       " never started (it has no pixels), so the waveform recorded nothing");
+    return view;
+  }
+  const auto [from, to] = w.span(end);
+  sc_time first = sc_core::sc_max_time(), last = sc_core::SC_ZERO_TIME;
+  std::string worked;
+  for (int pe : traced) {
+    const PeCounters& k = pes[size_t(pe)]->ctx.counters;
+    if (k.counts.rays[0] == 0) continue;  // no pixels: it never worked
+    const sc_time start = sc_time::from_value(k.start), finish = sc_time::from_value(k.finish);
+    worked += std::string(worked.empty() ? "" : ", ") + "PE " + std::to_string(pe) + " cycles " +
+              std::to_string(cycles_of(start, c)) + ".." + std::to_string(cycles_of(finish, c));
+    if (start > to || finish < from) continue;
+    first = std::min(first, std::max(from, start));
+    last = std::max(last, std::min(to, finish));
+  }
+  if (first > last) {
+    warnings.push_back("--vcd-window: cycles " + std::to_string(cycles_of(from, c)) + ".." +
+                       std::to_string(cycles_of(to, c)) + " hold none of the traced PEs' work (" +
+                       (worked.empty() ? std::string("they have no pixels") : worked) +
+                       "), so the waveform recorded nothing; e.g. --vcd-window pe" + std::to_string(traced.front()) +
+                       "+0:2000 records the first 2000 cycles of PE " + std::to_string(traced.front()) + "'s work");
+    first = from;
+    last = to;
+  }
+  view.from_ns = ns(first);
+  view.to_ns = ns(last);
+  return view;
+}
+
 }  // namespace
 
 std::string vcd_file(const std::string& vcd) {
@@ -312,22 +372,32 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_trace_file* tf = nullptr;
   std::unique_ptr<PartialFile> vcd;  // written under a temporary name, renamed once closed
   std::unique_ptr<Waveform> wave;
+  std::vector<int> traced;  // the PEs whose signals are in the waveform
   if (!opt.vcd.empty()) {
     const std::string tmp = temporary_beside(vcd_file(opt.vcd));
-    std::error_code ec;  // its folder, as for every other output (SystemC only opens the file)
-    if (const auto dir = std::filesystem::path(tmp).parent_path(); !dir.empty()) std::filesystem::create_directories(dir, ec);
     vcd = std::make_unique<PartialFile>(tmp);
+    open_for_writing(tmp, vcd_file(opt.vcd));  // SystemC would report a failure twice, in its own words
     tf = sc_core::sc_create_vcd_trace_file(tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
     tf->set_time_unit(1, sc_core::SC_NS);
     wave = std::make_unique<Waveform>(tf);
     const sc_time period(c.clock_ns, sc_core::SC_NS);
+    auto time_of = [&](uint64_t cycles) {  // past the horizon: never
+      return double(cycles) * double(period.value()) >= double(kTimeHorizonTicks) ? sc_core::sc_max_time()
+                                                                                   : period * double(cycles);
+    };
+    // Every PE's window shares the anchor: the PE it names sets it, traced or not.
+    std::shared_ptr<WindowAnchor> anchor;
+    if (opt.vcd_anchor_pe >= 0) anchor = std::make_shared<WindowAnchor>(WindowAnchor{opt.vcd_anchor_pe});
+    for (auto& pe : top.pes) {
+      pe->ctx.window.anchor = anchor;
+      pe->ctx.window.from = time_of(opt.vcd_from_cycle);
+      if (opt.vcd_to_cycle != UINT64_MAX) pe->ctx.window.to = time_of(opt.vcd_to_cycle);
+    }
     for (int pe : opt.vcd_pes) {
       if (pe < 0 || pe >= c.pes) continue;
-      PeContext& ctx = top.pes[size_t(pe)]->ctx;
-      ctx.window.enabled = true;
-      ctx.window.from = period * double(opt.vcd_from_cycle);
-      if (opt.vcd_to_cycle != UINT64_MAX) ctx.window.to = period * double(opt.vcd_to_cycle);
+      top.pes[size_t(pe)]->ctx.window.enabled = true;
       top.pes[size_t(pe)]->trace(*wave);
+      traced.push_back(pe);
     }
   }
 
@@ -400,7 +470,10 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     sc_core::sc_close_vcd_trace_file(tf);
     vcd->commit(vcd_file(opt.vcd));
   }
-  if (wave && !opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), *wave);
+  if (wave && !traced.empty()) {
+    const GtkwView view = recorded_view(top.pes, traced, r.end, c, r.warnings);
+    if (!opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), *wave, view);
+  }
   if (!logs.empty()) {
     std::ostringstream text;
     write_event_log(text, logs, top.pes[0]->ctx.cycle);

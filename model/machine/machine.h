@@ -16,6 +16,7 @@ struct MachineOptions {
   std::string gtkw;                 ///< GTKWave save file for it, naming every signal traced; empty: none
   uint64_t vcd_from_cycle = 0;      ///< waveform window, in PE cycles
   uint64_t vcd_to_cycle = UINT64_MAX;
+  int vcd_anchor_pe = -1;           ///< >= 0: the window counts from this PE's first primary ray
   std::vector<int> vcd_pes{0};      ///< PEs whose signals are traced
   bool progress = false;            ///< one-line progress display on stderr
   std::string event_log;            ///< every unit event, one line each (units/event_log.h); empty: none
@@ -49,6 +50,7 @@ struct MachineResult {
   uint64_t mac_products_saved = 0, mac_cycles_saved = 0;  ///< by sparse MAC schedules
   PeUnits units;                                          ///< what each PE elaborated
   std::string engine_unsupported;  ///< why the PEs ran as modules; empty: on the PE engine
+  std::vector<std::string> warnings;  ///< for the user, one line each (e.g. a waveform window that recorded nothing)
   bool deadlock = false;
   std::string deadlock_report;  ///< every FIFO's occupancy when the simulation stalled
 };

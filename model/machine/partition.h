@@ -17,4 +17,7 @@ namespace rtm {
 ///             over the whole screen (the finest static balance).
 std::vector<std::vector<uint32_t>> partition_screen(int width, int height, const MachineConfig& c);
 
+/// How many PEs partition_screen leaves without a pixel (more PEs than rows, tiles or pixels).
+int pes_without_pixels(int width, int height, const MachineConfig& c);
+
 }  // namespace rtm

@@ -31,8 +31,22 @@ TEST_P(EveryScheme, EveryPixelExactlyOnceInScanOrder) {
   }
 }
 
+TEST_P(EveryScheme, CountsThePesLeftWithoutPixels) {
+  for (int pes : {1, 2, 3, 7, 64, 1000}) {
+    const MachineConfig c = with(GetParam(), pes, 5);
+    const auto parts = partition_screen(37, 23, c);
+    EXPECT_EQ(pes_without_pixels(37, 23, c), std::count_if(parts.begin(), parts.end(), [](const auto& p) { return p.empty(); }))
+        << pes << " PEs";
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Partition, EveryScheme,
                          ::testing::Values(Partition::Scanlines, Partition::Blocks, Partition::Strips, Partition::Pixels));
+
+TEST(Partition, BlocksOfATenPixelFrameLeaveTwoOfThreePesIdle) {
+  EXPECT_EQ(pes_without_pixels(10, 10, with(Partition::Blocks, 3)), 2);  // one 16x16 tile
+  EXPECT_EQ(pes_without_pixels(10, 10, with(Partition::Scanlines, 3)), 0);
+}
 
 TEST(Partition, ScanlinesInterleaveRows) {
   const auto parts = partition_screen(4, 5, with(Partition::Scanlines, 2));

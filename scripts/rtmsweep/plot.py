@@ -1,18 +1,20 @@
 """The plots of a sweep's results.csv (scripts/plot-sweep); failed runs are left out.
 
-    plot-sweep RESULTS.csv OUTDIR [--quiet]
+    plot-sweep RESULTS.csv OUTDIR [--format png|pdf|svg] [--quiet]
 
-cycles.png          simulated frame cycles vs PE count, one panel per scene (log-log)
-speedup.png         speedup and parallel efficiency vs PE count
-utilisation.png     busy fraction of each PE stage over the frame vs PE count
-pe_utilisation.png  the same over the PEs' working windows (when the CSV has it)
-load_imbalance.png  longest PE working window / mean, per partitioning scheme
-phases.png          the frame split into host pre-processing, transfer, PE work and gather
+cycles.FMT          simulated frame cycles vs PE count, one panel per scene (log-log)
+speedup.FMT         speedup and parallel efficiency vs PE count
+utilisation.FMT     busy fraction of each PE stage over the frame vs PE count
+pe_utilisation.FMT  the same over the PEs' working windows (when the CSV has it)
+load_imbalance.FMT  longest PE working window / mean, per partitioning scheme
+phases.FMT          the frame split into host pre-processing, transfer, PE work and gather
 scaling.md          a table: cycles, speedup, parallel efficiency, phase shares, load imbalance
                     and bottleneck per configuration and PE count
 
 A "configuration" (one line) is a scene with every other setting except the PE count; labels
-name only the settings that vary in the CSV.
+name only the settings that vary in the CSV. Its colour stands for its settings (the same
+partitioning, variant, ... has the same colour in every panel of every plot) and its marker and
+line style for its scene; with nothing but the scene varying, the colour is the scene's too.
 """
 
 import argparse
@@ -40,6 +42,8 @@ PHASES = [("host_preprocess_cycles", "host pre-processing", "#8c8c8c"),
           ("gather_cycles", "gather", "#55a868")]
 COLOURS = plt.get_cmap("tab10").colors
 MARKERS = "osD^v<>ph*"
+LINE_STYLES = ["-", "--", "-.", (0, (6, 2, 1, 2, 1, 2))]  # not ":", the ideal-scaling lines'
+FORMATS = ("png", "pdf", "svg")
 
 
 def num(v):
@@ -53,13 +57,14 @@ def num(v):
 class Config:
     """One line of the plots: the ok rows of one configuration, sorted by PE count."""
 
-    def __init__(self, key, label, rows, index):
-        self.key, self.label, self.index = key, label, index
+    def __init__(self, key, label, rows, category, scene_index):
+        self.key, self.label = key, label
         self.rows = sorted(rows, key=lambda r: r["_pes"])
         self.pes = [r["_pes"] for r in self.rows]
         self.scene = key[0]
-        self.colour = COLOURS[index % len(COLOURS)]
-        self.marker = MARKERS[index // len(COLOURS) % len(MARKERS)]
+        self.colour = COLOURS[category % len(COLOURS)]
+        self.marker = MARKERS[scene_index % len(MARKERS)]
+        self.linestyle = LINE_STYLES[scene_index % len(LINE_STYLES)]
 
     def values(self, column):
         """(pes, values) where the column has a number."""
@@ -68,7 +73,7 @@ class Config:
         return [p for p, _ in pts], [v for _, v in pts]
 
     def style(self):
-        return dict(color=self.colour, marker=self.marker, markersize=4, linewidth=1.4)
+        return dict(color=self.colour, marker=self.marker, linestyle=self.linestyle, markersize=4, linewidth=1.4)
 
 
 def load(path):
@@ -99,8 +104,14 @@ def configurations(ok, axes):
     for r in ok:
         key = tuple(r.get(a, "") for a in axes)
         groups.setdefault(key, []).append(r)
+    order = lambda k: [str(x) for x in k]
+    # A configuration's category: the settings that vary, else (only scenes vary) its scene.
+    category_of = lambda values: tuple(values[a] for a in varying) if varying else (values["scene"],)
+    all_values = [dict(zip(axes, k)) for k in groups]
+    categories = sorted({category_of(v) for v in all_values}, key=order)
+    scenes = sorted({v["scene"] for v in all_values})
     configs = []
-    for i, key in enumerate(sorted(groups, key=lambda k: [str(x) for x in k])):
+    for key in sorted(groups, key=order):
         values = dict(zip(axes, key))
         parts = [values["scene"]]
         for a in varying:
@@ -111,7 +122,8 @@ def configurations(ok, axes):
                 parts.append(f"{v} search units")
             else:
                 parts.append(f"{a}={v}")
-        configs.append(Config(key, " ".join(parts), groups[key], i))
+        configs.append(Config(key, " ".join(parts), groups[key], categories.index(category_of(values)),
+                              scenes.index(values["scene"])))
     return configs, varying
 
 
@@ -143,6 +155,19 @@ def legend(ax, n):
         ax.legend(fontsize="small" if n <= 8 else "x-small", loc="best")
 
 
+class Output:
+    """Where the plots go: a folder, and the file format (FORMATS)."""
+
+    def __init__(self, folder, fmt):
+        self.folder, self.fmt = folder, fmt
+
+    def file(self, name):
+        return f"{name}.{self.fmt}"
+
+    def path(self, name):
+        return os.path.join(self.folder, self.file(name))
+
+
 def save(fig, path, written, layout=True):
     if layout:
         fig.tight_layout()
@@ -165,7 +190,7 @@ def plot_cycles(configs, scenes, out, written):
         ax.set_title(scene)
         legend(ax, len(mine))
     fig.suptitle("Simulated frame cycles vs PE count (log-log; dotted: linear scaling)")
-    save(fig, os.path.join(out, "cycles.png"), written)
+    save(fig, out.path("cycles"), written)
 
 
 def speedup_of(c):
@@ -218,12 +243,12 @@ def plot_speedup(configs, out, written, notes):
     else:
         base_note = "relative to the 1-PE run; '(vs N PEs)': no 1-PE run, relative to the smallest PE count"
     if not all(b == 1 for b in bases):
-        notes.append("speedup.png: " + base_note)
+        notes.append(out.file("speedup") + ": " + base_note)
     fig.suptitle(f"Speedup and parallel efficiency vs PE count ({base_note})")
-    save(fig, os.path.join(out, "speedup.png"), written)
+    save(fig, out.path("speedup"), written)
 
 
-def plot_utilisation(configs, out, written, prefix, what, filename):
+def plot_utilisation(configs, out, written, prefix, what, name):
     columns = [(prefix + s, label) for s, label in STAGES]
     if prefix == "pe_util_":
         columns.append(("pe_util_credit_stall", "credit stall (front buffer waiting)"))
@@ -240,7 +265,7 @@ def plot_utilisation(configs, out, written, prefix, what, filename):
         ax.set_title(label)
     legend(axs[0], len(configs))
     fig.suptitle(f"Per-stage utilisation vs PE count ({what}; mean over the PEs)")
-    save(fig, os.path.join(out, filename), written)
+    save(fig, out.path(name), written)
     return True
 
 
@@ -260,7 +285,7 @@ def plot_imbalance(configs, varying, scenes, out, written):
         ax.set_title(scene)
         legend(ax, len(mine))
     fig.suptitle("Load imbalance vs PE count by partitioning scheme (1 = perfectly balanced)")
-    save(fig, os.path.join(out, "load_imbalance.png"), written)
+    save(fig, out.path("load_imbalance"), written)
     return True
 
 
@@ -290,7 +315,7 @@ def plot_phases(configs, out, written):
                  "(stacked shares per PE count; total cycles above each bar)")
     fig.tight_layout(rect=(0, 0.06 / math.ceil(len(configs) / 3), 1, 1))
     fig.legend(handles, labels, loc="lower center", ncol=len(PHASES), fontsize="small", frameon=False)
-    save(fig, os.path.join(out, "phases.png"), written, layout=False)
+    save(fig, out.path("phases"), written, layout=False)
     return True
 
 
@@ -313,16 +338,17 @@ def write_table(configs, out, written):
             lines.append(f"| {c.label} | {p} | {int(cyc):,} | {fmt(speed, '%.1f')} | {fmt(eff, '%.2f')} | " +
                          " | ".join(shares) +
                          f" | {fmt(num(r.get('load_imbalance')), '%.3f')} | {r.get('bottleneck', '')} |")
-    path = os.path.join(out, "scaling.md")
+    path = os.path.join(out.folder, "scaling.md")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
     written.append(path)
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="plot-sweep", description="Plots a scripts/sweep results.csv as PNG files.")
+    ap = argparse.ArgumentParser(prog="plot-sweep", description="Plots a scripts/sweep results.csv.")
     ap.add_argument("csv", help="results.csv written by scripts/sweep")
-    ap.add_argument("outdir", help="folder for the PNG files (created)")
+    ap.add_argument("outdir", help="folder for the plots (created)")
+    ap.add_argument("--format", choices=FORMATS, default="png", help="the plots' file format (default png)")
     ap.add_argument("--quiet", "-q", action="store_true", help="print only problems")
     args = ap.parse_args(argv)
 
@@ -333,20 +359,20 @@ def main(argv=None):
     if not ok:
         sys.exit(f"plot-sweep: {args.csv}: no successful runs to plot ({len(rows)} rows)")
     os.makedirs(args.outdir, exist_ok=True)
+    out = Output(args.outdir, args.format)
     configs, varying = configurations(ok, axes)
     scenes = sorted({c.scene for c in configs})
     written, notes = [], []
 
-    plot_cycles(configs, scenes, args.outdir, written)
-    plot_speedup(configs, args.outdir, written, notes)
-    plot_utilisation(configs, args.outdir, written, "util_", "over the whole frame", "utilisation.png")
-    plot_utilisation(configs, args.outdir, written, "pe_util_", "over each PE's working window",
-                     "pe_utilisation.png")
-    if not plot_imbalance(configs, varying, scenes, args.outdir, written):
-        notes.append("load_imbalance.png: skipped, no load_imbalance values")
-    if not plot_phases(configs, args.outdir, written):
-        notes.append("phases.png: skipped, no phase columns")
-    write_table(configs, args.outdir, written)
+    plot_cycles(configs, scenes, out, written)
+    plot_speedup(configs, out, written, notes)
+    plot_utilisation(configs, out, written, "util_", "over the whole frame", "utilisation")
+    plot_utilisation(configs, out, written, "pe_util_", "over each PE's working window", "pe_utilisation")
+    if not plot_imbalance(configs, varying, scenes, out, written):
+        notes.append(out.file("load_imbalance") + ": skipped, no load_imbalance values")
+    if not plot_phases(configs, out, written):
+        notes.append(out.file("phases") + ": skipped, no phase columns")
+    write_table(configs, out, written)
 
     if not args.quiet:
         skipped = len(rows) - len(ok)

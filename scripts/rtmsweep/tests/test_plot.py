@@ -85,3 +85,58 @@ def test_the_axes_are_the_columns_before_the_metrics():
     head = columns.header(["variant", "loop_credits"])
     assert [c for c in head if c not in plot.KNOWN] == columns.CONFIG_COLUMNS[:3] + columns.CONFIG_COLUMNS[4:] + [
         "variant", "loop_credits"]
+
+
+@pytest.mark.parametrize("fmt, magic", [("pdf", b"%PDF"), ("svg", b"<?xml")])
+def test_the_plots_can_be_pdf_or_svg(tmp_path, csv_rows, fmt, magic):
+    (tmp_path / "results.csv").write_text(results.format_rows(COLUMNS, csv_rows))
+    r = sh(PLOT_SWEEP, tmp_path / "results.csv", tmp_path / "plots", "--format", fmt, "--quiet")
+    assert r.returncode == 0, r.stdout + r.stderr
+    written = sorted(p.name for p in (tmp_path / "plots").iterdir())
+    assert written == sorted([p.replace(".png", "." + fmt) for p in PLOTS] + ["scaling.md"])
+    for p in PLOTS:
+        data = (tmp_path / "plots" / p.replace(".png", "." + fmt)).read_bytes()
+        assert data.startswith(magic) and len(data) > 5000, p
+    r = sh(PLOT_SWEEP, tmp_path / "results.csv", tmp_path / "gif", "--format", "gif")
+    assert r.returncode == 2 and "invalid choice: 'gif'" in r.stderr
+
+
+def test_a_setting_has_one_colour_and_a_scene_one_marker_in_every_panel(tmp_path, monkeypatch, csv_rows):
+    """balls-4 and rings-7 by scanlines and blocks: the colour says the partitioning, the marker
+    and line style the scene, in the per-scene panels of cycles.png as in the per-stage panels of
+    utilisation.png."""
+    from rtmsweep import plot
+    import matplotlib.colors
+
+    csv_rows += [sweep_row("rings-7", "blocks", p, "ok") for p in (2, 4)]
+    (tmp_path / "results.csv").write_text(results.format_rows(COLUMNS, csv_rows))
+    _, ok, axes = plot.load(str(tmp_path / "results.csv"))
+    configs, varying = plot.configurations(ok, axes)
+    assert varying == ["partition"]
+    by_label = {c.label: c for c in configs}
+    assert set(by_label) == {"balls-4 blocks", "balls-4 scanlines", "rings-7 blocks", "rings-7 scanlines"}
+    assert by_label["balls-4 blocks"].colour == by_label["rings-7 blocks"].colour
+    assert by_label["balls-4 scanlines"].colour == by_label["rings-7 scanlines"].colour
+    assert by_label["balls-4 blocks"].colour != by_label["balls-4 scanlines"].colour
+    for scene in ("balls-4", "rings-7"):
+        blocks, scanlines = by_label[f"{scene} blocks"].style(), by_label[f"{scene} scanlines"].style()
+        assert (blocks["marker"], blocks["linestyle"]) == (scanlines["marker"], scanlines["linestyle"])
+    assert by_label["balls-4 blocks"].style()["marker"] != by_label["rings-7 blocks"].style()["marker"]
+
+    # What is drawn: every data line of every panel in the colour of its partitioning.
+    figures = []
+    monkeypatch.setattr(plot, "save", lambda fig, path, written, layout=True: figures.append(fig))
+    out = plot.Output(str(tmp_path), "png")
+    plot.plot_cycles(configs, ["balls-4", "rings-7"], out, [])
+    plot.plot_utilisation(configs, out, [], "util_", "over the whole frame", "utilisation")
+    colour_of = {"blocks": by_label["balls-4 blocks"].colour, "scanlines": by_label["balls-4 scanlines"].colour}
+    drawn = 0
+    for fig in figures:
+        for ax in fig.axes:
+            for line in ax.get_lines():
+                if line.get_label().startswith("_"):  # the ideal-scaling lines
+                    continue
+                partition = line.get_label().split()[1]
+                assert matplotlib.colors.same_color(line.get_color(), colour_of[partition]), ax.get_title()
+                drawn += 1
+    assert drawn == 4 + 5 * 4  # cycles: two panels of two lines; utilisation: five stages of four

@@ -1,0 +1,38 @@
+#include "machine/progress.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace rtm {
+namespace {
+
+std::string duration(double s) {
+  char t[32];
+  if (s < 60)
+    std::snprintf(t, sizeof t, "%.1f s", s);
+  else if (s < 3600)
+    std::snprintf(t, sizeof t, "%dm%02ds", int(s / 60), int(std::fmod(s, 60)));
+  else
+    std::snprintf(t, sizeof t, "%dh%02dm", int(s / 3600), int(std::fmod(s, 3600) / 60));
+  return t;
+}
+
+}  // namespace
+
+std::string progress_line(const Progress& p) {
+  const double share = p.pixels ? double(p.pixels_started) / double(p.pixels) : 0;
+  // The rate over the whole run so far: the host's phases take little wall time.
+  const double rate = p.seconds > 0 ? double(p.pixels_started) / p.seconds : 0;
+  char line[160];
+  int n = std::snprintf(line, sizeof line, "%s: at pixel %llu/%llu (%.1f%%), %s", p.phase,
+                        (unsigned long long)p.pixels_started, (unsigned long long)p.pixels, 100 * share,
+                        duration(p.seconds).c_str());
+  if (rate > 0 && n < int(sizeof line))
+    n += std::snprintf(line + n, sizeof line - size_t(n), ", %.0f px/s, ETA %s", rate,
+                       duration(double(p.pixels - p.pixels_started) / rate).c_str());
+  if (p.resident_bytes && n < int(sizeof line))
+    std::snprintf(line + n, sizeof line - size_t(n), ", %.2f GiB", double(p.resident_bytes) / double(1 << 30));
+  return std::string(line).substr(0, 79);
+}
+
+}  // namespace rtm

@@ -1,0 +1,40 @@
+#include "machine/progress.h"
+
+#include <gtest/gtest.h>
+
+namespace rtm {
+namespace {
+
+TEST(Progress, OneMeasureWithElapsedTimeRateAndTimeLeft) {
+  Progress p;
+  p.phase = "PEs";
+  p.pixels_started = 4096;
+  p.pixels = 16384;
+  p.seconds = 8;
+  p.resident_bytes = uint64_t(3) << 29;
+  // 512 pixels a second: the other 12288 take 24 s.
+  EXPECT_EQ(progress_line(p), "PEs: at pixel 4096/16384 (25.0%), 8.0 s, 512 px/s, ETA 24.0 s, 1.50 GiB");
+  p.seconds = 80;
+  EXPECT_EQ(progress_line(p), "PEs: at pixel 4096/16384 (25.0%), 1m20s, 51 px/s, ETA 4m00s, 1.50 GiB");
+}
+
+TEST(Progress, BeforeThePesStartThereIsNoRate) {
+  Progress p;
+  p.phase = "transfer";
+  p.pixels = 100;
+  p.seconds = 1.25;
+  EXPECT_EQ(progress_line(p), "transfer: at pixel 0/100 (0.0%), 1.2 s");
+}
+
+TEST(Progress, TheLineFitsATerminal) {
+  Progress p;
+  p.phase = "PEs";
+  p.pixels_started = 123456789;
+  p.pixels = 268435456;
+  p.seconds = 99999;
+  p.resident_bytes = uint64_t(1) << 40;
+  EXPECT_LE(progress_line(p).size(), 79u);
+}
+
+}  // namespace
+}  // namespace rtm
