@@ -87,7 +87,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
             {"modules_because", m.engine_unsupported.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.engine_unsupported)}}},
           {"cycles", m.cycles},
           {"sim_time_ns", sim_time_ns(m)},
-          {"mac", {{"products", m.mac_products}, {"busy_cycles", m.mac_busy_cycles}}},
+          {"mac", {{"products", m.mac_products}, {"busy_cycles", m.mac_busy_cycles}, {"issue_cycles", m.mac_issue_cycles}}},
           {"spills", m.spills},
           {"host",
            {{"voxels_done_cycle", cyc(m.host.voxels)},

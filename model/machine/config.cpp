@@ -389,6 +389,11 @@ const std::vector<Preset>& presets() {
            {"broadcast", "false", "§3.1-3.2: the host transfers the data to every PE, each into its own local memory"},
            {"ray_block", "0", "§3.2: pre-processing first, then the transfer: every ray is generated before any is sent"},
            {"gather", "after_all", "silent (frame-buffer gathering is left open): the host reads the frame buffers once every PE is done"},
+           {"dispatch_interval", "1", "§2 ③, §4.2: every stage is pipelined inside: the front buffer hands out a ray a cycle"},
+           {"search_interval", "1", "§2 ③, §4.2: the search units are pipelined (「これらはパイプライン化される」): a new ray every cycle"},
+           {"mac_streaming", "true", "§5.2: the MAC is a pipeline of two multipliers and an adder: it does not drain between voxels"},
+           {"root_interval", "1", "§2 ③, §5.1: the root unit and sort are pipelined: a primitive a cycle"},
+           {"shade_interval", "1", "§2 ③, §6: the shading stage is pipelined: a ray a cycle"},
        }},
   };
   return all;

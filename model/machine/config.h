@@ -67,13 +67,13 @@ struct MachineConfig {
   int accumulate_cycles = 2;
   int fb_dispatch_cycles = 1;
 
-  // Pipelining (units/pipeline.h): cycles between items a unit accepts; 0: each item's own
-  // latency, i.e. the unit holds one item at a time.
-  int dispatch_interval = 0;
-  int search_interval = 0;
-  bool mac_streaming = false;  ///< the next job's products issue while the previous ones drain
-  int root_interval = 0;       ///< per primitive
-  int shade_interval = 0;
+  // Pipelining (units/pipeline.h, paper §2 ③): cycles between items a unit accepts; 0: each
+  // item's own latency, i.e. the unit holds one item at a time (unpipelined).
+  int dispatch_interval = 1;
+  int search_interval = 1;     ///< per 3DDDA pass
+  bool mac_streaming = true;   ///< the next job's products issue while the previous ones drain
+  int root_interval = 1;       ///< per primitive
+  int shade_interval = 1;
 
   // Buffers (rays)
   int front_buffer_capacity = 64;

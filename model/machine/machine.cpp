@@ -447,6 +447,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     r.counts.add(k.counts);
     r.mac_products += k.mac_products;
     r.mac_busy_cycles += k.mac.busy_cycles;
+    r.mac_issue_cycles += k.mac.issue_cycles;
     r.spills += k.spills;
     r.per_pe.push_back(k);
   }

@@ -36,7 +36,7 @@ struct FifoSummary {
 struct MachineResult {
   Image image;
   TraceCounts counts;
-  uint64_t mac_products = 0, mac_busy_cycles = 0, spills = 0;
+  uint64_t mac_products = 0, mac_busy_cycles = 0, mac_issue_cycles = 0, spills = 0;
   std::vector<PeCounters> per_pe;
   std::vector<FifoSummary> fifos;
   HostTimes host;
@@ -47,7 +47,7 @@ struct MachineResult {
   double wall_seconds = 0;
   SceneNeeds needs;                      ///< what the scene can use (render/scene_needs.h)
   std::vector<std::string> left_out_units;  ///< per PE, not elaborated
-  uint64_t mac_products_saved = 0, mac_cycles_saved = 0;  ///< by sparse MAC schedules
+  uint64_t mac_products_saved = 0, mac_cycles_saved = 0;  ///< by sparse MAC schedules (cycles: of the MAC's entry)
   PeUnits units;                                          ///< what each PE elaborated
   std::string engine_unsupported;  ///< why the PEs ran as modules; empty: on the PE engine
   std::vector<std::string> warnings;  ///< for the user, one line each (e.g. a waveform window that recorded nothing)

@@ -85,6 +85,7 @@ TEST(FrontBufferPolicy, RaysBeyondTheCapacitySpillAndComeBackInArrivalOrder) {
   }
   EXPECT_EQ(pe.counters.spills, 2u);
   // Unpipelined (dispatch_interval 0), the next ray goes when this one's dispatch is over.
+  pe.config.dispatch_interval = 0;
   EXPECT_EQ(p.interval(9), 9u);
   pe.config.dispatch_interval = 1;
   EXPECT_EQ(p.interval(9), 1u) << "pipelined: the next ray while this one comes from local memory";

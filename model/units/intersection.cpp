@@ -32,7 +32,9 @@ Work MacUnit::take(MacResult& m, uint64_t now) {
   PeCounters& k = pe_.counters;
   k.mac_products += uint64_t(products);
   k.mac_products_saved += uint64_t(n) * kMacProducts - uint64_t(products);
-  k.mac_cycles_saved += timing_.job_cycles(n) - w.cycles;
+  // What the same job takes of the MAC's entry under the full schedule: a primitive a period.
+  const uint64_t full = pe_.config.mac_streaming ? uint64_t(n) * timing_.period() : timing_.job_cycles(n);
+  k.mac_cycles_saved += full - w.interval;
   if (pe_.log) pe_.log->take(now, UnitKind::Mac, lane_, m.r.id, w.cycles);
   return w;
 }

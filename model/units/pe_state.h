@@ -20,7 +20,7 @@ struct PeCounters {
   TraceCounts counts;
   uint64_t mac_products = 0;
   uint64_t mac_products_saved = 0;  ///< skipped by sparse schedules, against the paper's 28 per test
-  uint64_t mac_cycles_saved = 0;    ///< MAC busy cycles saved by sparse schedules
+  uint64_t mac_cycles_saved = 0;    ///< cycles of the MAC's entry (its jobs' intervals) saved by sparse schedules
   uint64_t spills = 0;
   UnitStats front, search, mac, root, shade;  ///< replicated units: summed
   UnitStats& unit(UnitKind k) {
