@@ -18,8 +18,9 @@
 namespace rtm::test {
 
 /// Options for a random small machine whose loop cannot deadlock: 16x16 pixels, 1 to max_pes PEs,
-/// FIFOs no shallower than the search FIFO, loop credits within its depth. Draws from rng in a
-/// fixed order, so a seed always gives the same machines.
+/// FIFOs no shallower than the search FIFO, loop credits within its depth, and random pipeline
+/// depths (unit latencies) and intervals (0: unpipelined). Draws from rng in a fixed order, so a
+/// seed always gives the same machines.
 inline std::string random_small_machine(std::mt19937& rng, int max_pes) {
   auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
   const int depth = pick(1, 4);
@@ -29,6 +30,10 @@ inline std::string random_small_machine(std::mt19937& rng, int max_pes) {
        << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
        << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
        << " --set loop_credits=" << pick(0, depth);
+  args << " --set dda_step_cycles=" << pick(1, 4) << " --set root_latency=" << pick(1, 14)
+       << " --set shade_cycles=" << pick(1, 20) << " --set dispatch_interval=" << pick(0, 2)
+       << " --set search_interval=" << pick(0, 3) << " --set mac_streaming=" << (pick(0, 1) ? "true" : "false")
+       << " --set root_interval=" << pick(0, 2) << " --set shade_interval=" << pick(0, 3);
   return args.str();
 }
 

@@ -104,6 +104,14 @@ INSTANTIATE_TEST_SUITE_P(
              " --set search_fifo_depth=2 --set feedback_fifo_depth=1"},
         // PEs with no pixels at all finish at once; one ray per transfer.
         Case{"MorePesThanPixels", "balls-1.nff --size 3x2 --pes 8 --set ray_block=1 --set gather=as_finished"},
+        // Pipelining off, the paper's machine, and long intervals with full FIFOs stalling pipelines.
+        Case{"Unpipelined",
+             "rings-1.nff --size 32x32 --pes 2 --set dispatch_interval=0 --set search_interval=0"
+             " --set mac_streaming=false --set root_interval=0 --set shade_interval=0"},
+        Case{"PaperPreset", "tree-2.nff --size 32x32 --pes 2 --preset paper"},
+        Case{"LongIntervalsStallingPipelines",
+             "mount-1.nff --size 32x32 --pes 2 --search-units 2 --set search_interval=3 --set shade_interval=5"
+             " --set root_interval=4 --set dispatch_interval=2 --set feedback_fifo_depth=1 --set front_buffer_capacity=2"},
         Case{"SlowLinkNoLeaveOut",
              "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false --set clock_ns=7"}),
     [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
