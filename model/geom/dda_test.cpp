@@ -519,10 +519,14 @@ TEST(DdaExact, LongWalksOn4096CubedMatchTheRationalWalkVisitForVisit) {
     for (int a = 0; a < 3; ++a) {
       const int64_t size = e.n[a] * e.cell[size_t(a)];
       switch (i % 3) {
-        case 0:  // inside, on voxel planes as often as not
-          e.o[size_t(a)] = e.lo[size_t(a)] + int64_t(rng() % uint64_t(size + 1)) / ((rng() & 1) ? e.cell[size_t(a)] : 1) *
-                                                  ((rng() & 1) ? e.cell[size_t(a)] : 1);
+        case 0: {  // inside, on voxel planes as often as not
+          // One draw a statement: the order of calls within one expression is unspecified.
+          const int64_t at = int64_t(rng() % uint64_t(size + 1));
+          const int64_t down = (rng() & 1) ? e.cell[size_t(a)] : 1;
+          const int64_t up = (rng() & 1) ? e.cell[size_t(a)] : 1;
+          e.o[size_t(a)] = e.lo[size_t(a)] + at / down * up;
           break;
+        }
         case 1:  // on the boundary of the grid
           e.o[size_t(a)] = e.lo[size_t(a)] + ((rng() & 1) ? 0 : size);
           break;

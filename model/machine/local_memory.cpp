@@ -22,12 +22,12 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time&) {
     const size_t n = len / sizeof(Ray);
     const size_t old = rays.size();
     rays.resize(old + n);
-    std::memcpy(static_cast<void*>(rays.data() + old), t.get_data_ptr(), len);
+    if (n > 0) std::memcpy(static_cast<void*>(rays.data() + old), t.get_data_ptr(), len);
     rays_arrived.notify(sc_core::SC_ZERO_TIME);
   } else if (t.is_read() && addr == kFrameBase && len == frame.size() * sizeof(PixelSum)) {
-    std::memcpy(t.get_data_ptr(), frame.data(), len);
+    if (len > 0) std::memcpy(t.get_data_ptr(), frame.data(), len);  // a PE without pixels has no frame buffer
   } else if (t.is_read() && addr == kIdBase && len == ids.size() * sizeof(int32_t)) {
-    std::memcpy(t.get_data_ptr(), ids.data(), len);
+    if (len > 0) std::memcpy(t.get_data_ptr(), ids.data(), len);
   } else {
     t.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
   }
