@@ -46,7 +46,11 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
       if (f.payload == Payload::Ray && fifo->feeds_front) front_inputs_.emplace_back(fifo, f.returns_credit);
     }
   }
-  for (size_t u = 0; u < root0_ + lanes_; ++u) places_.emplace_back(cycle_, &pe.counters.unit(kind_at(u)));
+  for (size_t u = 0; u < root0_ + lanes_; ++u) {
+    const UnitKind k = kind_at(u);
+    const size_t first = k == UnitKind::Root ? root0_ : k == UnitKind::Mac ? mac0_ : k == UnitKind::Search ? kSearch : u;
+    places_.emplace_back(cycle_, &pe.counters.unit(k), k, int(u - first));
+  }
   for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
   for (size_t lane = 0; lane < lanes_; ++lane) {
     macs_.emplace_back(pe, int(lane));
@@ -60,7 +64,7 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
 uint64_t PeEngine::next_instant() {
   uint64_t next = pending_step_;
   due_now_.clear();
-  for (size_t u = 0; u < places_.size(); ++u) {
+  for (size_t u = 0, n = places_.size(); u < n; ++u) {
     const uint64_t at = places_[u].at;
     if (at > next) continue;
     if (at < next) {
@@ -86,22 +90,24 @@ void PeEngine::rays_arrived(uint64_t t, size_t n) {
   pending_step_ = t;
 }
 
-void PeEngine::want(size_t unit, uint64_t at) {
-  if (places_[unit].wakeups.want(at, seq_)) {
-    ++seq_;
-    refresh(unit);
+inline void PeEngine::want(size_t unit, uint64_t at) {
+  Place& p = places_[unit];
+  if (!p.wakeups.want(at, seq_)) return;
+  // A new time is the earliest only if it is earlier (a time already asked for is not new).
+  if (at < p.at) {
+    p.at = at;
+    p.order = p.rank << 48 | seq_;
   }
+  ++seq_;
 }
 
 void PeEngine::refresh(size_t unit) {
   // Root units go by their lane: each takes only its own MAC's results, and the modules rank
   // them so (machine/pe_context.h).
   Place& p = places_[unit];
-  const UnitKind kind = kind_at(unit);
-  const uint64_t rank = uint64_t(kind) + (kind == UnitKind::Root ? unit - root0_ : 0);
   const auto [at, seq] = p.wakeups.next();
   p.at = at;
-  p.order = rank << 48 | seq;
+  p.order = p.rank << 48 | seq;
 }
 
 void PeEngine::step(uint64_t now) {
@@ -175,59 +181,59 @@ inline bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, 
 
 // ---- the units: step_unit (units/unit_step.h) with each kind's operations ----
 
+template <UnitKind K>
 struct PeEngine::Ops {
   PeEngine& e;
   size_t u;
   uint64_t now;
 
-  Pipeline<Held>& pipe() { return e.places_[u].pipe; }
+  Place& place;
+
+  Pipeline<Held>& pipe() { return place.pipe; }
   const Held& head() { return pipe().head().item; }
-  int index() const {
-    return int(u >= e.root0_ ? u - e.root0_ : u >= e.mac0_ ? u - e.mac0_ : u >= kSearch ? u - kSearch : 0);
-  }
+  int index() const { return place.index; }
 
   bool write_head(uint64_t) {
     const Held& h = head();
-    switch (e.kind_at(u)) {
-      case UnitKind::FrontBuffer:
-        return e.emit({FifoId::Search, Output::What::Item}, e.slots_[h.item], h.item, UnitKind::FrontBuffer, 0, now);
-      case UnitKind::Search: return e.emit(h.out, e.slots_[h.item], h.item, UnitKind::Search, index(), now);
-      case UnitKind::Mac: {
-        Fifo& out = e.root_fifo_[size_t(index())];
-        if (out.full()) return false;
-        out.write(h.item, now);
-        record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r.id, h.out);
-        return true;
-      }
-      case UnitKind::Root: return e.emit(h.out, e.results_[h.item].r, kNoSlot, UnitKind::Root, index(), now);
-      case UnitKind::Shading: return e.write_shading(now);
+    if constexpr (K == UnitKind::FrontBuffer) {
+      return e.emit({FifoId::Search, Output::What::Item}, e.slots_[h.item], h.item, UnitKind::FrontBuffer, 0, now);
+    } else if constexpr (K == UnitKind::Search) {
+      return e.emit(h.out, e.slots_[h.item], h.item, UnitKind::Search, index(), now);
+    } else if constexpr (K == UnitKind::Mac) {
+      Fifo& out = e.root_fifo_[size_t(index())];
+      if (out.full()) return false;
+      out.write(h.item, now);
+      record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r.id, h.out);
+      return true;
+    } else if constexpr (K == UnitKind::Root) {
+      return e.emit(h.out, e.results_[h.item].r, kNoSlot, UnitKind::Root, index(), now);
+    } else {
+      return e.write_shading(now);
     }
-    return false;
   }
 
   void retired(const Held& h) {
     // What leaves a unit frees what it held: a shaded ray's slot, a root unit's MAC result.
-    if (u == kShading) {
+    if constexpr (K == UnitKind::Shading) {
       e.free_slots_.push_back(h.item);
       e.shading_.retired();
       e.shade_next_ = 0;
-    } else if (u >= e.root0_) {
+    } else if constexpr (K == UnitKind::Root) {
       e.free_results_.push_back(h.item);
     }
   }
 
   bool accept(uint64_t) {
-    switch (e.kind_at(u)) {
-      case UnitKind::FrontBuffer: return e.front_decide(now);
-      case UnitKind::Search: {
+    if constexpr (K == UnitKind::FrontBuffer) {
+      return e.front_decide(now);
+    } else if constexpr (K == UnitKind::Search) {
         Fifo& in = e.fifo(FifoId::Search);
         if (in.visible == 0) return false;
         const uint32_t slot = in.read(now);
         const Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
         pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
         return true;
-      }
-      case UnitKind::Mac: {
+    } else if constexpr (K == UnitKind::Mac) {
         Fifo& in = e.fifo(FifoId::Intersect);
         if (in.visible == 0) return false;
         const uint32_t slot = in.read(now);
@@ -243,16 +249,14 @@ struct PeEngine::Ops {
         const Work w = e.macs_[size_t(index())].take(m, now);
         pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
         return true;
-      }
-      case UnitKind::Root: {
+    } else if constexpr (K == UnitKind::Root) {
         Fifo& in = e.root_fifo_[size_t(index())];
         if (in.visible == 0) return false;
         const uint32_t result = in.read(now);
         const Work w = e.roots_[size_t(index())].take(e.results_[result], now);
         pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
         return true;
-      }
-      case UnitKind::Shading: {
+    } else {
         Fifo& in = e.fifo(FifoId::Shade);
         if (in.visible == 0) return false;
         const uint32_t slot = in.read(now);
@@ -260,23 +264,21 @@ struct PeEngine::Ops {
         const Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
         pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
         return true;
-      }
     }
-    return false;
   }
 
   void wait_for_input() {
-    switch (e.kind_at(u)) {
-      case UnitKind::FrontBuffer:
-        if (e.front_state_ == FrontState::Deciding) {
-          e.front_.wait(now);
-          e.front_state_ = FrontState::Waiting;
-        }
-        return;
-      case UnitKind::Search: return e.waiting_search_.idle(index());
-      case UnitKind::Mac: return e.waiting_macs_.idle(index());
-      case UnitKind::Root:
-      case UnitKind::Shading: e.places_[u].waiting = true; return;
+    if constexpr (K == UnitKind::FrontBuffer) {
+      if (e.front_state_ == FrontState::Deciding) {
+        e.front_.wait(now);
+        e.front_state_ = FrontState::Waiting;
+      }
+    } else if constexpr (K == UnitKind::Search) {
+      e.waiting_search_.idle(index());
+    } else if constexpr (K == UnitKind::Mac) {
+      e.waiting_macs_.idle(index());
+    } else {
+      place.waiting = true;
     }
   }
 
@@ -285,19 +287,27 @@ struct PeEngine::Ops {
 
 void PeEngine::wake(size_t unit, uint64_t now) {
   // Whatever woke it, a unit decides again whether it waits for input.
-  switch (kind_at(unit)) {
+  Place& place = places_[unit];
+  switch (place.kind) {
     case UnitKind::FrontBuffer:
       if (front_state_ == FrontState::Waiting) {
         front_.woke(now);
         front_state_ = FrontState::Deciding;
       }
       break;
-    case UnitKind::Search: waiting_search_.busy(int(unit - kSearch)); break;
-    case UnitKind::Mac: waiting_macs_.busy(int(unit - mac0_)); break;
-    default: places_[unit].waiting = false;
+    case UnitKind::Search: waiting_search_.busy(place.index); break;
+    case UnitKind::Mac: waiting_macs_.busy(place.index); break;
+    default: place.waiting = false;
   }
-  Ops ops{*this, unit, now};
-  rtm::step_unit(places_[unit].pipe, now, cycle_, ops);
+  // One instance of the step per kind of unit: its operations inline, no switch per call.
+  auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, ops); };
+  switch (place.kind) {
+    case UnitKind::FrontBuffer: return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
+    case UnitKind::Search: return step(Ops<UnitKind::Search>{*this, unit, now, place});
+    case UnitKind::Mac: return step(Ops<UnitKind::Mac>{*this, unit, now, place});
+    case UnitKind::Root: return step(Ops<UnitKind::Root>{*this, unit, now, place});
+    case UnitKind::Shading: return step(Ops<UnitKind::Shading>{*this, unit, now, place});
+  }
 }
 
 bool PeEngine::front_decide(uint64_t now) {

@@ -117,9 +117,14 @@ class PeEngine {
     uint64_t at = kNever;  ///< its earliest wake-up ...
     uint64_t order = 0;    ///< ... ranked: the unit's rank, then when it asked (units of one rank due together)
     bool waiting = false;  ///< a root unit's or shading's wait for input
-    Place(uint64_t cycle, UnitStats* stats) : pipe(cycle, stats) {}
+    UnitKind kind;
+    int index;      ///< among the units of its kind
+    uint64_t rank;  ///< its same-instant rank, shifted into `order`
+    Place(uint64_t cycle, UnitStats* stats, UnitKind k, int i)
+        : pipe(cycle, stats), kind(k), index(i), rank(uint64_t(k) + (k == UnitKind::Root ? uint64_t(i) : 0)) {}
   };
-  struct Ops;  // a unit's operations for step_unit (units/unit_step.h)
+  template <UnitKind K>
+  struct Ops;  // a kind of unit's operations for step_unit (units/unit_step.h)
 
   // Places: the front buffer, shading, then the search units, the MACs and the root units.
   static constexpr size_t kFront = 0, kShading = 1, kSearch = 2;

@@ -20,7 +20,7 @@
 namespace rtm {
 
 /// Replicated units waiting on one FIFO (the search units, the intersection units): each ray that
-/// arrives wakes the lowest-numbered waiting one (units/intersection.h's LaneDispatcher), instead
+/// arrives wakes the lowest-numbered waiting one (units/lane_dispatcher.h), instead
 /// of leaving it to the kernel's wake-up order.
 class Dispatcher : public sc_core::sc_module {
  public:

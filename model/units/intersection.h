@@ -1,13 +1,13 @@
 // An intersection unit (paper §5): the MAC forms α, β, γ for every primitive in the examined
 // voxel; the root unit solves each quadratic, clip tests keep the bounded part, and the sort keeps
 // the nearest hit inside the voxel. The paper has one; with several (intersection_units), the
-// lane dispatcher hands each ray to the lowest-numbered idle one.
+// lane dispatcher (units/lane_dispatcher.h) hands each ray to the lowest-numbered idle one.
 #pragma once
 
 #include <ostream>
-#include <set>
 #include <vector>
 
+#include "units/lane_dispatcher.h"
 #include "units/mac_timing.h"
 #include "units/output.h"
 #include "units/routing.h"
@@ -55,28 +55,6 @@ class RootUnit {
   PeState& pe_;
   int lane_;
   std::vector<uint32_t> clips_;
-};
-
-/// With several intersection units: each ray that arrives goes to the idle unit with the lowest
-/// number, so which unit takes a ray follows the numbering, not the order in which a scheduler
-/// happens to wake units waiting on the same FIFO.
-class LaneDispatcher {
- public:
-  explicit LaneDispatcher(int lanes) {
-    for (int i = 0; i < lanes; ++i) idle_.insert(i);
-  }
-  void idle(int lane) { idle_.insert(lane); }
-  void busy(int lane) { idle_.erase(lane); }
-  bool any_idle() const { return !idle_.empty(); }
-  /// The lowest idle lane, now busy.
-  int take() {
-    const int lane = *idle_.begin();
-    idle_.erase(idle_.begin());
-    return lane;
-  }
-
- private:
-  std::set<int> idle_;
 };
 
 }  // namespace rtm

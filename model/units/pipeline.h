@@ -18,7 +18,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <deque>
+#include <vector>
 
 namespace rtm {
 
@@ -43,21 +43,24 @@ class Pipeline {
   /// `cycle`: one cycle in the time unit the caller uses; `stats`: where to count (may be null).
   explicit Pipeline(uint64_t cycle = 1, UnitStats* stats = nullptr) : cycle_(cycle), stats_(stats ? stats : &own_) {}
 
-  bool empty() const { return in_.empty(); }
-  size_t size() const { return in_.size(); }
-  const Slot& head() const { return in_.front(); }
-  Slot& head() { return in_.front(); }
+  bool empty() const { return count_ == 0; }
+  size_t size() const { return count_; }
+  const Slot& head() const { return ring_[head_]; }
+  Slot& head() { return ring_[head_]; }
   uint64_t ready() const { return ready_; }
   /// Whether the head's result is due but not yet written at `now`.
-  bool stalled(uint64_t now) const { return !in_.empty() && in_.front().due <= now; }
+  bool stalled(uint64_t now) const { return count_ > 0 && head().due <= now; }
   bool can_accept(uint64_t now) const { return now >= ready_ && !stalled(now); }
 
   /// Accepts `item` at `now` (can_accept(now)); returns when its result is due.
   uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval) {
     uint64_t due = now + latency;
-    if (in_.empty()) busy_since_ = now;
-    if (!in_.empty()) due = std::max(due, in_.back().due + cycle_);
-    in_.push_back({item, due, now});
+    if (count_ == 0)
+      busy_since_ = now;
+    else
+      due = std::max(due, at(count_ - 1).due + cycle_);
+    if (count_ == ring_.size()) grow();
+    at(count_++) = {item, due, now};
     ready_ = now + interval;
     ++stats_->items;
     stats_->issue_cycles += interval / cycle_;
@@ -78,23 +81,33 @@ class Pipeline {
 
   /// The head's result was written at `now` (>= its due): removes and returns it.
   Item retire(uint64_t now) {
-    const uint64_t due = in_.front().due, stall = now - due;
-    Item item = in_.front().item;
-    stats_->held_cycles += (now - in_.front().accepted) / cycle_;
-    in_.pop_front();
-    if (in_.empty()) stats_->busy_cycles += (now - busy_since_) / cycle_;
+    const uint64_t due = head().due, stall = now - due;
+    Item item = std::move(head().item);
+    stats_->held_cycles += (now - head().accepted) / cycle_;
+    head_ = (head_ + 1) & (ring_.size() - 1);
+    if (--count_ == 0) stats_->busy_cycles += (now - busy_since_) / cycle_;
     if (stall > 0) {
-      for (Slot& s : in_) s.due += stall;
+      for (size_t i = 0; i < count_; ++i) at(i).due += stall;
       ready_ = ready_ > due ? ready_ + stall : std::max(ready_, now);
     }
     return item;
   }
 
  private:
+  /// The i-th item from the head (the ring's size is a power of two).
+  Slot& at(size_t i) { return ring_[(head_ + i) & (ring_.size() - 1)]; }
+  void grow() {
+    std::vector<Slot> bigger(ring_.empty() ? 4 : ring_.size() * 2);
+    for (size_t i = 0; i < count_; ++i) bigger[i] = std::move(at(i));
+    ring_ = std::move(bigger);
+    head_ = 0;
+  }
+
   uint64_t cycle_;
   UnitStats own_;
   UnitStats* stats_;
-  std::deque<Slot> in_;
+  std::vector<Slot> ring_;  ///< the items inside, count_ of them from head_
+  size_t head_ = 0, count_ = 0;
   uint64_t ready_ = 0;
   uint64_t busy_since_ = 0, starved_since_ = 0;
   bool fed_ = false, starving_ = false;

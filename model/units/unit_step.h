@@ -32,7 +32,8 @@ void step_unit(Pipeline<Item>& pipe, uint64_t now, uint64_t cycle, Ops& ops) {
     // An item without latency is done at once: go round again.
   }
   if (!pipe.empty()) ops.want(pipe.head().due);
-  if (pipe.ready() > now) ops.want(pipe.ready());
+  // Unpipelined, the next item may come when the result leaves: one wake-up for both.
+  if (pipe.ready() > now && (pipe.empty() || pipe.ready() != pipe.head().due)) ops.want(pipe.ready());
 }
 
 }  // namespace rtm

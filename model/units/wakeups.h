@@ -17,32 +17,32 @@ class Wakeups {
   /// Asks to be woken at t; false (and nothing changes) when a wake-up at t is already asked for.
   /// `order` is the caller's sequence number for it.
   bool want(uint64_t t, uint64_t order) {
-    for (const auto& w : at_)
-      if (w.first == t) return false;
-    at_.emplace_back(t, order);
+    for (size_t i = 0; i < n_; ++i)
+      if (at_[i].first == t) return false;
+    if (n_ == at_.size()) at_.emplace_back();
+    at_[n_++] = {t, order};
     return true;
   }
   /// The earliest wake-up: its time and order ({kNever, 0} when none).
   std::pair<uint64_t, uint64_t> next() const {
     std::pair<uint64_t, uint64_t> best{kNever, 0};
-    for (const auto& w : at_)
-      if (w.first < best.first) best = w;
+    for (size_t i = 0; i < n_; ++i)
+      if (at_[i].first < best.first) best = at_[i];
     return best;
   }
   /// The wake-ups at `now` have happened.
   void fired(uint64_t now) {
-    for (size_t i = 0; i < at_.size();)
-      if (at_[i].first <= now) {
-        at_[i] = at_.back();
-        at_.pop_back();
-      } else {
+    for (size_t i = 0; i < n_;)
+      if (at_[i].first <= now)
+        at_[i] = at_[--n_];
+      else
         ++i;
-      }
   }
-  bool empty() const { return at_.empty(); }
+  bool empty() const { return n_ == 0; }
 
  private:
-  std::vector<std::pair<uint64_t, uint64_t>> at_;  ///< a few at most
+  std::vector<std::pair<uint64_t, uint64_t>> at_;  ///< the first n_ are asked for: a few at most
+  size_t n_ = 0;
 };
 
 }  // namespace rtm

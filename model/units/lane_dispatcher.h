@@ -1,0 +1,45 @@
+// Which of several replicated units takes the next ray.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace rtm {
+
+/// Replicated units waiting for a ray (the search units, the intersection units): each ray that
+/// arrives goes to the waiting unit with the lowest number, so which unit takes a ray follows the
+/// numbering, not the order in which a scheduler happens to wake units waiting on the same FIFO.
+class LaneDispatcher {
+ public:
+  explicit LaneDispatcher(int lanes) {
+    for (int i = 0; i < lanes; ++i) idle(i);
+  }
+  void idle(int lane) {
+    const size_t w = size_t(lane) / 64;
+    if (w >= bits_.size()) bits_.resize(w + 1, 0);
+    bits_[w] |= uint64_t(1) << (lane % 64);
+  }
+  void busy(int lane) {
+    const size_t w = size_t(lane) / 64;
+    if (w < bits_.size()) bits_[w] &= ~(uint64_t(1) << (lane % 64));
+  }
+  bool any_idle() const {
+    for (uint64_t b : bits_)
+      if (b) return true;
+    return false;
+  }
+  /// The lowest idle lane, now busy (any_idle() must hold).
+  int take() {
+    for (size_t w = 0;; ++w)
+      if (bits_[w]) {
+        const int bit = __builtin_ctzll(bits_[w]);
+        bits_[w] &= bits_[w] - 1;
+        return int(w * 64) + bit;
+      }
+  }
+
+ private:
+  std::vector<uint64_t> bits_;  ///< a bit per lane: waiting
+};
+
+}  // namespace rtm
