@@ -33,7 +33,7 @@ nlohmann::json pe_utilisation_json(const FrameProfile& f) {
 
 /// One PE's figure `of` per unit (replicated units: summed).
 nlohmann::json unit_figures(const PeCounters& p, uint64_t UnitStats::*of) {
-  return {{"front_buffer", p.front.*of}, {"search", p.search.*of}, {"mac", p.mac.*of}, {"root", p.root.*of},
+  return {{"front_buffer", p.front.*of}, {"search", p.search().*of}, {"mac", p.mac.*of}, {"root", p.root.*of},
           {"shading", p.shade.*of}};
 }
 
@@ -63,7 +63,10 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   auto ticks = [&](uint64_t t) { return cyc(sc_core::sc_time::from_value(t)); };  // PeCounters' times
   const FrameStats& s = m.stats;
   nlohmann::json per_pe = nlohmann::json::array();
-  for (const PeCounters& p : m.per_pe)
+  for (size_t i = 0; i < m.per_pe.size(); ++i) {
+    const PeCounters& p = m.per_pe[i];
+    nlohmann::json search_units = nlohmann::json::array();
+    for (const SearchUnitShares& u : s.search_units[i]) search_units.push_back({{"busy", u.busy}, {"issue", u.issue}});
     per_pe.push_back({{"cycles", ticks(p.finish)},
                       {"start_cycle", ticks(p.start)},
                       {"credit_stall_cycles", ticks(p.credit_stall)},
@@ -72,7 +75,9 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"busy_cycles", unit_figures(p, &UnitStats::busy_cycles)},
                       {"issue_cycles", unit_figures(p, &UnitStats::issue_cycles)},
                       {"held_cycles", unit_figures(p, &UnitStats::held_cycles)},
-                      {"starved_cycles", unit_figures(p, &UnitStats::starved_cycles)}});
+                      {"starved_cycles", unit_figures(p, &UnitStats::starved_cycles)},
+                      {"search_units", search_units}});
+  }
   nlohmann::json fifo;
   for (const FifoSummary& f : m.fifos) fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
   nlohmann::json config;

@@ -46,7 +46,8 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
       if (f.payload == Payload::Ray && fifo->feeds_front) front_inputs_.emplace_back(fifo, f.returns_credit);
     }
   }
-  for (size_t u = 0; u < root0_ + lanes_; ++u) places_.emplace_back(cycle_, &pe.counters.unit(kind_at(u)));
+  for (size_t u = 0; u < root0_ + lanes_; ++u)
+    places_.emplace_back(cycle_, &pe.counters.unit(kind_at(u), kind_at(u) == UnitKind::Search ? int(u - kSearch) : 0));
   for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
   for (size_t lane = 0; lane < lanes_; ++lane) {
     macs_.emplace_back(pe, int(lane));
