@@ -46,8 +46,8 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   const FrameUtilisation& u = st.utilisation;
   std::printf("utilisation: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading %.1f%%\n",
               100 * u.front_buffer, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shading);
-  std::printf("bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n", st.bottleneck.c_str(),
-              st.cycles_over_mac_bound, st.profile.imbalance);
+  std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
+  std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
   std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,
               err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255);
   std::printf("wall time: %.3f s model (%s), %.3f s reference%s; grid build %.3f s (%zu references)\n",

@@ -112,9 +112,11 @@ TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = stats(tmp / "m.json");
   char line[200];
-  std::snprintf(line, sizeof line, "bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n",
-                j["bottleneck"].get<std::string>().c_str(), j["cycles_over_mac_bound"].get<double>(),
-                j["load_imbalance"].get<double>());
+  std::snprintf(line, sizeof line, "bottleneck: %s: %s\n", j["bottleneck"].get<std::string>().c_str(),
+                j["bottleneck_reason"].get<std::string>().c_str());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  std::snprintf(line, sizeof line, "cycles / MAC bound %.2f, load imbalance %.2f\n",
+                j["cycles_over_mac_bound"].get<double>(), j["load_imbalance"].get<double>());
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
   std::snprintf(line, sizeof line, "MAC %.1f%%", 100 * j["utilisation"]["mac"].get<double>());
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;

@@ -111,7 +111,8 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
           {"load_imbalance", s.profile.imbalance},
           {"mac_bound_cycles", s.mac_bound_cycles},
           {"cycles_over_mac_bound", s.cycles_over_mac_bound},
-          {"bottleneck", s.bottleneck},
+          {"bottleneck", s.bottleneck.name},
+          {"bottleneck_reason", s.bottleneck.reason},
           {"left_out",
            {{"units", m.left_out_units},
             {"mac_schedule", to_string(c.mac_schedule)},
@@ -152,7 +153,7 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
                       {"mac_busy_cycles", m.mac_busy_cycles},
                       {"link_busy_cycles", whole_cycles(m.host.link_busy, c)},
                       {"load_imbalance", s.profile.imbalance},
-                      {"bottleneck", s.bottleneck},
+                      {"bottleneck", s.bottleneck.name},
                       {"mac_bound_cycles", s.mac_bound_cycles},
                       {"cycles_over_mac_bound", s.cycles_over_mac_bound}};
   flatten_into(j, "error_", error_json(err));

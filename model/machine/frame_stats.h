@@ -26,7 +26,7 @@ struct FrameStats {
   FrameProfile profile;          ///< phases, utilisation over the PEs' working windows, stalls, imbalance
   /// Per PE, each search unit on its own: the profile's mean hides a last unit that never works.
   std::vector<std::vector<SearchUnitShares>> search_units;
-  std::string bottleneck;        ///< bottleneck(profile)
+  Bottleneck bottleneck;         ///< bottleneck(profile)
   /// Total MAC products / PEs, rounded up: the frame can't be shorter on a one-product-per-cycle MAC.
   double mac_bound_cycles = 0;
   double cycles_over_mac_bound = 0;  ///< 0 when there were no MAC products

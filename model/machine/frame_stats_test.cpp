@@ -125,12 +125,12 @@ TEST(FrameStats, TheBottleneckOfTheProfile) {
   t.result.per_pe[0].mac.issue_cycles = 1600;
   t.result.per_pe[1].mac.issue_cycles = 400;
   FrameStats s = frame_stats(t.result, t.config);
-  EXPECT_EQ(s.bottleneck, "mac") << "the MAC lanes' entries are taken 2/3 of the working windows";
-  EXPECT_EQ(s.bottleneck, bottleneck(s.profile));
+  EXPECT_EQ(s.bottleneck.name, "mac") << "the MAC lanes' entries are taken 2/3 of the working windows";
+  EXPECT_EQ(s.bottleneck.reason, bottleneck(s.profile).reason);
   t.result.per_pe[0].mac.issue_cycles = 600;
   t.result.per_pe[1].mac.issue_cycles = 200;
   s = frame_stats(t.result, t.config);
-  EXPECT_EQ(s.bottleneck, "load_imbalance") << "nothing saturated, PE 0 works 1.33 x the mean";
+  EXPECT_EQ(s.bottleneck.name, "load_imbalance") << "nothing saturated, PE 0 works 1.33 x the mean";
 }
 
 TEST(FrameStats, MacBound) {
@@ -154,7 +154,7 @@ TEST(FrameStats, AnEmptyRunHasNoUtilisationAndNoImbalance) {
   EXPECT_DOUBLE_EQ(s.utilisation.mac, 0);
   EXPECT_DOUBLE_EQ(s.profile.busy.mac, 0);
   EXPECT_DOUBLE_EQ(s.profile.imbalance, 1);
-  EXPECT_EQ(s.bottleneck, "latency");
+  EXPECT_EQ(s.bottleneck.name, "latency");
 }
 
 }  // namespace
