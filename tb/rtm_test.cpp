@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -153,7 +154,46 @@ TEST(Cli, ConfigPrintsAFileThatLoadsBack) {
   ASSERT_FALSE(from_file.is_null() || from_sets.is_null());
   EXPECT_EQ(from_file["config"], from_sets["config"]);
   EXPECT_EQ(from_file["cycles"], from_sets["cycles"]);
-  EXPECT_EQ(from_file["config"]["clock_ns"], "2.5");
+  EXPECT_EQ(from_file["config"]["clock_ns"], 2.5);
+}
+
+// The stats' `config` holds each key's value as its type says (what `rtm config` writes it accepts):
+// integers and numbers as JSON numbers, flags as booleans, choices as their names.
+TEST(Cli, StatsConfigValuesHaveTheirKeysTypes) {
+  Tmp tmp;
+  const std::string sets = " --set clock_ns=2.5 --set broadcast=true --set loop_credits=3";
+  const json j = render(tmp, "m", kScenes + "balls-1.nff --size 8x8" + sets);
+  const Proc config = run_rtm("config" + sets, tmp);
+  ASSERT_FALSE(j.is_null());
+  ASSERT_EQ(config.exit_code, 0) << config.err;
+  // `key: value  # meaning (what it accepts)`, the accepted values last.
+  const std::regex line(R"(^(\w+): (\S+) +# .*\((an integer|a number|true or false|one of)[^()]*\)$)");
+  std::istringstream lines(config.out);
+  size_t keys = 0;
+  for (std::string l; std::getline(lines, l);) {
+    std::smatch m;
+    if (!std::regex_match(l, m, line) || m[1] == "preset") continue;
+    ++keys;
+    const json& v = j["config"][m[1].str()];
+    const std::string type = m[3], text = m[2];
+    if (type == "an integer") {
+      EXPECT_TRUE(v.is_number_integer()) << l;
+      EXPECT_EQ(v.dump(), text) << l;
+    } else if (type == "a number") {
+      EXPECT_TRUE(v.is_number()) << l;
+      EXPECT_EQ(v.get<double>(), std::stod(text)) << l;
+    } else if (type == "true or false") {
+      EXPECT_TRUE(v.is_boolean()) << l;
+      EXPECT_EQ(v.dump(), text) << l;
+    } else {
+      EXPECT_EQ(v, text) << l;
+    }
+  }
+  EXPECT_EQ(keys, j["config"].size()) << "every key of the stats is one of rtm config's";
+  EXPECT_EQ(j["config"]["clock_ns"], 2.5);
+  EXPECT_EQ(j["config"]["broadcast"], true);
+  EXPECT_EQ(j["config"]["loop_credits"], 3);
+  EXPECT_EQ(j["config"]["timing"], "fast");
 }
 
 // A bad configuration file is bad input (exit 2, as a bad command line), named by file and line.
@@ -201,7 +241,7 @@ TEST(Cli, APresetRendersAndTheStatsRecordIt) {
   EXPECT_EQ(paper["preset"], "paper");
   EXPECT_EQ(plain["preset"], "default");
   EXPECT_EQ(paper["config"]["mac_schedule"], "full");
-  EXPECT_EQ(paper["config"]["recentre"], "false");
+  EXPECT_EQ(paper["config"]["recentre"], false);
   EXPECT_EQ(paper["mac"]["products"].get<uint64_t>(), 28 * paper["intersection_tests"].get<uint64_t>());
   EXPECT_LE(paper["error"]["pixels_over_1_255"].get<int>(), 16 * 16 / 100);
   // The same picture: the presets differ in arithmetic and schedule, not in what is traced.

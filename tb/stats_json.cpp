@@ -51,6 +51,19 @@ nlohmann::json error_json(const ImageError& e) {
           {"pixels_over_1_255", e.pixels_over_1_255}};
 }
 
+/// A configuration value as its key's type: an integer or a number, a flag as a boolean, a choice
+/// as its name. From the key's own text (ConfigKey::get), which reads back as the same value.
+nlohmann::json config_value(const ConfigKey& k, const MachineConfig& c) {
+  const std::string v = k.get(c);
+  switch (k.type) {
+    case ConfigKey::Type::Integer: return std::stoll(v);
+    case ConfigKey::Type::Number: return std::stod(v);
+    case ConfigKey::Type::Flag: return v == "true";
+    case ConfigKey::Type::Choice: break;
+  }
+  return v;
+}
+
 /// A simulated time in whole PE cycles.
 uint64_t whole_cycles(const sc_core::sc_time& t, const MachineConfig& c) {
   return uint64_t(std::llround(t / sc_core::sc_time(c.clock_ns, sc_core::SC_NS)));
@@ -81,7 +94,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   nlohmann::json fifo;
   for (const FifoSummary& f : m.fifos) fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
   nlohmann::json config;
-  for (const ConfigKey& k : config_keys()) config[k.name] = k.get(c);
+  for (const ConfigKey& k : config_keys()) config[k.name] = config_value(k, c);
   return {{"pes", c.pes},
           {"timing", to_string(c.timing)},
           {"precision", to_string(c.precision)},
