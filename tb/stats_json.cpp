@@ -1,6 +1,9 @@
 #include "stats_json.h"
 
 #include <cmath>
+#include <cstdio>
+
+#include "fnv1a.h"
 
 namespace rtm {
 
@@ -180,6 +183,16 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
 }
 
 }  // namespace
+
+nlohmann::json run_json(const std::vector<std::string>& command_line, const std::string& scene_path,
+                        const std::string& scene_text) {
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)fnv1a(scene_text));
+  return {{"schema_version", kStatsSchemaVersion},
+          {"command_line", command_line},
+          {"scene_path", scene_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene_path)},
+          {"scene_fnv1a", hash}};
+}
 
 nlohmann::json scene_json(const Scene& s, const Grid& g, double grid_seconds) {
   nlohmann::json skipped = nlohmann::json::array();  // what the reader left out (docs/scene-format.md)
