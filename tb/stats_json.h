@@ -13,8 +13,9 @@
 
 namespace rtm {
 
-/// The stats file's format version; docs/stats.schema.json describes this one (its test renders
-/// frames and validates them). Raised when a key goes or changes its meaning or type; new keys keep it.
+/// The stats file's format version: docs/stats.schema.json describes exactly this one, and allows
+/// no key it does not list, so any change to the format (a key added, gone, or changed in type or
+/// meaning) raises it, with the schema in the same commit.
 inline constexpr int kStatsSchemaVersion = 1;
 
 /// What was run, at the head of every stats file: the format's version, the command line as given
