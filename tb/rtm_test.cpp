@@ -119,7 +119,16 @@ TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
   std::snprintf(line, sizeof line, "cycles / MAC bound %.2f, load imbalance %.2f\n",
                 j["cycles_over_mac_bound"].get<double>(), j["load_imbalance"].get<double>());
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
-  std::snprintf(line, sizeof line, "MAC %.1f%%", 100 * j["utilisation"]["mac"].get<double>());
+  // Over the frame and over the PEs' working windows, both.
+  std::snprintf(line, sizeof line, "utilisation over the frame: front buffer %.1f%%, search %.1f%%, MAC %.1f%%",
+                100 * j["utilisation"]["front_buffer"].get<double>(), 100 * j["utilisation"]["search"].get<double>(),
+                100 * j["utilisation"]["mac"].get<double>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  std::snprintf(line, sizeof line, "utilisation over the PEs' working windows: front buffer %.1f%%, search %.1f%%, MAC %.1f%%",
+                100 * j["pe_utilisation"]["front_buffer"].get<double>(), 100 * j["pe_utilisation"]["search"].get<double>(),
+                100 * j["pe_utilisation"]["mac"].get<double>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  std::snprintf(line, sizeof line, ", credit stall %.1f%%\n", 100 * j["pe_utilisation"]["credit_stall"].get<double>());
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
   const json& s = j["summary"];
   for (const char* k : {"cycles", "load_imbalance", "bottleneck", "mac_bound_cycles", "cycles_over_mac_bound"})
@@ -129,6 +138,24 @@ TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
   for (const auto& [unit, u] : j["utilisation"].items()) EXPECT_EQ(s["util_" + unit], u) << unit;
   for (const auto& [unit, u] : j["pe_utilisation"].items()) EXPECT_EQ(s["pe_util_" + unit], u) << unit;
   for (const auto& [phase, cycles] : j["phases"].items()) EXPECT_EQ(s[phase], cycles) << phase;
+}
+
+// Whenever the machine's counts differ from the reference's (reference.counts_match false), the
+// summary says so in a warning line naming each count with both values; when they match, nothing.
+TEST(Cli, TheSummaryWarnsWhenTheCountsDifferFromTheReference) {
+  Tmp tmp;
+  const std::string scene = kScenes + "rings-1.nff";
+  const Proc differ = run_rtm("render " + scene + " --size 48x48 --pes 3 --partition blocks --out " + (tmp / "a.png"), tmp);
+  ASSERT_EQ(differ.exit_code, 0) << differ.err;
+  ASSERT_EQ(stats(tmp / "a.json")["reference"]["counts_match"], false);
+  EXPECT_NE(differ.out.find("\nwarning: counts differ from the reference (machine vs reference): shadow rays "),
+            std::string::npos)
+      << differ.out;
+  EXPECT_NE(differ.out.find("; at fp32 a hit flipped by rounding can do that"), std::string::npos) << differ.out;
+  const Proc match = run_rtm("render " + scene + " --size 16x16 --precision fp64 --out " + (tmp / "b.png"), tmp);
+  ASSERT_EQ(match.exit_code, 0) << match.err;
+  ASSERT_EQ(stats(tmp / "b.json")["reference"]["counts_match"], true);
+  EXPECT_EQ(match.out.find("warning"), std::string::npos) << match.out;
 }
 
 // `rtm config` prints a YAML file --config reads back: the same configuration, the same run.
