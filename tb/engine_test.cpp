@@ -22,9 +22,10 @@ namespace {
 const std::string kScenes = std::string(RTM_SOURCE_DIR) + "/scenes/spd/";
 
 /// The stats without what may differ between two runs of the same frame: wall times (every
-/// `*_seconds`), the reference cache and how the PEs were simulated.
+/// `*_seconds`), the reference cache and how the PEs were simulated (the configuration and the
+/// command line that chose it).
 json comparable(json j) {
-  for (const char* key : {"reference", "pe_simulation", "config"}) j.erase(key);
+  for (const char* key : {"reference", "pe_simulation", "config", "command_line"}) j.erase(key);
   for (auto it = j.begin(); it != j.end();) {
     const std::string key = it.key();
     if (key.size() >= 7 && key.compare(key.size() - 7, 7, "seconds") == 0) {

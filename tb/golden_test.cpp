@@ -133,7 +133,8 @@ std::string gtkw_hash(const std::string& gtkw) {
 }
 
 /// The stats without what may differ between two runs of the same frame: wall times (every key
-/// ending in `seconds`, at any depth) and whether the reference came from the cache.
+/// ending in `seconds`, at any depth), whether the reference came from the cache, and the command
+/// line (it names the case's scratch folder).
 json without_run_dependent(json j) {
   if (j.is_array())
     for (json& e : j) e = without_run_dependent(e);
@@ -148,6 +149,7 @@ json without_run_dependent(json j) {
     }
   }
   if (j.contains("reference") && j["reference"].is_object()) j["reference"].erase("cached");
+  j.erase("command_line");
   return j;
 }
 

@@ -69,6 +69,7 @@ int sc_main(int argc, char* argv[]) {
   preset_help.back() = '.';
 
   rtm::RenderOptions r;
+  r.command_line.assign(argv, argv + argc);
   CLI::App* render = app.add_subcommand("render", "Render a whole frame (the built-in default scene if SCENE is omitted)");
   render->add_option("scene", r.scene, "Scene file: .nff (NFF) or .yaml (native format)");
   render->add_flag("--reference", r.reference, "Use the untimed double-precision reference renderer instead of the machine");

@@ -8,6 +8,7 @@
 namespace rtm {
 
 struct RenderOptions {
+  std::vector<std::string> command_line;  ///< argv as given: the statistics record it
   std::string scene;           ///< empty: the built-in default scene
   bool reference = false;      ///< the untimed reference renderer instead of the machine
   std::string size;            ///< "WxH", empty: the scene's own

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <vector>
 
 namespace rtm {
 
@@ -17,6 +18,25 @@ void print_files(const RenderFiles& files) {
   if (!files.id_map.empty()) std::printf("id map: %s\n", files.id_map.c_str());
   if (!files.vcd.empty())
     std::printf("waveform: %s (GTKWave: gtkwave %s)\n", files.vcd.c_str(), files.gtkw.c_str());
+}
+
+/// One share per unit, as the stats name them.
+void print_units(const char* over, const UnitShares& u) {
+  std::printf("utilisation %s: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading %.1f%%", over,
+              100 * u.front_buffer, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shading);
+}
+
+/// A warning line when the machine did other work than the reference (reference.counts_match
+/// false): each count that differs, both values.
+void print_count_differences(const TraceCounts& machine, const TraceCounts& reference, Precision p) {
+  const std::vector<CountDifference> d = count_differences(machine, reference);
+  if (d.empty()) return;
+  std::printf("warning: counts differ from the reference (machine vs reference):");
+  for (size_t i = 0; i < d.size(); ++i)
+    std::printf("%s %s %llu vs %llu", i ? "," : "", d[i].what.c_str(), (unsigned long long)d[i].a,
+                (unsigned long long)d[i].b);
+  std::printf("; %s (docs/machine.md, \"Statistics\")\n",
+              p == Precision::Fp32 ? "at fp32 a hit flipped by rounding can do that" : "at fp64 they should be equal");
 }
 
 }  // namespace
@@ -43,13 +63,17 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
               c.clock_ns);
   print_rays(m.counts);
   std::printf("rays per cycle: %.4f\n", double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));
-  const FrameUtilisation& u = st.utilisation;
-  std::printf("utilisation: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading %.1f%%\n",
-              100 * u.front_buffer, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shading);
-  std::printf("bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n", st.bottleneck.c_str(),
-              st.cycles_over_mac_bound, st.profile.imbalance);
+  // Both: the host's pre-processing and the transfer come before the PEs start, so a unit saturated
+  // while the PEs work can look half idle over the frame.
+  print_units("over the frame", st.utilisation);
+  std::printf("\n");
+  print_units("over the PEs' working windows", st.profile.busy);
+  std::printf(", credit stall %.1f%%\n", 100 * st.profile.credit_stall);
+  std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
+  std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
   std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,
               err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255);
+  print_count_differences(m.counts, ref.counts, c.precision);
   std::printf("wall time: %.3f s model (%s), %.3f s reference%s; grid build %.3f s (%zu references)\n",
               m.wall_seconds,
               m.engine_unsupported.empty() ? "PEs on the PE engine" : ("PEs as modules: " + m.engine_unsupported).c_str(),

@@ -14,19 +14,13 @@
 #include <sstream>
 
 #include "byte_size.h"
+#include "fnv1a.h"
 #include "render/atomic_file.h"
 #include "render/partial_files.h"
 
 namespace rtm {
 namespace fs = std::filesystem;
 namespace {
-
-constexpr uint64_t kFnvBasis = 1469598103934665603ull, kFnvPrime = 1099511628211ull;
-
-uint64_t fnv1a(const std::string& s, uint64_t h = kFnvBasis) {
-  for (unsigned char c : s) h = (h ^ c) * kFnvPrime;
-  return h;
-}
 
 /// The entry's checksum: FNV-1a over 64-bit words (eight times faster than over bytes on a
 /// gigabyte entry), each step also folding high bits down, then the tail bytes.

@@ -95,7 +95,8 @@ int run_render(const RenderOptions& opt) {
     // lock until the load is done (measured: 0.3 s instead of 0.05 s for balls-4 with two).
     const Grid grid = build_grid(scene.primitives, scene.grid, 1);
     const double grid_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    nlohmann::json stats = scene_json(scene, grid, grid_seconds);
+    nlohmann::json stats = run_json(opt.command_line, opt.scene, scene_text);
+    stats.update(scene_json(scene, grid, grid_seconds));
 
     // Before any frame-sized allocation: what it will need, against the budget.
     check_memory_budget(estimate_memory(scene, grid, opt.reference ? nullptr : &config, !opt.vcd.empty()), budget,

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -112,11 +113,22 @@ TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = stats(tmp / "m.json");
   char line[200];
-  std::snprintf(line, sizeof line, "bottleneck: %s (cycles / MAC bound %.2f, load imbalance %.2f)\n",
-                j["bottleneck"].get<std::string>().c_str(), j["cycles_over_mac_bound"].get<double>(),
-                j["load_imbalance"].get<double>());
+  std::snprintf(line, sizeof line, "bottleneck: %s: %s\n", j["bottleneck"].get<std::string>().c_str(),
+                j["bottleneck_reason"].get<std::string>().c_str());
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
-  std::snprintf(line, sizeof line, "MAC %.1f%%", 100 * j["utilisation"]["mac"].get<double>());
+  std::snprintf(line, sizeof line, "cycles / MAC bound %.2f, load imbalance %.2f\n",
+                j["cycles_over_mac_bound"].get<double>(), j["load_imbalance"].get<double>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  // Over the frame and over the PEs' working windows, both.
+  std::snprintf(line, sizeof line, "utilisation over the frame: front buffer %.1f%%, search %.1f%%, MAC %.1f%%",
+                100 * j["utilisation"]["front_buffer"].get<double>(), 100 * j["utilisation"]["search"].get<double>(),
+                100 * j["utilisation"]["mac"].get<double>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  std::snprintf(line, sizeof line, "utilisation over the PEs' working windows: front buffer %.1f%%, search %.1f%%, MAC %.1f%%",
+                100 * j["pe_utilisation"]["front_buffer"].get<double>(), 100 * j["pe_utilisation"]["search"].get<double>(),
+                100 * j["pe_utilisation"]["mac"].get<double>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  std::snprintf(line, sizeof line, ", credit stall %.1f%%\n", 100 * j["pe_utilisation"]["credit_stall"].get<double>());
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
   const json& s = j["summary"];
   for (const char* k : {"cycles", "load_imbalance", "bottleneck", "mac_bound_cycles", "cycles_over_mac_bound"})
@@ -126,6 +138,24 @@ TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
   for (const auto& [unit, u] : j["utilisation"].items()) EXPECT_EQ(s["util_" + unit], u) << unit;
   for (const auto& [unit, u] : j["pe_utilisation"].items()) EXPECT_EQ(s["pe_util_" + unit], u) << unit;
   for (const auto& [phase, cycles] : j["phases"].items()) EXPECT_EQ(s[phase], cycles) << phase;
+}
+
+// Whenever the machine's counts differ from the reference's (reference.counts_match false), the
+// summary says so in a warning line naming each count with both values; when they match, nothing.
+TEST(Cli, TheSummaryWarnsWhenTheCountsDifferFromTheReference) {
+  Tmp tmp;
+  const std::string scene = kScenes + "rings-1.nff";
+  const Proc differ = run_rtm("render " + scene + " --size 48x48 --pes 3 --partition blocks --out " + (tmp / "a.png"), tmp);
+  ASSERT_EQ(differ.exit_code, 0) << differ.err;
+  ASSERT_EQ(stats(tmp / "a.json")["reference"]["counts_match"], false);
+  EXPECT_NE(differ.out.find("\nwarning: counts differ from the reference (machine vs reference): shadow rays "),
+            std::string::npos)
+      << differ.out;
+  EXPECT_NE(differ.out.find("; at fp32 a hit flipped by rounding can do that"), std::string::npos) << differ.out;
+  const Proc match = run_rtm("render " + scene + " --size 16x16 --precision fp64 --out " + (tmp / "b.png"), tmp);
+  ASSERT_EQ(match.exit_code, 0) << match.err;
+  ASSERT_EQ(stats(tmp / "b.json")["reference"]["counts_match"], true);
+  EXPECT_EQ(match.out.find("warning"), std::string::npos) << match.out;
 }
 
 // `rtm config` prints a YAML file --config reads back: the same configuration, the same run.
@@ -151,7 +181,46 @@ TEST(Cli, ConfigPrintsAFileThatLoadsBack) {
   ASSERT_FALSE(from_file.is_null() || from_sets.is_null());
   EXPECT_EQ(from_file["config"], from_sets["config"]);
   EXPECT_EQ(from_file["cycles"], from_sets["cycles"]);
-  EXPECT_EQ(from_file["config"]["clock_ns"], "2.5");
+  EXPECT_EQ(from_file["config"]["clock_ns"], 2.5);
+}
+
+// The stats' `config` holds each key's value as its type says (what `rtm config` writes it accepts):
+// integers and numbers as JSON numbers, flags as booleans, choices as their names.
+TEST(Cli, StatsConfigValuesHaveTheirKeysTypes) {
+  Tmp tmp;
+  const std::string sets = " --set clock_ns=2.5 --set broadcast=true --set loop_credits=3";
+  const json j = render(tmp, "m", kScenes + "balls-1.nff --size 8x8" + sets);
+  const Proc config = run_rtm("config" + sets, tmp);
+  ASSERT_FALSE(j.is_null());
+  ASSERT_EQ(config.exit_code, 0) << config.err;
+  // `key: value  # meaning (what it accepts)`, the accepted values last.
+  const std::regex line(R"(^(\w+): (\S+) +# .*\((an integer|a number|true or false|one of)[^()]*\)$)");
+  std::istringstream lines(config.out);
+  size_t keys = 0;
+  for (std::string l; std::getline(lines, l);) {
+    std::smatch m;
+    if (!std::regex_match(l, m, line) || m[1] == "preset") continue;
+    ++keys;
+    const json& v = j["config"][m[1].str()];
+    const std::string type = m[3], text = m[2];
+    if (type == "an integer") {
+      EXPECT_TRUE(v.is_number_integer()) << l;
+      EXPECT_EQ(v.dump(), text) << l;
+    } else if (type == "a number") {
+      EXPECT_TRUE(v.is_number()) << l;
+      EXPECT_EQ(v.get<double>(), std::stod(text)) << l;
+    } else if (type == "true or false") {
+      EXPECT_TRUE(v.is_boolean()) << l;
+      EXPECT_EQ(v.dump(), text) << l;
+    } else {
+      EXPECT_EQ(v, text) << l;
+    }
+  }
+  EXPECT_EQ(keys, j["config"].size()) << "every key of the stats is one of rtm config's";
+  EXPECT_EQ(j["config"]["clock_ns"], 2.5);
+  EXPECT_EQ(j["config"]["broadcast"], true);
+  EXPECT_EQ(j["config"]["loop_credits"], 3);
+  EXPECT_EQ(j["config"]["timing"], "fast");
 }
 
 // A bad configuration file is bad input (exit 2, as a bad command line), named by file and line.
@@ -199,7 +268,7 @@ TEST(Cli, APresetRendersAndTheStatsRecordIt) {
   EXPECT_EQ(paper["preset"], "paper");
   EXPECT_EQ(plain["preset"], "default");
   EXPECT_EQ(paper["config"]["mac_schedule"], "full");
-  EXPECT_EQ(paper["config"]["recentre"], "false");
+  EXPECT_EQ(paper["config"]["recentre"], false);
   EXPECT_EQ(paper["mac"]["products"].get<uint64_t>(), 28 * paper["intersection_tests"].get<uint64_t>());
   EXPECT_LE(paper["error"]["pixels_over_1_255"].get<int>(), 16 * 16 / 100);
   // The same picture: the presets differ in arithmetic and schedule, not in what is traced.

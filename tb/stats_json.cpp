@@ -1,6 +1,9 @@
 #include "stats_json.h"
 
 #include <cmath>
+#include <cstdio>
+
+#include "fnv1a.h"
 
 namespace rtm {
 
@@ -33,7 +36,7 @@ nlohmann::json pe_utilisation_json(const FrameProfile& f) {
 
 /// One PE's figure `of` per unit (replicated units: summed).
 nlohmann::json unit_figures(const PeCounters& p, uint64_t UnitStats::*of) {
-  return {{"front_buffer", p.front.*of}, {"search", p.search.*of}, {"mac", p.mac.*of}, {"root", p.root.*of},
+  return {{"front_buffer", p.front.*of}, {"search", p.search().*of}, {"mac", p.mac.*of}, {"root", p.root.*of},
           {"shading", p.shade.*of}};
 }
 
@@ -51,6 +54,19 @@ nlohmann::json error_json(const ImageError& e) {
           {"pixels_over_1_255", e.pixels_over_1_255}};
 }
 
+/// A configuration value as its key's type: an integer or a number, a flag as a boolean, a choice
+/// as its name. From the key's own text (ConfigKey::get), which reads back as the same value.
+nlohmann::json config_value(const ConfigKey& k, const MachineConfig& c) {
+  const std::string v = k.get(c);
+  switch (k.type) {
+    case ConfigKey::Type::Integer: return std::stoll(v);
+    case ConfigKey::Type::Number: return std::stod(v);
+    case ConfigKey::Type::Flag: return v == "true";
+    case ConfigKey::Type::Choice: break;
+  }
+  return v;
+}
+
 /// A simulated time in whole PE cycles.
 uint64_t whole_cycles(const sc_core::sc_time& t, const MachineConfig& c) {
   return uint64_t(std::llround(t / sc_core::sc_time(c.clock_ns, sc_core::SC_NS)));
@@ -63,7 +79,10 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   auto ticks = [&](uint64_t t) { return cyc(sc_core::sc_time::from_value(t)); };  // PeCounters' times
   const FrameStats& s = m.stats;
   nlohmann::json per_pe = nlohmann::json::array();
-  for (const PeCounters& p : m.per_pe)
+  for (size_t i = 0; i < m.per_pe.size(); ++i) {
+    const PeCounters& p = m.per_pe[i];
+    nlohmann::json search_units = nlohmann::json::array();
+    for (const SearchUnitShares& u : s.search_units[i]) search_units.push_back({{"busy", u.busy}, {"issue", u.issue}});
     per_pe.push_back({{"cycles", ticks(p.finish)},
                       {"start_cycle", ticks(p.start)},
                       {"credit_stall_cycles", ticks(p.credit_stall)},
@@ -72,11 +91,13 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"busy_cycles", unit_figures(p, &UnitStats::busy_cycles)},
                       {"issue_cycles", unit_figures(p, &UnitStats::issue_cycles)},
                       {"held_cycles", unit_figures(p, &UnitStats::held_cycles)},
-                      {"starved_cycles", unit_figures(p, &UnitStats::starved_cycles)}});
+                      {"starved_cycles", unit_figures(p, &UnitStats::starved_cycles)},
+                      {"search_units", search_units}});
+  }
   nlohmann::json fifo;
   for (const FifoSummary& f : m.fifos) fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
   nlohmann::json config;
-  for (const ConfigKey& k : config_keys()) config[k.name] = k.get(c);
+  for (const ConfigKey& k : config_keys()) config[k.name] = config_value(k, c);
   return {{"pes", c.pes},
           {"timing", to_string(c.timing)},
           {"precision", to_string(c.precision)},
@@ -106,7 +127,8 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
           {"load_imbalance", s.profile.imbalance},
           {"mac_bound_cycles", s.mac_bound_cycles},
           {"cycles_over_mac_bound", s.cycles_over_mac_bound},
-          {"bottleneck", s.bottleneck},
+          {"bottleneck", s.bottleneck.name},
+          {"bottleneck_reason", s.bottleneck.reason},
           {"left_out",
            {{"units", m.left_out_units},
             {"mac_schedule", to_string(c.mac_schedule)},
@@ -147,7 +169,7 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
                       {"mac_busy_cycles", m.mac_busy_cycles},
                       {"link_busy_cycles", whole_cycles(m.host.link_busy, c)},
                       {"load_imbalance", s.profile.imbalance},
-                      {"bottleneck", s.bottleneck},
+                      {"bottleneck", s.bottleneck.name},
                       {"mac_bound_cycles", s.mac_bound_cycles},
                       {"cycles_over_mac_bound", s.cycles_over_mac_bound}};
   flatten_into(j, "error_", error_json(err));
@@ -161,6 +183,16 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
 }
 
 }  // namespace
+
+nlohmann::json run_json(const std::vector<std::string>& command_line, const std::string& scene_path,
+                        const std::string& scene_text) {
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)fnv1a(scene_text));
+  return {{"schema_version", kStatsSchemaVersion},
+          {"command_line", command_line},
+          {"scene_path", scene_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene_path)},
+          {"scene_fnv1a", hash}};
+}
 
 nlohmann::json scene_json(const Scene& s, const Grid& g, double grid_seconds) {
   nlohmann::json skipped = nlohmann::json::array();  // what the reader left out (docs/scene-format.md)
@@ -190,14 +222,12 @@ nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& 
   j.update(machine_json(m, c));
   j["error"] = error_json(err);
   j["summary"] = summary_json(m, c, err);
-  // The same walk and tests as the machine's (at fp64 always; at fp32 unless a hit moved).
-  const bool counts_match = ref.counts.rays == m.counts.rays && ref.counts.voxel_steps == m.counts.voxel_steps &&
-                            ref.counts.intersection_tests == m.counts.intersection_tests &&
-                            ref.counts.clip_tests == m.counts.clip_tests;
+  // The same rays, walks and tests as the machine's: at fp64 always; at fp32 unless a hit flipped
+  // (docs/machine.md, "Statistics").
   j["reference"] = {{"wall_seconds", ref.wall_seconds},
                     {"cached", ref_cached},
                     {"rays_match", ref.counts.rays == m.counts.rays},
-                    {"counts_match", counts_match}};
+                    {"counts_match", count_differences(m.counts, ref.counts).empty()}};
   return j;
 }
 

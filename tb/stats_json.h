@@ -1,6 +1,9 @@
 // The statistics file of `rtm render` (docs/machine.md, "Statistics"): the model's figures as JSON.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "machine/machine.h"
@@ -9,6 +12,17 @@
 #include "scene/scene.h"
 
 namespace rtm {
+
+/// The stats file's format version: docs/stats.schema.json describes exactly this one, and allows
+/// no key it does not list, so any change to the format (a key added, gone, or changed in type or
+/// meaning) raises it, with the schema in the same commit.
+inline constexpr int kStatsSchemaVersion = 1;
+
+/// What was run, at the head of every stats file: the format's version, the command line as given
+/// (argv), the scene file as named there (null: the built-in scene) and an FNV-1a hash of the
+/// bytes read, so that a stats file names the input it came from.
+nlohmann::json run_json(const std::vector<std::string>& command_line, const std::string& scene_path,
+                        const std::string& scene_text);
 
 /// The head of every stats file: the scene as rendered and the grid built for it.
 nlohmann::json scene_json(const Scene& s, const Grid& g, double grid_seconds);

@@ -1,24 +1,47 @@
 #include "machine/bottleneck.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
 namespace rtm {
 
-std::string bottleneck(const FrameProfile& p) {
+namespace {
+
+std::string percent(double share) {
+  char s[16];
+  std::snprintf(s, sizeof s, "%.1f%%", 100 * share);
+  return s;
+}
+
+}  // namespace
+
+Bottleneck bottleneck(const FrameProfile& p) {
   const double host = p.total > 0 ? p.host_preprocess / p.total : 0;
   const double link = p.total > 0 ? (p.transfer + p.gather) / p.total : 0;
-  if (host + link >= 0.5) return host >= link ? "host_preprocessing" : "interconnect";
+  const char* host_or_link = host >= link ? "host_preprocessing" : "interconnect";
+  const std::string host_and_link = "host pre-processing " + percent(host) + " and the link " + percent(link) + " of the frame";
+  if (host + link >= 0.5) return {host_or_link, host_and_link};
+
   const UnitShares& u = p.issue;
   const std::vector<std::pair<double, const char*>> units = {
       {u.mac, "mac"}, {u.search, "search"}, {u.root, "root"}, {u.shading, "shading"}, {u.front_buffer, "front_buffer"}};
-  const auto top = *std::max_element(units.begin(), units.end());
-  if (top.first >= 0.6) return top.second;
-  if (p.credit_stall >= 0.3) return "loop_credits";
-  if (p.imbalance >= 1.3) return "load_imbalance";
-  if (std::max(host, link) >= 0.25) return host >= link ? "host_preprocessing" : "interconnect";
-  return "latency";
+  const auto [share, unit] = *std::max_element(units.begin(), units.end());
+  if (share >= 0.6) return {unit, "its entry taken " + percent(share) + " of the PEs' working windows"};
+
+  // Nothing saturated: the reason says how close the busiest unit came.
+  const std::string busiest = std::string("no unit saturated (the busiest, ") + unit + ", " + percent(share) + ")";
+  if (p.credit_stall >= 0.3)
+    return {"loop_credits", "the front buffer had rays but no credit " + percent(p.credit_stall) +
+                                " of the PEs' working windows; " + busiest};
+  if (p.imbalance >= 1.3) {
+    char s[64];
+    std::snprintf(s, sizeof s, "the longest PE works %.2f x the mean; ", p.imbalance);
+    return {"load_imbalance", s + busiest};
+  }
+  if (std::max(host, link) >= 0.25) return {host_or_link, host_and_link + "; " + busiest};
+  return {"latency", busiest};
 }
 
 }  // namespace rtm

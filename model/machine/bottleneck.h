@@ -1,6 +1,7 @@
 // Where the cycles go: the phases of a frame and the unit that limits it, from the counters.
 #pragma once
 
+#include <array>
 #include <string>
 
 namespace rtm {
@@ -25,14 +26,27 @@ struct FrameProfile {
   double imbalance = 1;         ///< max / mean PE working window
 };
 
-/// The bottleneck's name: host_preprocessing, interconnect, search, mac, root, shading,
-/// front_buffer, loop_credits (too few rays allowed in flight: back-pressure), load_imbalance,
-/// or latency (nothing saturated: the loop's latency with the rays available).
-/// Rules, in order: host pre-processing and the link together taking half the frame (the larger
-/// of the two is named); a PE unit whose entry is taken (`issue`) >= 60% of the working window
-/// (for an unpipelined unit the same as busy; a pipelined one can hold items all the time and
-/// still take more); credit stalls >= 30%; imbalance >= 1.3; the largest host/link share if
-/// >= 25%; else latency.
-std::string bottleneck(const FrameProfile& p);
+/// Every verdict bottleneck() gives, declared once: docs/stats.schema.json's enum is tested
+/// against this list.
+inline constexpr std::array<const char*, 10> kBottleneckNames = {
+    "host_preprocessing",  // voxel and primary-ray generation on the host
+    "interconnect",        // the link: the scene and rays to the PEs, frame buffers back
+    "search", "mac", "root", "shading", "front_buffer",  // a PE unit whose entry is nearly always taken
+    "loop_credits",    // too few rays allowed in flight: back-pressure
+    "load_imbalance",  // one PE works much longer than the mean
+    "latency",         // nothing saturated: the loop's latency with the rays available
+};
+
+struct Bottleneck {
+  std::string name;    ///< one of kBottleneckNames
+  std::string reason;  ///< one line: the figures that decided it
+};
+
+/// The unit or phase that limits the frame. Rules, in order: host pre-processing and the link
+/// together taking half the frame (the larger of the two is named); a PE unit whose entry is taken
+/// (`issue`) >= 60% of the working window (for an unpipelined unit the same as busy; a pipelined
+/// one can hold items all the time and still take more); credit stalls >= 30%; imbalance >= 1.3;
+/// the larger host/link share if >= 25%; else latency.
+Bottleneck bottleneck(const FrameProfile& p);
 
 }  // namespace rtm

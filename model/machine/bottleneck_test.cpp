@@ -1,5 +1,9 @@
 #include "machine/bottleneck.h"
 
+#include <set>
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 namespace rtm {
@@ -20,26 +24,26 @@ TEST(Bottleneck, HostOrLinkTakingHalfTheFrame) {
   FrameProfile both = busy_pes();
   both.host_preprocess = 300;
   both.transfer = 250;
-  EXPECT_EQ(bottleneck(both), "host_preprocessing");
+  EXPECT_EQ(bottleneck(both).name, "host_preprocessing");
   FrameProfile p = busy_pes();
   p.host_preprocess = 600;
-  EXPECT_EQ(bottleneck(p), "host_preprocessing");
+  EXPECT_EQ(bottleneck(p).name, "host_preprocessing");
   p = busy_pes();
   p.transfer = 300;
   p.gather = 250;
-  EXPECT_EQ(bottleneck(p), "interconnect");
+  EXPECT_EQ(bottleneck(p).name, "interconnect");
 }
 
 TEST(Bottleneck, TheBusiestUnitWhenItIsSaturated) {
   FrameProfile p = busy_pes();
   p.issue.mac = 0.92;
-  EXPECT_EQ(bottleneck(p), "mac");
+  EXPECT_EQ(bottleneck(p).name, "mac");
   p.issue.mac = 0.5;
   p.issue.search = 0.7;
-  EXPECT_EQ(bottleneck(p), "search");
+  EXPECT_EQ(bottleneck(p).name, "search");
   p.issue.search = 0.1;
   p.issue.shading = 0.65;
-  EXPECT_EQ(bottleneck(p), "shading");
+  EXPECT_EQ(bottleneck(p).name, "shading");
 }
 
 TEST(Bottleneck, APipelinedUnitHoldingItemsAllTheTimeIsNotSaturated) {
@@ -47,20 +51,66 @@ TEST(Bottleneck, APipelinedUnitHoldingItemsAllTheTimeIsNotSaturated) {
   p.busy.root = 0.98;  // a long latency, items inside nearly always ...
   p.issue.root = 0.2;  // ... but its entry mostly free
   p.issue.mac = 0.7;
-  EXPECT_EQ(bottleneck(p), "mac");
+  EXPECT_EQ(bottleneck(p).name, "mac");
 }
 
 TEST(Bottleneck, BackPressureImbalanceAndLatency) {
   FrameProfile p = busy_pes();
   p.credit_stall = 0.5;
-  EXPECT_EQ(bottleneck(p), "loop_credits");
+  EXPECT_EQ(bottleneck(p).name, "loop_credits");
   p.credit_stall = 0;
   p.imbalance = 1.8;
-  EXPECT_EQ(bottleneck(p), "load_imbalance");
+  EXPECT_EQ(bottleneck(p).name, "load_imbalance");
   p.imbalance = 1.0;
-  EXPECT_EQ(bottleneck(p), "latency");
+  EXPECT_EQ(bottleneck(p).name, "latency");
   p.host_preprocess = 300;
-  EXPECT_EQ(bottleneck(p), "host_preprocessing");
+  EXPECT_EQ(bottleneck(p).name, "host_preprocessing");
+}
+
+TEST(Bottleneck, TheReasonGivesTheFiguresThatDecidedIt) {
+  FrameProfile p = busy_pes();
+  p.issue.mac = 0.875;
+  EXPECT_EQ(bottleneck(p).reason, "its entry taken 87.5% of the PEs' working windows");
+  p.issue.mac = 0.41;
+  EXPECT_EQ(bottleneck(p).reason, "no unit saturated (the busiest, mac, 41.0%)");
+  p.imbalance = 1.5;
+  EXPECT_EQ(bottleneck(p).reason, "the longest PE works 1.50 x the mean; no unit saturated (the busiest, mac, 41.0%)");
+  p.imbalance = 1;
+  p.credit_stall = 0.35;
+  EXPECT_EQ(bottleneck(p).reason,
+            "the front buffer had rays but no credit 35.0% of the PEs' working windows; no unit saturated (the "
+            "busiest, mac, 41.0%)");
+  p = busy_pes();
+  p.host_preprocess = 600;
+  EXPECT_EQ(bottleneck(p).reason, "host pre-processing 60.0% and the link 3.0% of the frame");
+}
+
+// Each declared name is the verdict of some profile, and every verdict is a declared name.
+TEST(Bottleneck, EveryDeclaredNameIsAVerdict) {
+  std::vector<FrameProfile> profiles;
+  for (double UnitShares::*unit : {&UnitShares::search, &UnitShares::mac, &UnitShares::root, &UnitShares::shading,
+                                   &UnitShares::front_buffer}) {
+    FrameProfile p = busy_pes();
+    p.issue = {};
+    p.issue.*unit = 0.9;
+    profiles.push_back(p);
+  }
+  FrameProfile p = busy_pes();
+  profiles.push_back(p);  // latency
+  p.credit_stall = 0.5;
+  profiles.push_back(p);
+  p = busy_pes();
+  p.imbalance = 2;
+  profiles.push_back(p);
+  p = busy_pes();
+  p.host_preprocess = 600;
+  profiles.push_back(p);
+  p = busy_pes();
+  p.transfer = 600;
+  profiles.push_back(p);
+  std::set<std::string> verdicts;
+  for (const FrameProfile& q : profiles) verdicts.insert(bottleneck(q).name);
+  EXPECT_EQ(verdicts, std::set<std::string>(kBottleneckNames.begin(), kBottleneckNames.end()));
 }
 
 }  // namespace

@@ -14,7 +14,7 @@ UnitShares sum(const MachineResult& m, const MachineConfig& c, uint64_t UnitStat
   UnitShares u;
   for (const PeCounters& p : m.per_pe) {
     u.front_buffer += double(p.front.*of);
-    u.search += double(p.search.*of) / c.search_units;
+    u.search += double(p.search().*of) / c.search_units;
     u.mac += double(p.mac.*of) / c.intersection_units;
     u.root += double(p.root.*of) / c.intersection_units;
     u.shading += double(p.shade.*of);
@@ -25,6 +25,19 @@ UnitShares sum(const MachineResult& m, const MachineConfig& c, uint64_t UnitStat
 UnitShares divided(UnitShares u, double by) {
   for (double* x : {&u.front_buffer, &u.search, &u.mac, &u.root, &u.shading}) *x = by > 0 ? *x / by : 0;
   return u;
+}
+
+/// A PE's working window in cycles: its first primary ray handed out to its last ray ended.
+double working_window(const PeCounters& p, const sc_core::sc_time& period) {
+  return sc_core::sc_time::from_value(p.finish - p.start) / period;
+}
+
+std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p, const sc_core::sc_time& period) {
+  const double w = working_window(p, period);
+  std::vector<SearchUnitShares> shares;
+  for (const UnitStats& u : p.search_units)
+    shares.push_back(w > 0 ? SearchUnitShares{double(u.busy_cycles) / w, double(u.issue_cycles) / w} : SearchUnitShares{});
+  return shares;
 }
 
 /// Phases, unit figures over the PEs' working windows, credit stalls and load imbalance.
@@ -38,7 +51,7 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.gather = (m.host.gathered - m.host.pes_done) / period;
   double window = 0, longest = 0, stall = 0;
   for (const PeCounters& p : m.per_pe) {
-    const double w = sc_core::sc_time::from_value(p.finish - p.start) / period;
+    const double w = working_window(p, period);
     window += w;
     longest = std::max(longest, w);
     stall += sc_core::sc_time::from_value(p.credit_stall) / period;
@@ -60,6 +73,8 @@ FrameStats frame_stats(const MachineResult& m, const MachineConfig& c) {
   FrameStats s;
   s.utilisation = divided(sum(m, c, &UnitStats::busy_cycles), double(m.cycles) * c.pes);
   s.profile = profile(m, c);
+  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
+  for (const PeCounters& p : m.per_pe) s.search_units.push_back(search_unit_shares(p, period));
   s.bottleneck = bottleneck(s.profile);
   s.mac_bound_cycles = std::ceil(double(m.mac_products) / c.pes);
   s.cycles_over_mac_bound = s.mac_bound_cycles > 0 ? double(m.cycles) / s.mac_bound_cycles : 0.0;

@@ -7,6 +7,15 @@
 namespace rtm {
 namespace {
 
+UnitStats search_unit(uint64_t busy, uint64_t issue, uint64_t held, uint64_t starved) {
+  UnitStats u;
+  u.busy_cycles = busy;
+  u.issue_cycles = issue;
+  u.held_cycles = held;
+  u.starved_cycles = starved;
+  return u;
+}
+
 /// Two PEs with two MAC lanes each, clocked at 10 ns: the host pre-processes for 100 cycles and
 /// transfers for 50, the PEs work from cycle 150 (PE 0 for 1000 cycles, PE 1 for 500), the
 /// gather takes the last 50 of the frame's 1200 cycles.
@@ -34,19 +43,19 @@ struct TwoPes {
     a.finish = ticks(1150);
     a.credit_stall = ticks(90);
     a.front.busy_cycles = 300;
-    a.search.busy_cycles = 2000;
+    // The four search units: busy 2000 cycles together, issue 600, held 6000, starved 1200.
+    a.search_units = {search_unit(800, 300, 2000, 0), search_unit(600, 150, 2000, 200),
+                      search_unit(400, 100, 1000, 400), search_unit(200, 50, 1000, 600)};
     a.mac.busy_cycles = 1600;
     a.root.busy_cycles = 400;
     a.shade.busy_cycles = 240;
-    a.search.issue_cycles = 600;
-    a.search.held_cycles = 6000;
-    a.search.starved_cycles = 1200;
     PeCounters& b = m.per_pe[1];
     b.start = ticks(150);
     b.finish = ticks(650);
     b.credit_stall = ticks(60);
     b.front.busy_cycles = 150;
-    b.search.busy_cycles = 1000;
+    b.search_units = {search_unit(400, 0, 0, 0), search_unit(300, 0, 0, 0), search_unit(200, 0, 0, 0),
+                      search_unit(100, 0, 0, 0)};
     b.mac.busy_cycles = 400;
     b.root.busy_cycles = 200;
     b.shade.busy_cycles = 60;
@@ -86,17 +95,42 @@ TEST(FrameStats, ProfileOverTheWorkingWindows) {
   EXPECT_DOUBLE_EQ(f.imbalance, 1000.0 / 750);
 }
 
+TEST(FrameStats, EachSearchUnitOverItsPesWorkingWindow) {
+  const TwoPes t;
+  const FrameStats s = frame_stats(t.result, t.config);
+  ASSERT_EQ(s.search_units.size(), 2u);
+  ASSERT_EQ(s.search_units[0].size(), 4u);
+  // PE 0 works 1000 cycles, PE 1 500.
+  const double busy[] = {0.8, 0.6, 0.4, 0.2}, issue0[] = {0.3, 0.15, 0.1, 0.05};
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_DOUBLE_EQ(s.search_units[0][k].busy, busy[k]) << k;
+    EXPECT_DOUBLE_EQ(s.search_units[0][k].issue, issue0[k]) << k;
+    EXPECT_DOUBLE_EQ(s.search_units[1][k].busy, busy[k]) << k;
+    EXPECT_DOUBLE_EQ(s.search_units[1][k].issue, 0) << k;
+  }
+}
+
+TEST(FrameStats, APeThatNeverWorkedHasNoSearchUnitShares) {
+  TwoPes t;
+  t.result.per_pe[1].start = t.result.per_pe[1].finish = 0;  // no pixels
+  const FrameStats s = frame_stats(t.result, t.config);
+  for (const SearchUnitShares& u : s.search_units[1]) {
+    EXPECT_DOUBLE_EQ(u.busy, 0);
+    EXPECT_DOUBLE_EQ(u.issue, 0);
+  }
+}
+
 TEST(FrameStats, TheBottleneckOfTheProfile) {
   TwoPes t;
   t.result.per_pe[0].mac.issue_cycles = 1600;
   t.result.per_pe[1].mac.issue_cycles = 400;
   FrameStats s = frame_stats(t.result, t.config);
-  EXPECT_EQ(s.bottleneck, "mac") << "the MAC lanes' entries are taken 2/3 of the working windows";
-  EXPECT_EQ(s.bottleneck, bottleneck(s.profile));
+  EXPECT_EQ(s.bottleneck.name, "mac") << "the MAC lanes' entries are taken 2/3 of the working windows";
+  EXPECT_EQ(s.bottleneck.reason, bottleneck(s.profile).reason);
   t.result.per_pe[0].mac.issue_cycles = 600;
   t.result.per_pe[1].mac.issue_cycles = 200;
   s = frame_stats(t.result, t.config);
-  EXPECT_EQ(s.bottleneck, "load_imbalance") << "nothing saturated, PE 0 works 1.33 x the mean";
+  EXPECT_EQ(s.bottleneck.name, "load_imbalance") << "nothing saturated, PE 0 works 1.33 x the mean";
 }
 
 TEST(FrameStats, MacBound) {
@@ -120,7 +154,7 @@ TEST(FrameStats, AnEmptyRunHasNoUtilisationAndNoImbalance) {
   EXPECT_DOUBLE_EQ(s.utilisation.mac, 0);
   EXPECT_DOUBLE_EQ(s.profile.busy.mac, 0);
   EXPECT_DOUBLE_EQ(s.profile.imbalance, 1);
-  EXPECT_EQ(s.bottleneck, "latency");
+  EXPECT_EQ(s.bottleneck.name, "latency");
 }
 
 }  // namespace

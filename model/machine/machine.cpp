@@ -168,7 +168,7 @@ class Machine : public sc_core::sc_module {
         work = finished_work;
         for (size_t i = 0; i < active.size();) {
           const PeCounters& k = active[i]->ctx.counters;
-          const uint64_t w = k.front.items + k.search.items + k.mac.items + k.root.items + k.shade.items;
+          const uint64_t w = k.front.items + k.search().items + k.mac.items + k.root.items + k.shade.items;
           if (active[i]->finished()) {
             finished_work += w;
             active[i] = active.back();

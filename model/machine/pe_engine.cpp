@@ -49,7 +49,7 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
   for (size_t u = 0; u < root0_ + lanes_; ++u) {
     const UnitKind k = kind_at(u);
     const size_t first = k == UnitKind::Root ? root0_ : k == UnitKind::Mac ? mac0_ : k == UnitKind::Search ? kSearch : u;
-    places_.emplace_back(cycle_, &pe.counters.unit(k), k, int(u - first));
+    places_.emplace_back(cycle_, &pe.counters.unit(k, int(u - first)), k, int(u - first));
   }
   for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
   for (size_t lane = 0; lane < lanes_; ++lane) {

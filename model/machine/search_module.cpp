@@ -7,7 +7,7 @@ SearchModule::SearchModule(sc_core::sc_module_name name, PeContext& ctx, int ind
       unit_(ctx, index),
       sleep_(ctx.sleeper(UnitKind::Search)),
       dispatcher_(dispatcher),
-      pipe_(ctx.period.value(), &ctx.counters.search) {
+      pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Search, index)) {
   SC_THREAD(run);
 }
 

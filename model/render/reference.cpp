@@ -22,6 +22,18 @@ void TraceCounts::add(const TraceCounts& o) {
   clip_tests += o.clip_tests;
 }
 
+std::vector<CountDifference> count_differences(const TraceCounts& a, const TraceCounts& b) {
+  std::vector<CountDifference> d;
+  for (int k = 0; k < kRayKinds; ++k)
+    if (a.rays[size_t(k)] != b.rays[size_t(k)])
+      d.push_back({std::string(ray_kind_name(RayKind(k))) + " rays", a.rays[size_t(k)], b.rays[size_t(k)]});
+  for (auto [count, name] : {std::pair{&TraceCounts::voxel_steps, "voxel steps"},
+                             {&TraceCounts::intersection_tests, "intersection tests"},
+                             {&TraceCounts::clip_tests, "clip tests"}})
+    if (a.*count != b.*count) d.push_back({name, a.*count, b.*count});
+  return d;
+}
+
 namespace {
 
 /// A per-thread memo of each primitive's test against the current ray (a "mailbox"). A primitive

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "geom/grid.h"
@@ -21,6 +22,14 @@ struct TraceCounts {
   void add(const TraceCounts& o);
   uint64_t total_rays() const { return rays[0] + rays[1] + rays[2] + rays[3]; }
 };
+
+/// One count in which two renders of a frame differ.
+struct CountDifference {
+  std::string what;  ///< "shadow rays", "voxel steps", "intersection tests", "clip tests"
+  uint64_t a = 0, b = 0;
+};
+/// Each count in which a and b differ, the rays by kind first; empty: they did the same work.
+std::vector<CountDifference> count_differences(const TraceCounts& a, const TraceCounts& b);
 
 /// A rendered frame: linear RGB and the primitive each primary ray hit (-1: background).
 struct Image {

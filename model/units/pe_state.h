@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "machine/config.h"
 #include "render/reference.h"
@@ -14,7 +15,6 @@
 
 namespace rtm {
 
-
 /// Times are in SystemC time-resolution units (ticks, sc_time::value()).
 struct PeCounters {
   TraceCounts counts;
@@ -22,11 +22,20 @@ struct PeCounters {
   uint64_t mac_products_saved = 0;  ///< skipped by sparse schedules, against the paper's 28 per test
   uint64_t mac_cycles_saved = 0;    ///< cycles of the MAC's entry (its jobs' intervals) saved by sparse schedules
   uint64_t spills = 0;
-  UnitStats front, search, mac, root, shade;  ///< replicated units: summed
-  UnitStats& unit(UnitKind k) {
+  UnitStats front, mac, root, shade;  ///< the MAC and root lanes: summed
+  /// One per search unit (sized to the configuration's search_units before any pipeline counts
+  /// into it): each unit's own figures, which search() sums.
+  std::vector<UnitStats> search_units;
+  UnitStats search() const {
+    UnitStats s;
+    for (const UnitStats& u : search_units) s += u;
+    return s;
+  }
+  /// Where unit `index` of kind k counts (the index picks a search unit; the lanes share theirs).
+  UnitStats& unit(UnitKind k, int index) {
     switch (k) {
       case UnitKind::FrontBuffer: return front;
-      case UnitKind::Search: return search;
+      case UnitKind::Search: return search_units.at(size_t(index));
       case UnitKind::Mac: return mac;
       case UnitKind::Root: return root;
       case UnitKind::Shading: break;

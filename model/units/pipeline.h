@@ -29,6 +29,15 @@ struct UnitStats {
   uint64_t issue_cycles = 0;    ///< the intervals of the items taken: the entry's utilisation
   uint64_t held_cycles = 0;     ///< the sum over items of the cycles each spent inside
   uint64_t starved_cycles = 0;  ///< able to take an item, none there
+
+  UnitStats& operator+=(const UnitStats& o) {
+    items += o.items;
+    busy_cycles += o.busy_cycles;
+    issue_cycles += o.issue_cycles;
+    held_cycles += o.held_cycles;
+    starved_cycles += o.starved_cycles;
+    return *this;
+  }
 };
 
 template <class Item>

@@ -9,7 +9,8 @@ CONFIG_COLUMNS = ["scene", "width", "height", "pes", "partition", "search_units"
 HEAD_COLUMNS = ["run_id", "status", "error"] + CONFIG_COLUMNS
 
 # rtm's figures of a finished run: the stats JSON's `summary` object holds exactly these keys
-# (tb/render_command.cpp, summary_json), and a row copies them as they are.
+# (tb/stats_json.cpp, summary_json; docs/stats.schema.json documents each), and a row copies them as
+# they are.
 SUMMARY_COLUMNS = [
     "cycles", "wall_seconds",
     "error_rmse", "error_psnr_db", "error_max_abs", "error_pixels_over_1_255",

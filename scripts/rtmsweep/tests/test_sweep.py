@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from support import PLOTS, SCENES, SCRIPTS, SWEEP, check_png, env, is_number, read_csv, write_spec
+from support import PLOTS, ROOT, SCENES, SCRIPTS, SWEEP, check_png, env, is_number, read_csv, write_spec
 from rtmsweep import columns
 
 COLUMNS = columns.header([])
@@ -32,6 +32,14 @@ def test_the_stats_summary_holds_exactly_the_metric_columns(rtm, tmp_path):
     summary = json.loads((tmp_path / "x.json").read_text())["summary"]
     assert sorted(summary) == sorted(columns.SUMMARY_COLUMNS)
     assert sorted(columns.METRIC_COLUMNS) == sorted(columns.SUMMARY_COLUMNS + ["exit_code", "host", "scene_file"])
+
+
+def test_the_stats_schema_documents_exactly_the_summary_columns():
+    """docs/stats.schema.json describes the summary key by key: the same keys, every one required."""
+    with open(os.path.join(ROOT, "docs", "stats.schema.json")) as f:
+        summary = json.load(f)["$defs"]["summary"]
+    assert sorted(summary["properties"]) == sorted(columns.SUMMARY_COLUMNS)
+    assert sorted(summary["required"]) == sorted(columns.SUMMARY_COLUMNS)
 
 
 def test_the_tiny_example_gives_one_ok_row_per_configuration(sweep, tmp_path):
