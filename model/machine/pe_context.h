@@ -20,7 +20,6 @@ struct PeContext : PeState {
   TraceWindow window;
   Timekeeper* keeper = nullptr;  ///< arbitration = ranked: every timed wait goes through it
 
-  sc_core::sc_time cycles(uint64_t n) const { return period * double(n); }
   static uint64_t now() { return sc_core::sc_time_stamp().value(); }
   /// The time a unit's take or put is logged at: only the event log reads it, so without one the
   /// kernel is not asked.
@@ -29,23 +28,8 @@ struct PeContext : PeState {
   std::unique_ptr<Sleeper> sleeper(UnitKind kind, int lane = 0) const {
     return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + int(kind) + lane);
   }
-  /// Waits until the next PE clock boundary (work arriving from the host is not aligned).
-  void align(Sleeper& sleep) const {
-    const sc_dt::uint64 t = sc_core::sc_time_stamp().value(), c = period.value();
-    if (const sc_dt::uint64 r = t % c) sleep(sc_core::sc_time::from_value(c - r));
-  }
   static constexpr int kRanksPerPe = 128;  // more than UnitKind and 64 root lanes need
 };
-
-/// Writes v to a FIFO (a port or a FIFO pointer), first waiting while it is full. In ranked order
-/// a unit facing a full FIFO tries again every cycle, as a hardware handshake would, so who gets
-/// a freed place follows the units' ranks; otherwise it waits for the kernel's read event.
-template <class Fifo, class T>
-void put(Fifo&& fifo, const T& v, const PeContext& ctx, Sleeper& sleep) {
-  if (ctx.keeper)
-    while (fifo->num_free() == 0) sleep(ctx.period);
-  fifo->write(v);
-}
 
 /// Busy flag and the id of the ray a unit works on, as traced variables. Outside the waveform
 /// window they are left alone, so the VCD file records nothing there.
