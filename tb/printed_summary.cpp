@@ -39,6 +39,24 @@ void print_count_differences(const TraceCounts& machine, const TraceCounts& refe
               p == Precision::Fp32 ? "at fp32 a hit flipped by rounding can do that" : "at fp64 they should be equal");
 }
 
+/// Each PE's working window in PE cycles, the first of a frame's PEs, and the range over all of
+/// them: where a `--vcd-window` shows something (`peN+FROM:TO` counts from a window's start).
+void print_working_windows(const std::vector<PeCounters>& pes, const MachineConfig& c) {
+  if (pes.empty()) return;
+  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
+  auto cycle = [&](uint64_t ticks) { return (unsigned long long)(sc_core::sc_time::from_value(ticks) / period); };
+  constexpr size_t kShown = 4;
+  std::printf("PE working windows (cycles):");
+  for (size_t i = 0; i < std::min(pes.size(), kShown); ++i)
+    std::printf("%s pe%zu %llu-%llu", i ? "," : "", i, cycle(pes[i].start), cycle(pes[i].finish));
+  if (pes.size() > kShown) {
+    uint64_t first = UINT64_MAX, last = 0;
+    for (const PeCounters& p : pes) first = std::min(first, p.start), last = std::max(last, p.finish);
+    std::printf(", ... all %zu within %llu-%llu", pes.size(), cycle(first), cycle(last));
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 
 void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds, const ReferenceResult& r,
@@ -69,6 +87,7 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   std::printf("\n");
   print_units("over the PEs' working windows", st.profile.busy);
   std::printf(", credit stall %.1f%%\n", 100 * st.profile.credit_stall);
+  print_working_windows(m.per_pe, c);
   std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
   std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
   std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,

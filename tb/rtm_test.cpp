@@ -130,6 +130,13 @@ TEST(Cli, PrintedSummaryAndStatsShowTheSameFigures) {
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
   std::snprintf(line, sizeof line, ", credit stall %.1f%%\n", 100 * j["pe_utilisation"]["credit_stall"].get<double>());
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+  // Each PE's working window, where a waveform window counted from a PE's start begins.
+  std::snprintf(line, sizeof line, "PE working windows (cycles): pe0 %llu-%llu, pe1 %llu-%llu\n",
+                (unsigned long long)j["per_pe"][0]["start_cycle"].get<uint64_t>(),
+                (unsigned long long)j["per_pe"][0]["cycles"].get<uint64_t>(),
+                (unsigned long long)j["per_pe"][1]["start_cycle"].get<uint64_t>(),
+                (unsigned long long)j["per_pe"][1]["cycles"].get<uint64_t>());
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
   const json& s = j["summary"];
   for (const char* k : {"cycles", "load_imbalance", "bottleneck", "mac_bound_cycles", "cycles_over_mac_bound"})
     EXPECT_EQ(s[k], j[k]) << k;
