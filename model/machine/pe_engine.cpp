@@ -51,6 +51,7 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
     const size_t first = k == UnitKind::Root ? root0_ : k == UnitKind::Mac ? mac0_ : k == UnitKind::Search ? kSearch : u;
     places_.emplace_back(cycle_, &pe.counters.unit(k, int(u - first)), k, int(u - first));
   }
+  due_at_.assign(places_.size(), kNever);
   for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
   for (size_t lane = 0; lane < lanes_; ++lane) {
     macs_.emplace_back(pe, int(lane));
@@ -64,8 +65,9 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
 uint64_t PeEngine::next_instant() {
   uint64_t next = pending_step_;
   due_now_.clear();
-  for (size_t u = 0, n = places_.size(); u < n; ++u) {
-    const uint64_t at = places_[u].at;
+  const uint64_t* due = due_at_.data();
+  for (size_t u = 0, n = due_at_.size(); u < n; ++u) {
+    const uint64_t at = due[u];
     if (at > next) continue;
     if (at < next) {
       next = at;
@@ -77,7 +79,7 @@ uint64_t PeEngine::next_instant() {
 }
 
 bool PeEngine::idle() const {
-  return pending_step_ == kNever && std::all_of(places_.begin(), places_.end(), [](const Place& p) { return p.at == kNever; });
+  return pending_step_ == kNever && std::all_of(due_at_.begin(), due_at_.end(), [](uint64_t at) { return at == kNever; });
 }
 
 void PeEngine::run_before(uint64_t t) {
@@ -94,8 +96,8 @@ inline void PeEngine::want(size_t unit, uint64_t at) {
   Place& p = places_[unit];
   if (!p.wakeups.want(at, seq_)) return;
   // A new time is the earliest only if it is earlier (a time already asked for is not new).
-  if (at < p.at) {
-    p.at = at;
+  if (at < due_at_[unit]) {
+    due_at_[unit] = at;
     p.order = p.rank << 48 | seq_;
   }
   ++seq_;
@@ -106,7 +108,7 @@ void PeEngine::refresh(size_t unit) {
   // them so (machine/pe_context.h).
   Place& p = places_[unit];
   const auto [at, seq] = p.wakeups.next();
-  p.at = at;
+  due_at_[unit] = at;
   p.order = p.rank << 48 | seq;
 }
 

@@ -114,8 +114,7 @@ class PeEngine {
   struct Place {
     Pipeline<Held> pipe;
     Wakeups wakeups;
-    uint64_t at = kNever;  ///< its earliest wake-up ...
-    uint64_t order = 0;    ///< ... ranked: the unit's rank, then when it asked (units of one rank due together)
+    uint64_t order = 0;    ///< its earliest wake-up (due_at_) ranked: the unit's rank, then when it asked
     bool waiting = false;  ///< a root unit's or shading's wait for input
     UnitKind kind;
     int index;      ///< among the units of its kind
@@ -174,6 +173,7 @@ class PeEngine {
   std::vector<std::pair<Fifo*, bool>> front_inputs_;
 
   std::vector<Place> places_;
+  std::vector<uint64_t> due_at_;  ///< each place's earliest wake-up (kNever: none), packed: scanned every instant
   std::vector<size_t> due_now_;
   uint64_t seq_ = 0;
   uint64_t pending_step_ = kNever;  ///< an instant with no unit due but rays arriving

@@ -17,29 +17,32 @@ class LaneDispatcher {
   void idle(int lane) {
     const size_t w = size_t(lane) / 64;
     if (w >= bits_.size()) bits_.resize(w + 1, 0);
-    bits_[w] |= uint64_t(1) << (lane % 64);
+    const uint64_t bit = uint64_t(1) << (lane % 64);
+    idle_ += !(bits_[w] & bit);
+    bits_[w] |= bit;
   }
   void busy(int lane) {
     const size_t w = size_t(lane) / 64;
-    if (w < bits_.size()) bits_[w] &= ~(uint64_t(1) << (lane % 64));
+    if (w >= bits_.size()) return;
+    const uint64_t bit = uint64_t(1) << (lane % 64);
+    idle_ -= bool(bits_[w] & bit);
+    bits_[w] &= ~bit;
   }
-  bool any_idle() const {
-    for (uint64_t b : bits_)
-      if (b) return true;
-    return false;
-  }
+  bool any_idle() const { return idle_ > 0; }
   /// The lowest idle lane, now busy (any_idle() must hold).
   int take() {
     for (size_t w = 0;; ++w)
       if (bits_[w]) {
         const int bit = __builtin_ctzll(bits_[w]);
         bits_[w] &= bits_[w] - 1;
+        --idle_;
         return int(w * 64) + bit;
       }
   }
 
  private:
   std::vector<uint64_t> bits_;  ///< a bit per lane: waiting
+  size_t idle_ = 0;              ///< bits set
 };
 
 }  // namespace rtm
