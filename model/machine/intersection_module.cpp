@@ -51,10 +51,12 @@ void take_clocked(std::vector<Abg<Real>>& fast, const ClockedMac::Done& clocked,
     same = double(fast[i].a) == clocked.sums[i][0] && double(fast[i].b) == clocked.sums[i][1] &&
            double(fast[i].g) == clocked.sums[i][2];
   if (!same)
-    SC_REPORT_FATAL("rtm/pe/mac", (std::string("the fast MAC model disagrees with the clocked MAC: ") +
-                                   (ran ? std::to_string(clocked.cycles) : std::string("still running at")) +
-                                   " cycles against " + std::to_string(fast_cycles))
-                                      .c_str());
+    SC_REPORT_FATAL("rtm/pe/mac",
+                    (std::string("the fast MAC model disagrees with the clocked MAC: ") +
+                     (ran ? "clocked " + std::to_string(clocked.cycles) + " cycles (or other sums) against fast "
+                          : std::string("still running after the fast model's ")) +
+                     std::to_string(fast_cycles) + (ran ? "" : " cycles"))
+                        .c_str());
   for (size_t i = 0; i < fast.size(); ++i)
     fast[i] = {Real(clocked.sums[i][0]), Real(clocked.sums[i][1]), Real(clocked.sums[i][2])};
 }
