@@ -12,9 +12,9 @@ scaling.md          a table: cycles, speedup, parallel efficiency, phase shares,
                     and bottleneck per configuration and PE count
 
 A "configuration" (one line) is a scene with every other setting except the PE count; labels
-name only the settings that vary in the CSV. Its colour stands for its settings (the same
-partitioning, variant, ... has the same colour in every panel of every plot) and its marker and
-line style for its scene; with nothing but the scene varying, the colour is the scene's too.
+name only the settings that vary in the CSV (a variant alone, not also its preset). Its colour
+stands for its scene and its marker and line style for its other settings (partitioning, variant,
+...), the same in every panel of every plot. docs/sweeps.md ("Plots") has a caption per plot.
 """
 
 import argparse
@@ -28,6 +28,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
 from . import columns  # noqa: E402
 
@@ -57,14 +58,14 @@ def num(v):
 class Config:
     """One line of the plots: the ok rows of one configuration, sorted by PE count."""
 
-    def __init__(self, key, label, rows, category, scene_index):
-        self.key, self.label = key, label
+    def __init__(self, key, settings, rows, scene_index, settings_index):
+        self.key, self.scene, self.settings = key, key[0], settings
+        self.label = " ".join([self.scene] + ([settings] if settings else []))
         self.rows = sorted(rows, key=lambda r: r["_pes"])
         self.pes = [r["_pes"] for r in self.rows]
-        self.scene = key[0]
-        self.colour = COLOURS[category % len(COLOURS)]
-        self.marker = MARKERS[scene_index % len(MARKERS)]
-        self.linestyle = LINE_STYLES[scene_index % len(LINE_STYLES)]
+        self.colour = COLOURS[scene_index % len(COLOURS)]
+        self.marker = MARKERS[settings_index % len(MARKERS)]
+        self.linestyle = LINE_STYLES[settings_index % len(LINE_STYLES)]
 
     def values(self, column):
         """(pes, values) where the column has a number."""
@@ -100,20 +101,22 @@ def load(path):
 
 def configurations(ok, axes):
     varying = [a for a in axes[1:] if len({r.get(a, "") for r in ok}) > 1]
+    if "variant" in varying and "preset" in varying and \
+            len({(r.get("variant"), r.get("preset")) for r in ok}) == len({r.get("variant") for r in ok}):
+        varying.remove("preset")  # each variant has one preset: the variant names it
     groups = {}
     for r in ok:
         key = tuple(r.get(a, "") for a in axes)
         groups.setdefault(key, []).append(r)
     order = lambda k: [str(x) for x in k]
-    # A configuration's category: the settings that vary, else (only scenes vary) its scene.
-    category_of = lambda values: tuple(values[a] for a in varying) if varying else (values["scene"],)
+    settings_of = lambda values: tuple(values[a] for a in varying)
     all_values = [dict(zip(axes, k)) for k in groups]
-    categories = sorted({category_of(v) for v in all_values}, key=order)
+    all_settings = sorted({settings_of(v) for v in all_values}, key=order)
     scenes = sorted({v["scene"] for v in all_values})
     configs = []
     for key in sorted(groups, key=order):
         values = dict(zip(axes, key))
-        parts = [values["scene"]]
+        parts = []
         for a in varying:
             v = values[a]
             if a in ("partition", "timing", "precision", "_size", "variant"):
@@ -122,8 +125,8 @@ def configurations(ok, axes):
                 parts.append(f"{v} search units")
             else:
                 parts.append(f"{a}={v}")
-        configs.append(Config(key, " ".join(parts), groups[key], categories.index(category_of(values)),
-                              scenes.index(values["scene"])))
+        configs.append(Config(key, " ".join(parts), groups[key], scenes.index(values["scene"]),
+                              all_settings.index(settings_of(values))))
     return configs, varying
 
 
@@ -150,9 +153,22 @@ def pes_axis(ax, configs, log_y=False):
     ax.grid(True, which="major", alpha=0.3)
 
 
-def legend(ax, n):
-    if n:
-        ax.legend(fontsize="small" if n <= 8 else "x-small", loc="best")
+def legend(ax, configs, extra=()):
+    """The scenes by colour (when there are several) and the other settings by marker and line
+    style, then the extra handles."""
+    scenes, settings = {}, {}
+    for c in configs:
+        scenes.setdefault(c.scene, Line2D([], [], color=c.colour, linewidth=2.5, label=c.scene))
+        if c.settings:
+            settings.setdefault(c.settings, Line2D([], [], color="0.3", marker=c.marker, linestyle=c.linestyle,
+                                                   markersize=4, linewidth=1.4, label=c.settings))
+    handles = (list(scenes.values()) if len(scenes) > 1 else []) + list(settings.values()) + list(extra)
+    if handles:
+        ax.legend(handles=handles, fontsize="small" if len(handles) <= 8 else "x-small", loc="best")
+
+
+def linear(label="linear scaling"):
+    return Line2D([], [], color="black", linestyle=":", linewidth=1, label=label)
 
 
 class Output:
@@ -188,8 +204,8 @@ def plot_cycles(configs, scenes, out, written):
         pes_axis(ax, mine, log_y=True)
         ax.set_ylabel("cycles (simulated frame)")
         ax.set_title(scene)
-        legend(ax, len(mine))
-    fig.suptitle("Simulated frame cycles vs PE count (log-log; dotted: linear scaling)")
+        legend(ax, mine, [linear()])
+    fig.suptitle("Frame cycles")
     save(fig, out.path("cycles"), written)
 
 
@@ -203,7 +219,7 @@ def speedup_of(c):
 
 def plot_speedup(configs, out, written, notes):
     fig, (ax_s, ax_e) = plt.subplots(1, 2, figsize=(12, 4.8))
-    bases, all_speedups = [], []
+    bases, all_speedups, without_one = [], [], []
     for c in configs:
         p, speedup, efficiency = speedup_of(c)
         if not p:
@@ -211,15 +227,15 @@ def plot_speedup(configs, out, written, notes):
         p0 = p[0]
         bases.append(p0)
         all_speedups += speedup
-        label = c.label if p0 == 1 else f"{c.label} (vs {p0} PEs)"
-        ax_s.plot(p, speedup, label=label, **c.style())
-        ax_e.plot(p, efficiency, label=label, **c.style())
+        if p0 != 1:
+            without_one.append(f"{c.label} (vs {p0} PEs)")
+        ax_s.plot(p, speedup, label=c.label, **c.style())
+        ax_e.plot(p, efficiency, label=c.label, **c.style())
     ticks = sorted({q for c in configs for q in c.pes})
     if ticks:
         for p0 in sorted(set(bases)):
             xs = [q for q in ticks if q >= p0]
-            ax_s.plot(xs, [q / p0 for q in xs], color="black", linestyle=":", linewidth=1,
-                      label="linear" if p0 == min(bases) else None)
+            ax_s.plot(xs, [q / p0 for q in xs], color="black", linestyle=":", linewidth=1)
     pes_axis(ax_s, configs, log_y=True)
     if all_speedups:
         lo = min(all_speedups + [1.0])
@@ -234,21 +250,17 @@ def plot_speedup(configs, out, written, notes):
     ax_e.axhline(1.0, color="black", linestyle=":", linewidth=1)
     ax_e.set_ylim(0, max(1.1, ax_e.get_ylim()[1]))
     ax_s.set_title("Speedup")
-    ax_e.set_title("Parallel efficiency (speedup / PE ratio)")
-    legend(ax_s, len(configs))
-    if all(b == 1 for b in bases):
-        base_note = "relative to the 1-PE run of the same configuration"
-    elif not any(b == 1 for b in bases):
-        base_note = "no 1-PE runs: relative to each configuration's smallest PE count"
-    else:
-        base_note = "relative to the 1-PE run; '(vs N PEs)': no 1-PE run, relative to the smallest PE count"
-    if not all(b == 1 for b in bases):
-        notes.append(out.file("speedup") + ": " + base_note)
-    fig.suptitle(f"Speedup and parallel efficiency vs PE count ({base_note})")
+    ax_e.set_title("Parallel efficiency")
+    legend(ax_s, configs, [linear()])
+    if without_one:  # the caption says "relative to the 1-PE run": say where that is not so
+        note = "no 1-PE run, relative to the smallest PE count: " + (
+            ", ".join(without_one) if len(without_one) < len(bases) else "every configuration")
+        notes.append(out.file("speedup") + ": " + note)
+        fig.suptitle(note, fontsize="small")
     save(fig, out.path("speedup"), written)
 
 
-def plot_utilisation(configs, out, written, prefix, what, name):
+def plot_utilisation(configs, out, written, prefix, title, name):
     columns = [(prefix + s, label) for s, label in STAGES]
     if prefix == "pe_util_":
         columns.append(("pe_util_credit_stall", "credit stall (front buffer waiting)"))
@@ -263,8 +275,8 @@ def plot_utilisation(configs, out, written, prefix, what, name):
         ax.set_ylim(0, 1.05)
         ax.set_ylabel("fraction of the time")
         ax.set_title(label)
-    legend(axs[0], len(configs))
-    fig.suptitle(f"Per-stage utilisation vs PE count ({what}; mean over the PEs)")
+    legend(axs[0], configs)
+    fig.suptitle(title)
     save(fig, out.path(name), written)
     return True
 
@@ -277,14 +289,14 @@ def plot_imbalance(configs, varying, scenes, out, written):
         mine = [c for c in configs if c.scene == scene]
         for c in mine:
             p, y = c.values("load_imbalance")
-            label = c.label if "partition" in varying else f"{c.label} {c.rows[0].get('partition', '')}"
-            ax.plot(p, y, label=label, **c.style())
+            ax.plot(p, y, label=c.label, **c.style())
         ax.axhline(1.0, color="black", linestyle=":", linewidth=1)
         pes_axis(ax, mine)
         ax.set_ylabel("longest PE window / mean")
         ax.set_title(scene)
-        legend(ax, len(mine))
-    fig.suptitle("Load imbalance vs PE count by partitioning scheme (1 = perfectly balanced)")
+        legend(ax, mine)
+    partition = "" if "partition" in varying else configs[0].rows[0].get("partition", "")
+    fig.suptitle(f"Load imbalance, {partition} partitioning" if partition else "Load imbalance")
     save(fig, out.path("load_imbalance"), written)
     return True
 
@@ -311,8 +323,7 @@ def plot_phases(configs, out, written):
         ax.set_ylabel("% of the frame's cycles")
         ax.set_title(c.label, fontsize=10)
     handles, labels = axs[0].get_legend_handles_labels()
-    fig.suptitle("Where the simulated frame time goes: host pre-processing, transfer, PE work, gather\n"
-                 "(stacked shares per PE count; total cycles above each bar)")
+    fig.suptitle("Frame phases")
     fig.tight_layout(rect=(0, 0.06 / math.ceil(len(configs) / 3), 1, 1))
     fig.legend(handles, labels, loc="lower center", ncol=len(PHASES), fontsize="small", frameon=False)
     save(fig, out.path("phases"), written, layout=False)
@@ -366,8 +377,9 @@ def main(argv=None):
 
     plot_cycles(configs, scenes, out, written)
     plot_speedup(configs, out, written, notes)
-    plot_utilisation(configs, out, written, "util_", "over the whole frame", "utilisation")
-    plot_utilisation(configs, out, written, "pe_util_", "over each PE's working window", "pe_utilisation")
+    plot_utilisation(configs, out, written, "util_", "Stage utilisation over the frame", "utilisation")
+    plot_utilisation(configs, out, written, "pe_util_", "Stage utilisation over the PEs' working windows",
+                     "pe_utilisation")
     if not plot_imbalance(configs, varying, scenes, out, written):
         notes.append(out.file("load_imbalance") + ": skipped, no load_imbalance values")
     if not plot_phases(configs, out, written):

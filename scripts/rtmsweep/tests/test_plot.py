@@ -101,9 +101,9 @@ def test_the_plots_can_be_pdf_or_svg(tmp_path, csv_rows, fmt, magic):
     assert r.returncode == 2 and "invalid choice: 'gif'" in r.stderr
 
 
-def test_a_setting_has_one_colour_and_a_scene_one_marker_in_every_panel(tmp_path, monkeypatch, csv_rows):
-    """balls-4 and rings-7 by scanlines and blocks: the colour says the partitioning, the marker
-    and line style the scene, in the per-scene panels of cycles.png as in the per-stage panels of
+def test_a_scene_has_one_colour_and_a_setting_one_line_style_in_every_panel(tmp_path, monkeypatch, csv_rows):
+    """balls-4 and rings-7 by scanlines and blocks: the colour says the scene, the marker and line
+    style the partitioning, in the per-scene panels of cycles.png as in the per-stage panels of
     utilisation.png."""
     from rtmsweep import plot
     import matplotlib.colors
@@ -113,30 +113,46 @@ def test_a_setting_has_one_colour_and_a_scene_one_marker_in_every_panel(tmp_path
     _, ok, axes = plot.load(str(tmp_path / "results.csv"))
     configs, varying = plot.configurations(ok, axes)
     assert varying == ["partition"]
-    by_label = {c.label: c for c in configs}
-    assert set(by_label) == {"balls-4 blocks", "balls-4 scanlines", "rings-7 blocks", "rings-7 scanlines"}
-    assert by_label["balls-4 blocks"].colour == by_label["rings-7 blocks"].colour
-    assert by_label["balls-4 scanlines"].colour == by_label["rings-7 scanlines"].colour
-    assert by_label["balls-4 blocks"].colour != by_label["balls-4 scanlines"].colour
-    for scene in ("balls-4", "rings-7"):
-        blocks, scanlines = by_label[f"{scene} blocks"].style(), by_label[f"{scene} scanlines"].style()
-        assert (blocks["marker"], blocks["linestyle"]) == (scanlines["marker"], scanlines["linestyle"])
-    assert by_label["balls-4 blocks"].style()["marker"] != by_label["rings-7 blocks"].style()["marker"]
+    assert {c.label for c in configs} == {"balls-4 blocks", "balls-4 scanlines", "rings-7 blocks", "rings-7 scanlines"}
 
-    # What is drawn: every data line of every panel in the colour of its partitioning.
+    # What is drawn: every data line of every panel of both plots.
     figures = []
     monkeypatch.setattr(plot, "save", lambda fig, path, written, layout=True: figures.append(fig))
     out = plot.Output(str(tmp_path), "png")
     plot.plot_cycles(configs, ["balls-4", "rings-7"], out, [])
-    plot.plot_utilisation(configs, out, [], "util_", "over the whole frame", "utilisation")
-    colour_of = {"blocks": by_label["balls-4 blocks"].colour, "scanlines": by_label["balls-4 scanlines"].colour}
+    plot.plot_utilisation(configs, out, [], "util_", "Stage utilisation over the frame", "utilisation")
+    colours, styles = {}, {}
     drawn = 0
     for fig in figures:
         for ax in fig.axes:
             for line in ax.get_lines():
                 if line.get_label().startswith("_"):  # the ideal-scaling lines
                     continue
-                partition = line.get_label().split()[1]
-                assert matplotlib.colors.same_color(line.get_color(), colour_of[partition]), ax.get_title()
+                scene, partition = line.get_label().split()
+                colours.setdefault(scene, []).append(matplotlib.colors.to_rgb(line.get_color()))
+                styles.setdefault(partition, []).append((line.get_marker(), line.get_linestyle()))
                 drawn += 1
     assert drawn == 4 + 5 * 4  # cycles: two panels of two lines; utilisation: five stages of four
+    assert all(len(set(v)) == 1 for v in list(colours.values()) + list(styles.values()))
+    assert colours["balls-4"][0] != colours["rings-7"][0]
+    assert styles["blocks"][0][0] != styles["scanlines"][0][0] and styles["blocks"][0][1] != styles["scanlines"][0][1]
+
+    # The legend: the scenes by colour (in utilisation.png, where both are in a panel), the
+    # partitionings by line style.
+    legend = [t.get_text() for t in figures[1].axes[0].get_legend().get_texts()]
+    assert legend == ["balls-4", "rings-7", "blocks", "scanlines"]
+
+
+def test_a_variant_names_its_preset(tmp_path, csv_rows):
+    """A variant with its own preset: the labels and the line styles are the variant's alone."""
+    from rtmsweep import plot
+    head = columns.header(["variant", "preset"])
+    for row in csv_rows:
+        paper = row["partition"] == "scanlines"
+        row.update(variant="paper" if paper else "improved", preset="paper" if paper else "default")
+    (tmp_path / "results.csv").write_text(results.format_rows(head, csv_rows))
+    _, ok, axes = plot.load(str(tmp_path / "results.csv"))
+    configs, varying = plot.configurations(ok, axes)
+    assert varying == ["partition", "variant"]
+    assert [c.label for c in configs] == ["balls-4 blocks improved", "balls-4 scanlines paper", "rings-7 scanlines paper"]
+    assert configs[1].style() == dict(configs[2].style(), color=configs[1].colour)
