@@ -32,43 +32,21 @@ void FrontBufferModule::dispatch(const MachineRay& r, uint64_t cycles, uint8_t f
 }
 
 bool FrontBufferModule::decide(uint64_t now) {
-  using Next = FrontBufferPolicy<MachineRay>::Next;
-  if (state_ == State::Aligning) {
-    // The primary ray it decided on goes at the PE clock edge it asked to be woken at.
-    if (now % ctx_.period.value()) return false;
-    state_ = State::Deciding;
-    uint64_t cycles = 0;
-    const size_t i = policy_.pop_primary(now, cycles);
-    if (i == 0) ctx_.window.pe_started(ctx_.pe);  // a window counted from this PE's start opens
-    dispatch(primary_ray(ctx_, mem_.rays, i), cycles, kFromHost, now);
-    return true;
-  }
-  if (state_ == State::Finished) return false;
-  drain();
-  switch (policy_.next()) {
-    case Next::Queued: {
-      uint64_t cycles = 0;
-      bool spilled = false;
-      const MachineRay r = policy_.pop_queued(cycles, spilled);
-      dispatch(r, cycles, spilled ? kFromSpill : kFromQueue, now);
+  const auto d = policy_.decide(now, ctx_.period.value(), [&] { drain(); });
+  using D = FrontBufferPolicy<MachineRay>::Decision;
+  switch (d.kind) {
+    case D::Queued: dispatch(d.queued, d.cycles, d.from, now); return true;
+    case D::Primary:
+      if (d.primary == 0) ctx_.window.pe_started(ctx_.pe);  // a window counted from this PE's start opens
+      dispatch(primary_ray(ctx_, mem_.rays, d.primary), d.cycles, d.from, now);
       return true;
-    }
-    case Next::Primary: {
-      // Rays from the host arrive between PE clock edges.
-      state_ = State::Aligning;
-      const uint64_t c = ctx_.period.value();
-      if (const uint64_t off = now % c) {
-        sleep_->want(now + c - off);
-        return false;
+    case D::Align: sleep_->want(d.at); return false;
+    case D::None:
+      if (policy_.finished() && !finish_told_) {
+        finish_told_ = true;
+        finished_event_.notify(sc_core::SC_ZERO_TIME);
       }
-      return decide(now);
-    }
-    case Next::Finished:
-      policy_.finish(now);
-      state_ = State::Finished;
-      finished_event_.notify(sc_core::SC_ZERO_TIME);
       return false;
-    case Next::Wait: return false;
   }
   return false;
 }
@@ -78,11 +56,7 @@ struct FrontBufferModule::Ops {
   bool waiting = false;
   sc_core::sc_event_or_list either;
 
-  void woke(uint64_t now) {
-    if (m.state_ != State::Waiting) return;
-    m.policy_.woke(now);
-    m.state_ = State::Deciding;
-  }
+  void woke(uint64_t now) { m.policy_.woke(now); }
   bool write_head(uint64_t) {
     // With credits, never full: in_flight <= credits <= the FIFO's depth.
     return m.try_write({FifoId::Search, Output::What::Item}, m.pipe_.head().item, UnitKind::FrontBuffer, 0);
@@ -91,12 +65,7 @@ struct FrontBufferModule::Ops {
     if (m.pipe_.empty()) m.probe_.end();
   }
   bool accept(uint64_t now) { return m.decide(now); }
-  void wait_for_input() {
-    if (m.state_ != State::Deciding) return;
-    m.policy_.wait(PeContext::now());
-    m.state_ = State::Waiting;
-    waiting = true;
-  }
+  void wait_for_input() { waiting = m.policy_.wait(PeContext::now()); }
   void want(uint64_t t) { m.sleep_->want(t); }
 };
 

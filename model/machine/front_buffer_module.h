@@ -24,7 +24,7 @@ class FrontBufferModule : public UnitModule {
   struct Ops;
   void run();
   void drain();
-  /// Decides what to hand out when it can; true when it handed out a ray.
+  /// Carries out the policy's decision when it can hand out a ray; true when it handed one out.
   bool decide(uint64_t now);
   void dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now);
 
@@ -33,7 +33,7 @@ class FrontBufferModule : public UnitModule {
   FrontBufferPolicy<MachineRay> policy_;
   sc_core::sc_event& finished_event_;
   Pipeline<MachineRay> pipe_;
-  enum class State { Deciding, Waiting, Aligning, Finished } state_ = State::Deciding;
+  bool finish_told_ = false;  ///< finished_event_ notified
   UnitProbe probe_;
   int traced_waiting_ = 0;
 };

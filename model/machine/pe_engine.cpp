@@ -134,7 +134,7 @@ void PeEngine::step(uint64_t now) {
   }
   // Units waiting for input take it, and the front buffer, if it was waiting, drains its inputs.
   take_inputs(now);
-  if (front_state_ == FrontState::Waiting && poked) wake(kFront, now);
+  if (front_.waiting_for_input() && poked) wake(kFront, now);
   // Places freed by reads are there for the next instant's writers.
   for (Fifo* f : touched_) {
     f->reads_now = 0;
@@ -271,10 +271,7 @@ struct PeEngine::Ops {
 
   void wait_for_input() {
     if constexpr (K == UnitKind::FrontBuffer) {
-      if (e.front_state_ == FrontState::Deciding) {
-        e.front_.wait(now);
-        e.front_state_ = FrontState::Waiting;
-      }
+      e.front_.wait(now);
     } else if constexpr (K == UnitKind::Search) {
       e.waiting_search_.idle(index());
     } else if constexpr (K == UnitKind::Mac) {
@@ -292,10 +289,7 @@ void PeEngine::wake(size_t unit, uint64_t now) {
   Place& place = places_[unit];
   switch (place.kind) {
     case UnitKind::FrontBuffer:
-      if (front_state_ == FrontState::Waiting) {
-        front_.woke(now);
-        front_state_ = FrontState::Deciding;
-      }
+      front_.woke(now);
       break;
     case UnitKind::Search: waiting_search_.busy(place.index); break;
     case UnitKind::Mac: waiting_macs_.busy(place.index); break;
@@ -313,46 +307,21 @@ void PeEngine::wake(size_t unit, uint64_t now) {
 }
 
 bool PeEngine::front_decide(uint64_t now) {
-  if (front_state_ == FrontState::Aligning) {
-    // The primary ray it decided on goes at the PE clock edge it asked to be woken at.
-    if (now % cycle_) return false;
-    front_state_ = FrontState::Deciding;
-    uint64_t cycles = 0;
-    const size_t i = front_.pop_primary(now, cycles);
-    dispatch(new_ray(primary_ray(pe_, rays_, i)), cycles, kFromHost, now);
-    return true;
-  }
-  if (front_state_ == FrontState::Finished) return false;
-  Fifo& ends = fifo(FifoId::Ends);
-  while (ends.visible > 0) {
-    ends.read(now);
-    front_.ended();
-  }
-  for (const auto& [in, returns_credit] : front_inputs_)
-    while (in->visible > 0) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
-  using Next = FrontBufferPolicy<uint32_t>::Next;
-  switch (front_.next()) {
-    case Next::Queued: {
-      uint64_t cycles = 0;
-      bool spilled = false;
-      const uint32_t slot = front_.pop_queued(cycles, spilled);
-      dispatch(slot, cycles, spilled ? kFromSpill : kFromQueue, now);
-      return true;
+  const auto d = front_.decide(now, cycle_, [&] {
+    Fifo& ends = fifo(FifoId::Ends);
+    while (ends.visible > 0) {
+      ends.read(now);
+      front_.ended();
     }
-    case Next::Primary:
-      // Rays from the host arrive between PE clock edges.
-      if (const uint64_t off = now % cycle_) {
-        front_state_ = FrontState::Aligning;
-        want(kFront, now + cycle_ - off);
-        return false;
-      }
-      front_state_ = FrontState::Aligning;
-      return front_decide(now);
-    case Next::Finished:
-      front_.finish(now);
-      front_state_ = FrontState::Finished;
-      return false;
-    case Next::Wait: return false;
+    for (const auto& [in, returns_credit] : front_inputs_)
+      while (in->visible > 0) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
+  });
+  using D = FrontBufferPolicy<uint32_t>::Decision;
+  switch (d.kind) {
+    case D::Queued: dispatch(d.queued, d.cycles, d.from, now); return true;
+    case D::Primary: dispatch(new_ray(primary_ray(pe_, rays_, d.primary)), d.cycles, d.from, now); return true;
+    case D::Align: want(kFront, d.at); return false;
+    case D::None: return false;
   }
   return false;
 }

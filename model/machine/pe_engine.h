@@ -148,7 +148,7 @@ class PeEngine {
   bool emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now);
   static constexpr uint32_t kNoSlot = UINT32_MAX;
 
-  /// The front buffer's decision when it can hand out a ray: true when it did.
+  /// Carries out the front buffer's decision when it can hand out a ray: true when it did.
   bool front_decide(uint64_t now);
   void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now);
   bool write_shading(uint64_t now);
@@ -181,8 +181,6 @@ class PeEngine {
 
   // The units.
   FrontBufferPolicy<uint32_t> front_;
-  enum class FrontState { Deciding, Waiting, Aligning, Finished };
-  FrontState front_state_ = FrontState::Deciding;
   std::vector<SearchUnit> search_;
   std::vector<MacUnit> macs_;
   std::vector<RootUnit> roots_;

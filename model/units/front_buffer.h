@@ -19,6 +19,9 @@
 
 namespace rtm {
 
+/// Where a ray handed out by the front buffer came from, for the event log.
+enum FrontSource : uint8_t { kFromQueue = 0, kFromSpill = 1, kFromHost = 2 };
+
 template <class Item>
 class FrontBufferPolicy {
  public:
@@ -77,14 +80,76 @@ class FrontBufferPolicy {
     pe_.counters.finish = now;
   }
 
-  /// Stall accounting: the front buffer waits from `now`; only credits hold back rays it has.
-  void wait(uint64_t now) {
+  /// What the front buffer does when it may hand out a ray (units/unit_step.h's accept), the
+  /// same under both schedulers, which then carry it out.
+  struct Decision {
+    enum Kind {
+      Queued,   ///< hand out `queued`
+      Primary,  ///< hand out primary ray number `primary`
+      Align,    ///< a primary ray goes at the PE clock edge `at`: wake then
+      None,     ///< nothing now (waiting for input, aligning, or finished)
+    } kind = None;
+    Item queued{};
+    size_t primary = 0;
+    uint64_t cycles = 0;  ///< Queued, Primary: its dispatch time
+    uint8_t from = 0;     ///< Queued, Primary: where it came from (FrontSource)
+    uint64_t at = 0;      ///< Align
+  };
+  /// Decides at `now` (`cycle`: the PE clock period, in now's unit); `drain()` hands the policy
+  /// what arrived on its inputs, and is called only when a decision needs them.
+  template <class Drain>
+  Decision decide(uint64_t now, uint64_t cycle, Drain&& drain) {
+    Decision d;
+    if (state_ == State::Aligning) {
+      // The primary ray it decided on goes at the PE clock edge it asked to be woken at.
+      if (now % cycle) return d;
+      state_ = State::Deciding;
+      d.kind = Decision::Primary;
+      d.primary = pop_primary(now, d.cycles);
+      d.from = kFromHost;
+      return d;
+    }
+    if (finished_) return d;
+    drain();
+    switch (next()) {
+      case Next::Queued: {
+        bool spilled = false;
+        d.kind = Decision::Queued;
+        d.queued = pop_queued(d.cycles, spilled);
+        d.from = spilled ? kFromSpill : kFromQueue;
+        return d;
+      }
+      case Next::Primary:
+        // Rays from the host arrive between PE clock edges.
+        state_ = State::Aligning;
+        if (const uint64_t off = now % cycle) {
+          d.kind = Decision::Align;
+          d.at = now + cycle - off;
+          return d;
+        }
+        return decide(now, cycle, drain);
+      case Next::Finished: finish(now); return d;
+      case Next::Wait: return d;
+    }
+    return d;
+  }
+
+  /// After a decision of None: whether the front buffer now waits for input (not when it is
+  /// aligning or finished), starting its stall accounting (only credits hold back rays it has).
+  bool wait(uint64_t now) {
+    if (state_ != State::Deciding || finished_) return false;
+    state_ = State::Waiting;
     stalled_ = !queue_.empty() || next_primary_ < primaries_;
     waiting_since_ = now;
+    return true;
   }
+  /// Woken at `now`, for whatever reason: a wait for input is over.
   void woke(uint64_t now) {
+    if (state_ != State::Waiting) return;
+    state_ = State::Deciding;
     if (stalled_) pe_.counters.credit_stall += now - waiting_since_;
   }
+  bool waiting_for_input() const { return state_ == State::Waiting; }
 
   /// Cycles until the next ray may be handed out after one that takes `cycles` (units/pipeline.h).
   uint64_t interval(uint64_t cycles) const { return pipeline_interval(pe_.config.dispatch_interval, cycles); }
@@ -109,11 +174,10 @@ class FrontBufferPolicy {
   size_t next_primary_ = 0, primaries_ = 0;
   int in_flight_ = 0;
   bool finished_ = false;
+  enum class State { Deciding, Waiting, Aligning } state_ = State::Deciding;
   bool stalled_ = false;
   uint64_t waiting_since_ = 0;
 };
 
-/// Where a ray handed out by the front buffer came from, for the event log.
-enum FrontSource : uint8_t { kFromQueue = 0, kFromSpill = 1, kFromHost = 2 };
 
 }  // namespace rtm

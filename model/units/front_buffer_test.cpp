@@ -170,3 +170,40 @@ TEST(FrontBufferPolicy, RandomTrafficKeepsTheCreditRule) {
 
 }  // namespace
 }  // namespace rtm
+
+namespace rtm {
+namespace {
+
+TEST(FrontBufferPolicy, DecidesToAlignPrimaryRaysToTheClockAndToWaitForInput) {
+  PeState pe = pe_with(8, 4);
+  FrontBufferPolicy<int> p(pe, 1);
+  using D = FrontBufferPolicy<int>::Decision;
+  int drained = 0;
+  const auto drain = [&] { ++drained; };
+  // Nothing there yet: no decision, and the front buffer waits for input.
+  EXPECT_EQ(p.decide(5, 10, drain).kind, D::None);
+  EXPECT_TRUE(p.wait(5));
+  EXPECT_TRUE(p.waiting_for_input());
+  p.woke(7);
+  EXPECT_FALSE(p.waiting_for_input());
+  // A primary ray arrives between clock edges: it goes at the next edge, not before.
+  p.primaries_arrived(1);
+  const D align = p.decide(7, 10, drain);
+  ASSERT_EQ(align.kind, D::Align);
+  EXPECT_EQ(align.at, 10u);
+  EXPECT_FALSE(p.wait(7)) << "aligning is not waiting for input";
+  EXPECT_EQ(p.decide(8, 10, drain).kind, D::None) << "woken off the edge: still aligning";
+  const D primary = p.decide(10, 10, drain);
+  ASSERT_EQ(primary.kind, D::Primary);
+  EXPECT_EQ(primary.primary, 0u);
+  EXPECT_EQ(primary.from, kFromHost);
+  EXPECT_EQ(drained, 2) << "inputs drained only when deciding, not while aligning";
+  p.dispatched(10, 0, primary.cycles, primary.from);
+  p.ended();
+  EXPECT_EQ(p.decide(20, 10, drain).kind, D::None);
+  EXPECT_TRUE(p.finished());
+  EXPECT_FALSE(p.wait(20)) << "a finished front buffer waits for nothing";
+}
+
+}  // namespace
+}  // namespace rtm
