@@ -6,6 +6,9 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "byte_size.h"
 #include "machine/machine.h"
@@ -45,6 +48,20 @@ void clear_outputs(const std::vector<std::string>& paths) {
     if (fs::is_regular_file(st) || fs::is_symlink(st)) fs::remove(p, ec);
     remove_abandoned_partials(p);
   }
+}
+
+/// An output that cannot be written is a bad command line, found before the simulation rather than
+/// after it. Creates the file's folder, as writing it would.
+void check_writable(const char* option, const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return;
+  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  std::error_code ec, ignored;
+  fs::create_directories(folder, ec);
+  if (!ec && !fs::is_directory(fs::status(folder, ignored))) ec = std::make_error_code(std::errc::not_a_directory);
+  if (!ec && fs::is_directory(fs::status(path, ignored))) ec = std::make_error_code(std::errc::is_a_directory);
+  if (!ec && access(folder.c_str(), W_OK) != 0) ec = std::error_code(errno, std::generic_category());
+  if (ec) throw UsageError(std::string(option) + ": " + path + ": cannot write: " + ec.message());
 }
 
 }  // namespace
@@ -87,6 +104,12 @@ int run_render(const RenderOptions& opt) {
       files.vcd = vcd_file(opt.vcd);
       files.gtkw = mopt.gtkw;
     }
+    check_writable("--out", files.image);
+    check_writable("--stats", files.stats);
+    check_writable("--id-map", files.id_map);
+    check_writable("--vcd", files.vcd);
+    check_writable("--vcd", files.gtkw);
+    if (!opt.reference) check_writable("--event-log", opt.event_log);
     // The statistics are written last: an image without them is from a run that did not finish.
     clear_outputs({files.image, files.stats, files.id_map, files.vcd, files.gtkw, opt.reference ? "" : opt.event_log});
 

@@ -645,7 +645,8 @@ TEST(Cli, WarnsOfIdlePesAndOfAFastWaveformWithoutTheMac) {
   EXPECT_EQ(std::count(fast.err.begin(), fast.err.end(), '\n'), 1) << fast.err;
 }
 
-// --vcd creates its folder as --out does; where it cannot write, one line says why (as for --out).
+// --vcd creates its folder as --out does; where it cannot write, one line says why before any
+// simulation, a bad command line like every unwritable output.
 TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
   Tmp tmp;
   const std::string scene = "render " + kScenes + "balls-1.nff --size 8x8 --timing clocked -q";
@@ -655,9 +656,18 @@ TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
   EXPECT_TRUE(fs::exists(tmp / "new/deeper/w.gtkw"));
   spit(tmp / "file", "");
   const Proc r = run_rtm(scene + " --vcd " + (tmp / "file/w.vcd") + " --out " + (tmp / "p.png"), tmp);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "rtm: " + (tmp / "file/w.vcd") + ": cannot write: Not a directory\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "rtm: --vcd: " + (tmp / "file/w.vcd") + ": cannot write: Not a directory\n");
   EXPECT_FALSE(fs::exists(tmp / "p.png"));
+  for (const char* option : {"--out", "--stats", "--id-map", "--event-log"}) {
+    const Proc o = run_rtm(scene + " " + option + " " + (tmp / "file/x.exr"), tmp);
+    EXPECT_EQ(o.exit_code, 2) << option << ": " << o.err;
+    EXPECT_EQ(o.err, "rtm: " + std::string(option) + ": " + (tmp / "file/x.exr") + ": cannot write: Not a directory\n");
+  }
+  fs::create_directory(tmp / "dir.png");
+  const Proc folder = run_rtm(scene + " --out " + (tmp / "dir.png"), tmp);
+  EXPECT_EQ(folder.exit_code, 2) << folder.err;
+  EXPECT_NE(folder.err.find("cannot write: Is a directory"), std::string::npos) << folder.err;
 }
 
 TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {
