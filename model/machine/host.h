@@ -12,6 +12,7 @@
 #include <tlm_utils/simple_initiator_socket.h>
 
 #include "machine/pe.h"
+#include "units/memory_layout.h"
 
 namespace rtm {
 
@@ -51,12 +52,5 @@ class Host : public sc_core::sc_module {
   Sleeper sleep_;  ///< rank 0: the host goes first in its cycle
 };
 
-/// Bytes the hardware would move for one primary ray: origin and direction as six words and a
-/// pixel number.
-constexpr uint64_t kRayRecordBytes = 28;
-/// Bytes of the camera and screen-share descriptor a PE needs to generate its own primary rays.
-constexpr uint64_t kCameraRecordBytes = 64;
-/// Bytes per gathered pixel: RGB as three floats and the primitive id.
-constexpr uint64_t kPixelRecordBytes = 16;
 
 }  // namespace rtm
