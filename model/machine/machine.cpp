@@ -81,6 +81,9 @@ class Machine : public sc_core::sc_module {
       else
         pes.push_back(std::make_unique<ModulesPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
+      PeState& st = pes.back()->ctx;
+      st.spill_rays = memory[size_t(i)].spill_rays();
+      st.spawn_fanout = (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
@@ -441,6 +444,15 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
                                return t.str();
                              }() + ")");
   }
+  for (size_t pe = 0; pe < top.pes.size(); ++pe)
+    if (const PeCounters& k = top.pes[pe]->ctx.counters; k.spill_overflow)
+      throw std::runtime_error(
+          "local memory too small for the ray trees: PE " + std::to_string(pe) + "'s front buffer had " +
+          std::to_string(k.spill_overflow) + " rays waiting at cycle " + std::to_string(top.pes[pe]->ctx.cycles(k.spill_overflow_at)) +
+          ", more than its " + std::to_string(c.front_buffer_capacity) + " on chip and the " +
+          std::to_string(top.memory[pe].spill_rays()) + " its spill area holds (" + std::to_string(top.memory[pe].spill_bytes()) +
+          " bytes of local_memory_bytes " + std::to_string(c.local_memory_bytes) +
+          "); a larger local memory, a higher threshold or a lower max_depth fits");
   if (top.overran)
     throw std::runtime_error("the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
                              std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
