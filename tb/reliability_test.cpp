@@ -552,14 +552,27 @@ TEST(Reliability, TheMemoryBudgetRefusesTheLargestFrameBelowWhatItNeeds) {
   EXPECT_EQ(fits.exit_code, 0) << fits.err;
 }
 
+/// The glass box of one pixel: its tree grows without a bound any render could reach.
+std::string glass_box() {
+  std::string box = mirror_box(255, true);
+  return box.replace(box.find("resolution: [2, 2]"), 18, "resolution: [1, 1]");
+}
+
+/// rtm on a terminal (a pseudo-terminal of `script`, so that it draws its progress line) for at
+/// most `seconds`; what the terminal showed.
+std::string on_a_terminal(int seconds, const std::string& args, const Tmp& tmp) {
+  return sh("timeout -k 5 " + std::to_string(seconds) + " script -qfec '" + std::string(RTM_BINARY) + " " + args +
+                "' /dev/null",
+            tmp)
+      .out;
+}
+
 // Within the command line's limits a box of mirrors round a transmitting sphere, threshold 0,
 // max_depth 255, grows its ray tree without a bound a render could reach. rtm says so before it
 // starts, and stops the simulation once the rays waiting in the front buffers outgrow the budget.
 TEST(Reliability, ARayTreeThatGrowsWithoutBoundIsStoppedAtTheMemoryBudget) {
   Tmp tmp;
-  std::string box = mirror_box(255, true);
-  box.replace(box.find("resolution: [2, 2]"), 18, "resolution: [1, 1]");
-  spit(tmp / "glass.yaml", box);
+  spit(tmp / "glass.yaml", glass_box());
   const Proc r = run_rtm_within(60, "render " + (tmp / "glass.yaml") + " -q --max-memory 220M --out " + (tmp / "o.png"), tmp);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("rtm: note: one primary ray can grow into up to 1.16e+77 rays (max_depth 255, threshold 0)"),
@@ -574,6 +587,44 @@ TEST(Reliability, ARayTreeThatGrowsWithoutBoundIsStoppedAtTheMemoryBudget) {
   const Proc m = run_rtm_within(60, "render " + (tmp / "mirrors.yaml") + " -q --out " + (tmp / "o.png"), tmp);
   EXPECT_EQ(m.exit_code, 0) << m.err;
   EXPECT_EQ(m.err.find("note:"), std::string::npos) << m.err;
+}
+
+// The reference renderer traces each pixel's tree depth first, so the glass box holds little
+// memory there, but never ends: it shows its progress on a terminal (the rays still counting
+// while the pixel does not finish) and stops at the work budget, exit 1, nothing written. The
+// machine's simulation stops at the same budget.
+TEST(Reliability, TheReferenceShowsProgressAndStopsAtTheWorkBudgetAsTheMachineDoes) {
+  Tmp tmp;
+  spit(tmp / "glass.yaml", glass_box());
+  const std::string glass = "render " + (tmp / "glass.yaml") + " --out " + (tmp / "o.png");
+  const std::string note =
+      "rtm: note: one primary ray can grow into up to 1.16e+77 rays (max_depth 255, threshold 0): the render may not "
+      "finish; it stops if its ray trees ";
+  const Proc r = run_rtm_within(60, glass + " --reference -q --max-rays 5e5", tmp);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err, note + "pass --max-rays, and Ctrl-C stops it cleanly\n"
+                   "rtm: the reference render stopped at its work budget of 500000 rays (--max-rays), with 0 of 1 "
+                   "pixels done: the ray trees grow with max_depth 255 and threshold 0\n");
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  EXPECT_FALSE(fs::exists(tmp / "o.json"));
+  for (const char* order : {"ranked"}) {
+    const Proc m = run_rtm_within(60, glass + " -q --max-rays 2e4 --set arbitration=" + order, tmp);
+    EXPECT_EQ(m.exit_code, 1) << order << "\n" << m.err;
+    EXPECT_NE(m.err.find(note + "outgrow --max-memory or pass --max-rays"), std::string::npos) << m.err;
+    EXPECT_NE(m.err.find("rtm: the simulation stopped at its work budget of 20000 rays (--max-rays), at cycle "),
+              std::string::npos)
+        << order << "\n" << m.err;
+    EXPECT_FALSE(fs::exists(tmp / "o.png"));
+  }
+  // Drawn after the first second, redrawn twice a second: 4 s show it.
+  const std::string shown = on_a_terminal(4, glass + " --reference", tmp);
+  EXPECT_NE(shown.find("\rreference: at pixel 0/1 (0.0%), "), std::string::npos) << shown;
+  EXPECT_TRUE(std::regex_search(shown, std::regex(R"(, [0-9.e+]+ rays, [0-9.]+ GiB)"))) << shown;
+  for (const char* bad : {"0", "-5", "many"}) {
+    const Proc b = run_rtm(glass + " -q --max-rays " + bad, tmp);
+    EXPECT_EQ(b.exit_code, 2) << bad << "\n" << b.err;
+    EXPECT_NE(b.err.find("--max-rays"), std::string::npos) << b.err;
+  }
 }
 
 }  // namespace

@@ -4,11 +4,11 @@
 #include "machine/gtkw.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
-#include "machine/progress.h"
 #include "machine/sim_time.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/partial_files.h"
+#include "render/progress.h"
 #include "render/scene_needs.h"
 
 #include <algorithm>
@@ -28,14 +28,6 @@ using sc_core::sc_time;
 
 namespace {
 
-/// The process's resident size now (/proc/self/statm); 0 where it cannot be read.
-uint64_t resident_bytes() {
-  std::ifstream f("/proc/self/statm");
-  uint64_t size = 0, resident = 0;
-  if (!(f >> size >> resident)) return 0;
-  return resident * uint64_t(sysconf(_SC_PAGESIZE));
-}
-
 class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
@@ -50,12 +42,13 @@ class Machine : public sc_core::sc_module {
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
 
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
-          bool tracing, uint64_t max_memory)
+          bool tracing, uint64_t max_memory, uint64_t max_rays)
       : sc_module(name),
         engine_unsupported(rtm::engine_unsupported(c, tracing)),
         config_(c),
         progress_(progress),
-        max_memory_(max_memory) {
+        max_memory_(max_memory),
+        max_rays_(max_rays) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
@@ -130,16 +123,17 @@ class Machine : public sc_core::sc_module {
 
   /// Every few thousand cycles: redraw the progress line (at most twice a second of wall time),
   /// stop the simulation if nothing has moved for longer than any unit takes over one item (a
-  /// deadlock the clock would otherwise hide), and stop it if its time passes the horizon. While
-  /// nothing moves it looks less and less often, and across a long host phase not at all, so a
-  /// long simulated time costs few wake-ups.
+  /// deadlock the clock would otherwise hide), and stop it if its time passes the horizon, its
+  /// process holds more than the memory budget or its PEs traced more rays than the work budget.
+  /// While nothing moves it looks less and less often, and across a long host phase not at all,
+  /// so a long simulated time costs few wake-ups.
   void monitor() {
     const auto start = std::chrono::steady_clock::now();
     auto last_draw = start, last_measured = start;
     const sc_time base = sc_time(config_.clock_ns, sc_core::SC_NS) * kMonitorStepCycles;
     const sc_time longest_step = std::max(base, quiet_window_ / 8.0);
     sc_time step = base, quiet_since = sc_core::SC_ZERO_TIME;
-    uint64_t last_work = ~0ull, finished_work = 0;
+    uint64_t last_work = ~0ull, finished_work = 0, finished_rays = 0;
     std::vector<Pe*> active;  // the PEs not yet finished
     for (auto& pe : pes) active.push_back(pe.get());
     while (!host->done) {
@@ -166,17 +160,26 @@ class Machine : public sc_core::sc_module {
       if (!host_busy || fixed_schedule_) {
         // A finished PE's counters no longer change: add them once and look at it no more.
         work = finished_work;
+        uint64_t rays = finished_rays;
         for (size_t i = 0; i < active.size();) {
           const PeCounters& k = active[i]->ctx.counters;
           const uint64_t w = k.front.items + k.search().items + k.mac.items + k.root.items + k.shade.items;
+          const uint64_t r = k.counts.total_rays();
           if (active[i]->finished()) {
             finished_work += w;
+            finished_rays += r;
             active[i] = active.back();
             active.pop_back();
           } else {
             ++i;
           }
           work += w;
+          rays += r;
+        }
+        if (max_rays_ && rays > max_rays_) {
+          over_rays = rays;
+          sc_core::sc_stop();
+          return;
         }
       }
       const bool moved = work != last_work;
@@ -233,11 +236,12 @@ class Machine : public sc_core::sc_module {
   bool fixed_schedule_ = false;  ///< wake every kMonitorStepCycles, whatever happens
   MachineConfig config_;
   bool progress_;
-  uint64_t max_memory_;
+  uint64_t max_memory_, max_rays_;
   uint64_t total_pixels_ = 0;
 
  public:
   uint64_t over_budget = 0;  ///< the resident size the monitor stopped the simulation at; 0: it did not
+  uint64_t over_rays = 0;    ///< the rays traced when the monitor stopped it at the work budget; 0: it did not
 };
 
 std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
@@ -362,7 +366,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
   check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
-  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory);
+  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory, opt.max_rays);
 
   check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 
@@ -404,26 +408,24 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_start();
   if (top.drew) std::fprintf(stderr, "\r%80s\r", "");
 
-  if (top.over_budget) {
+  if (top.over_budget || top.over_rays) {
     uint64_t rays = 0;
     for (auto& pe : top.pes) rays += pe->ctx.counters.counts.total_rays();
-    auto text = [](uint64_t bytes) {
-      char t[32];
-      std::snprintf(t, sizeof t, bytes < (uint64_t(1) << 30) ? "%.1f MiB" : "%.2f GiB",
-                    double(bytes) / double(bytes < (uint64_t(1) << 30) ? 1 << 20 : 1 << 30));
-      return std::string(t);
-    };
-    const std::string held = text(top.over_budget), budget = text(opt.max_memory);
-    throw std::runtime_error("the simulation stopped holding " + held + ", more than its memory budget of " +
-                             budget + " (--max-memory), at cycle " +
-                             std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
-                             " with " + std::to_string(rays) + " rays traced: the rays waiting in the front buffers " +
-                             "grow with the ray tree (max_depth " + std::to_string(s.max_depth) + ", threshold " +
-                             [&] {
-                               std::ostringstream t;
-                               t << s.threshold;
-                               return t.str();
-                             }() + ")");
+    std::ostringstream why;
+    why << "the simulation stopped ";
+    if (top.over_budget)
+      why << "holding " << bytes_text(top.over_budget) << ", more than its memory budget of "
+          << bytes_text(opt.max_memory) << " (--max-memory)";
+    else
+      why << "at its work budget of " << opt.max_rays << " rays (--max-rays)";
+    why << ", at cycle " << uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS)) << " with "
+        << rays << " rays traced: ";
+    if (top.over_budget)
+      why << "the rays waiting in the front buffers grow with the ray tree (max_depth " << s.max_depth
+          << ", threshold " << s.threshold << ")";
+    else
+      why << "the ray trees grow with max_depth " << s.max_depth << " and threshold " << s.threshold;
+    throw BudgetExceeded(why.str());
   }
   if (top.overran)
     throw std::runtime_error("the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
