@@ -607,7 +607,7 @@ TEST(Reliability, TheReferenceShowsProgressAndStopsAtTheWorkBudgetAsTheMachineDo
                    "pixels done: the ray trees grow with max_depth 255 and threshold 0\n");
   EXPECT_FALSE(fs::exists(tmp / "o.png"));
   EXPECT_FALSE(fs::exists(tmp / "o.json"));
-  for (const char* order : {"ranked"}) {
+  for (const char* order : {"ranked", "kernel"}) {
     const Proc m = run_rtm_within(60, glass + " -q --max-rays 2e4 --set arbitration=" + order, tmp);
     EXPECT_EQ(m.exit_code, 1) << order << "\n" << m.err;
     EXPECT_NE(m.err.find(note + "outgrow --max-memory or pass --max-rays"), std::string::npos) << m.err;
@@ -625,6 +625,35 @@ TEST(Reliability, TheReferenceShowsProgressAndStopsAtTheWorkBudgetAsTheMachineDo
     EXPECT_EQ(b.exit_code, 2) << bad << "\n" << b.err;
     EXPECT_NE(b.err.find("--max-rays"), std::string::npos) << b.err;
   }
+}
+
+// With arbitration = kernel a monitor process would change SystemC's same-time order, and so the
+// figures; the monitor watches from outside the kernel instead, between slices of the
+// simulation. So a kernel-order run without a progress line is held to its budgets (the work
+// budget above) and its stalls are found, and its figures are the same whether a progress line
+// is drawn or not (they were not: the monitor ran only with the line).
+TEST(Reliability, WithKernelArbitrationTheMonitorWatchesWithoutChangingTheFigures) {
+  Tmp tmp;
+  // Without credits tiny FIFOs deadlock; the clock keeps such a simulation going, so only the
+  // monitor can find it.
+  const Proc d = run_rtm_within(60,
+                                "render " + kSpd + "balls-1.nff --size 24x24 --timing clocked --set arbitration=kernel"
+                                " --set flow_control=none --set search_fifo_depth=1 --set intersect_fifo_depth=1"
+                                " --set feedback_fifo_depth=1 --set shade_fifo_depth=1 --set root_fifo_depth=1 -q --out " +
+                                    (tmp / "d.png"),
+                                tmp);
+  EXPECT_EQ(d.exit_code, 3) << d.err;
+  EXPECT_NE(d.err.find("deadlock"), std::string::npos) << d.err;
+  // The golden case ModulesKernelArbitration, quiet and on a terminal.
+  const std::string kernel =
+      "render " + kSpd + "balls-2.nff --size 32x32 --pes 2 --set pe_simulation=modules --set arbitration=kernel --out ";
+  const Proc quiet = run_rtm_within(60, kernel + (tmp / "q.png") + " -q", tmp);
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
+  on_a_terminal(60, kernel + (tmp / "t.png"), tmp);
+  ASSERT_TRUE(fs::exists(tmp / "t.json"));
+  const json q = json::parse(slurp(tmp / "q.json")), t = json::parse(slurp(tmp / "t.json"));
+  for (const char* figure : {"cycles", "per_pe", "fifo", "mac", "rays", "utilisation", "phases"})
+    EXPECT_EQ(q[figure], t[figure]) << figure;
 }
 
 }  // namespace
