@@ -58,9 +58,7 @@ void print_working_windows(const std::vector<PeCounters>& pes, const MachineConf
 }
 
 void print_local_memory(const std::vector<MemoryLayout>& pes) {
-  size_t fullest = 0;
-  for (size_t i = 0; i < pes.size(); ++i)
-    if (pes[i].used > pes[fullest].used) fullest = i;
+  const size_t fullest = fullest_pe(pes);
   const MemoryLayout& m = pes[fullest];
   std::printf("local memory: pe%zu uses %.1f of %.1f MiB (%s); spill area %llu rays\n", fullest,
               double(m.used) / (1 << 20), double(m.capacity) / (1 << 20), m.describe().c_str(),

@@ -78,9 +78,7 @@ namespace {
 
 /// The local memory of the PE that needs the most (all PEs hold the same scene copy).
 nlohmann::json memory_json(const std::vector<MemoryLayout>& pes) {
-  size_t fullest = 0;
-  for (size_t i = 0; i < pes.size(); ++i)
-    if (pes[i].used > pes[fullest].used) fullest = i;
+  const size_t fullest = fullest_pe(pes);
   const MemoryLayout& m = pes[fullest];
   nlohmann::json sections = nlohmann::json::object();
   for (const MemorySection& s : m.sections) sections[s.name] = s.bytes;

@@ -24,4 +24,11 @@ MemoryLayout memory_layout(const SceneImage& image, uint64_t pixels, const Machi
   return m;
 }
 
+size_t fullest_pe(const std::vector<MemoryLayout>& pes) {
+  size_t fullest = 0;
+  for (size_t i = 0; i < pes.size(); ++i)
+    if (pes[i].used > pes[fullest].used) fullest = i;
+  return fullest;
+}
+
 }  // namespace rtm

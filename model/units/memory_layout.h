@@ -4,6 +4,7 @@
 // data before simulation, so a scene that cannot fit is refused before it runs.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -46,5 +47,9 @@ struct MemoryLayout {
 /// PE memory for `pixels` pixels and as many primary rays (one per pixel; with ray_generation =
 /// pe only the camera descriptor).
 MemoryLayout memory_layout(const SceneImage& image, uint64_t pixels, const MachineConfig& c);
+
+/// The PE whose local memory holds the most (every PE has the same scene copy: the one with the
+/// most pixels); the first of them on a tie. `pes` must not be empty.
+size_t fullest_pe(const std::vector<MemoryLayout>& pes);
 
 }  // namespace rtm
