@@ -269,7 +269,8 @@ std::string ConfigKey::accepted() const {
 //   thread's stack costs the process two memory maps; Linux's default limit of 65530 maps
 //   (vm.max_map_count) holds about 32000 threads. rtm render refuses, before simulating, a
 //   configuration whose threads the host's limit cannot hold.
-// - tile and ray_block need not exceed the largest image (16384 a side).
+// - tile and ray_block need not exceed the largest image (16384 a side); host_ports and
+//   tree_fanout need not exceed the most PEs.
 constexpr int kMaxPes = 16384;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxPixels = kMaxImageSide * kMaxImageSide;
