@@ -80,6 +80,16 @@ void print_interconnect(const MachineResult& m, const MachineConfig& c) {
     std::printf(" over all links; the busiest, %s, %.0f (%.1f%% of the frame)\n", busiest->name.c_str(), busiest_cycles, share);
 }
 
+void print_local_memory(const std::vector<MemoryLayout>& pes) {
+  size_t fullest = 0;
+  for (size_t i = 0; i < pes.size(); ++i)
+    if (pes[i].used > pes[fullest].used) fullest = i;
+  const MemoryLayout& m = pes[fullest];
+  std::printf("local memory: pe%zu uses %.1f of %.1f MiB (%s); spill area %llu rays\n", fullest,
+              double(m.used) / (1 << 20), double(m.capacity) / (1 << 20), m.describe().c_str(),
+              (unsigned long long)m.spill_rays());
+}
+
 }  // namespace
 
 void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds, const ReferenceResult& r,
@@ -112,6 +122,7 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   std::printf(", credit stall %.1f%%\n", 100 * st.profile.credit_stall);
   print_working_windows(m.per_pe, c);
   print_interconnect(m, c);
+  print_local_memory(m.memory);
   std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
   std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
   std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,

@@ -242,11 +242,14 @@ TEST(Reliability, EveryKeyAtEitherEndOfItsRangeRendersAFrame) {
     return j;
   };
   const json defaults = frame("defaults", "");
-  const json low = frame("low", every_key_at(ranges, false));
+  // The smallest local memory holds no real scene: its refusal has its own test
+  // (Cli.LocalMemoryIsLaidOutReportedAndTooSmallAMemoryIsRefused).
+  const std::map<std::string, std::string> memory{{"local_memory_bytes", ranges.at("local_memory_bytes").max}};
+  const json low = frame("low", every_key_at(ranges, false, memory));
   const json high = frame("high", every_key_at(ranges, true));
   // The clocked MAC steps every cycle: its low end with the fast link (the slow one is the
   // low end above), its high end with the MAC's own keys and the lanes at their maxima.
-  const json clocked_low = frame("clocked-low", every_key_at(ranges, false, {{"link_bandwidth_mb_s", ranges.at("link_bandwidth_mb_s").max}}) + " --timing clocked");
+  const json clocked_low = frame("clocked-low", every_key_at(ranges, false, {{"link_bandwidth_mb_s", ranges.at("link_bandwidth_mb_s").max}, *memory.begin()}) + " --timing clocked");
   const std::string mac_high = " --set mul_latency=" + ranges.at("mul_latency").max + " --set add_latency=" +
                                ranges.at("add_latency").max + " --set clock_ns=" + ranges.at("clock_ns").max +
                                " --set intersection_units=" + ranges.at("intersection_units").max +

@@ -647,6 +647,39 @@ TEST(Cli, WarnsOfIdlePesAndOfAFastWaveformWithoutTheMac) {
 
 // --vcd creates its folder as --out does; where it cannot write, one line says why before any
 // simulation, a bad command line like every unwritable output.
+// Each PE's local memory holds the scene copy, its primary rays and its frame buffer; what is
+// left is the spill area. A PE they do not fit in is refused before the simulation, by name.
+TEST(Cli, LocalMemoryIsLaidOutReportedAndTooSmallAMemoryIsRefused) {
+  Tmp tmp;
+  const std::string scene = "render " + kScenes + "balls-1.nff --size 16x16 --pes 2 --out " + (tmp / "o.png");
+  const Proc ok = run_rtm(scene + " --set local_memory_bytes=1000000", tmp);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("local memory: pe0 uses"), std::string::npos) << ok.out;
+  const json j = stats(tmp / "o.json");
+  const json& m = j["memory"];
+  EXPECT_EQ(m["capacity_bytes"].get<uint64_t>(), 1000000u);
+  uint64_t used = 0;
+  for (const auto& [name, bytes] : m["sections_bytes"].items()) used += bytes.get<uint64_t>();
+  EXPECT_EQ(m["used_bytes"].get<uint64_t>(), used);
+  const uint64_t scene_copy = m["sections_bytes"]["primitives"].get<uint64_t>() +
+                              m["sections_bytes"]["voxel data"].get<uint64_t>() +
+                              m["sections_bytes"]["lights and materials"].get<uint64_t>();
+  EXPECT_EQ(scene_copy, j["host"]["scene_bytes"].get<uint64_t>());
+  EXPECT_EQ(m["sections_bytes"]["frame buffer"].get<uint64_t>(), 128u * 16);  // 16x16 over 2 PEs, 16 bytes a pixel
+  EXPECT_EQ(m["spill_area_bytes"].get<uint64_t>(), 1000000u - used);
+  EXPECT_EQ(m["spill_area_rays"].get<uint64_t>(), (1000000u - used) / m["spill_record_bytes"].get<uint64_t>());
+  EXPECT_EQ(j["per_pe"][1]["memory_used_bytes"].get<uint64_t>(), used);
+
+  const Proc small = run_rtm(scene + " --set local_memory_bytes=" + std::to_string(used - 1), tmp);
+  EXPECT_EQ(small.exit_code, 1);
+  EXPECT_EQ(small.err.rfind("rtm: local memory too small: PE 0 needs " + std::to_string(used) + " bytes (primitives ", 0), 0u)
+      << small.err;
+  EXPECT_NE(small.err.find("frame buffer 2048 B) but local_memory_bytes is " + std::to_string(used - 1)), std::string::npos)
+      << small.err;
+  EXPECT_EQ(std::count(small.err.begin(), small.err.end(), '\n'), 1) << small.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+}
+
 TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
   Tmp tmp;
   const std::string scene = "render " + kScenes + "balls-1.nff --size 8x8 --timing clocked -q";

@@ -94,6 +94,23 @@ nlohmann::json interconnect_json(const MachineResult& m, const MachineConfig& c)
           {"bytes", bytes}};
 }
 
+namespace {
+
+/// The local memory of the PE that needs the most (all PEs hold the same scene copy).
+nlohmann::json memory_json(const std::vector<MemoryLayout>& pes) {
+  size_t fullest = 0;
+  for (size_t i = 0; i < pes.size(); ++i)
+    if (pes[i].used > pes[fullest].used) fullest = i;
+  const MemoryLayout& m = pes[fullest];
+  nlohmann::json sections = nlohmann::json::object();
+  for (const MemorySection& s : m.sections) sections[s.name] = s.bytes;
+  return {{"capacity_bytes", m.capacity}, {"fullest_pe", fullest},     {"sections_bytes", sections},
+          {"used_bytes", m.used},         {"spill_area_bytes", m.spill_bytes()}, {"spill_area_rays", m.spill_rays()},
+          {"spill_record_bytes", kSpillRecordBytes}};
+}
+
+}  // namespace
+
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   auto cyc = [&](const sc_core::sc_time& t) { return whole_cycles(t, c); };
   auto ticks = [&](uint64_t t) { return cyc(sc_core::sc_time::from_value(t)); };  // PeCounters' times
@@ -108,6 +125,8 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"credit_stall_cycles", ticks(p.credit_stall)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
+                      {"memory_used_bytes", m.memory[i].used},
+                      {"spill_area_rays", m.memory[i].spill_rays()},
                       {"busy_cycles", unit_figures(p, &UnitStats::busy_cycles)},
                       {"issue_cycles", unit_figures(p, &UnitStats::issue_cycles)},
                       {"held_cycles", unit_figures(p, &UnitStats::held_cycles)},
@@ -139,6 +158,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
             {"link_busy_cycles", cyc(m.host.link_busy)},
             {"scene_bytes", m.scene_bytes}}},
           {"interconnect", interconnect_json(m, c)},
+          {"memory", memory_json(m.memory)},
           {"utilisation", utilisation_json(s.utilisation)},
           {"pe_utilisation", pe_utilisation_json(s.profile)},
           {"pe_issue", utilisation_json(s.profile.issue)},

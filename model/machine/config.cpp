@@ -116,6 +116,9 @@ std::string fmt(double x) {
   }
 }
 
+/// A PE's local memory in bytes: the most whole MiB a 32-bit integer key holds (2047 MiB; a
+/// 16384x16384 frame needs 11.8 GB of rays and frame buffer, so eight PEs or more).
+constexpr double kMaxLocalMemoryBytes = 2047.0 * (1 << 20);
 Range from(double min, double max = HUGE_VAL) { return {min, max, false, 0}; }
 Range from(double min, double max, double step) { return {min, max, false, step}; }
 
@@ -340,6 +343,8 @@ const std::vector<ConfigKey>& config_keys() {
               &M::shade_interval, from(0, kMaxOpCycles)),
       int_key("front_buffer_capacity", "on-chip front buffer size in rays (overflow spills to local memory)",
               &M::front_buffer_capacity, from(1, kMaxBufferRays)),
+      int_key("local_memory_bytes", "each PE's local memory: the scene copy, its primary rays and frame buffer must fit (else the render is refused); the rest is the front buffer's spill area",
+              &M::local_memory_bytes, from(1024, kMaxLocalMemoryBytes)),
       int_key("spill_cycles", "extra cycles per ray moved to or from the spill area", &M::spill_cycles, from(0, kMaxOpCycles)),
       int_key("search_fifo_depth", "FIFO depth, front buffer -> search units", &M::search_fifo_depth, from(1, kMaxBufferRays)),
       int_key("intersect_fifo_depth", "FIFO depth, search -> intersection", &M::intersect_fifo_depth, from(1, kMaxBufferRays)),

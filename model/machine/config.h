@@ -77,6 +77,7 @@ struct MachineConfig {
 
   // Buffers (rays)
   int front_buffer_capacity = 64;
+  int local_memory_bytes = 1 << 30;
   int spill_cycles = 8;
   int search_fifo_depth = 16;
   int intersect_fifo_depth = 16;

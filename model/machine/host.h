@@ -15,6 +15,7 @@
 
 #include "machine/pe.h"
 #include "net/interconnect.h"
+#include "units/memory_layout.h"
 
 namespace rtm {
 
@@ -68,12 +69,5 @@ class Host : public sc_core::sc_module {
   std::multimap<uint64_t, std::function<void()>> pending_;
 };
 
-/// Bytes the hardware would move for one primary ray: origin and direction as six words and a
-/// pixel number.
-constexpr uint64_t kRayRecordBytes = 28;
-/// Bytes of the camera and screen-share descriptor a PE needs to generate its own primary rays.
-constexpr uint64_t kCameraRecordBytes = 64;
-/// Bytes per gathered pixel: RGB as three floats and the primitive id.
-constexpr uint64_t kPixelRecordBytes = 16;
 
 }  // namespace rtm

@@ -45,6 +45,7 @@ class Machine : public sc_core::sc_module {
   SceneNeeds needs;
   PeUnits units;
   uint64_t scene_bytes = 0;
+  std::vector<MemoryLayout> memory;  ///< per PE
 
   SC_HAS_PROCESS(Machine);
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
@@ -64,6 +65,7 @@ class Machine : public sc_core::sc_module {
     auto image = std::make_shared<SceneImage>(s, g, c);
     needs = image->visit([&](const auto& mem) { return analyse_scene(s, mem.rams); });
     scene_bytes = image->bytes;
+    check_local_memory(*image, parts, c);
     if (c.leave_out) {
       units.shadow_rays = needs.shadow_rays;
       units.reflection = needs.reflected_rays;
@@ -93,6 +95,20 @@ class Machine : public sc_core::sc_module {
     fixed_schedule_ = c.arbitration == MachineConfig::Arbitration::Kernel;
     if (!fixed_schedule_ || progress_ || c.timing == Timing::Clocked || c.flow_control == FlowControl::None)
       SC_THREAD(monitor);
+  }
+
+  /// Lays out each PE's local memory; a PE whose sections do not fit stops the render before it
+  /// starts, naming them (the PE with the most pixels needs the most).
+  void check_local_memory(const SceneImage& image, const std::vector<std::vector<uint32_t>>& parts,
+                          const MachineConfig& c) {
+    for (const auto& px : parts) memory.push_back(memory_layout(image, px.size(), c));
+    for (size_t pe = 0; pe < memory.size(); ++pe) {
+      const MemoryLayout& m = memory[pe];
+      if (m.fits()) continue;
+      throw std::runtime_error("local memory too small: PE " + std::to_string(pe) + " needs " + std::to_string(m.used) +
+                               " bytes (" + m.describe() + ") but local_memory_bytes is " +
+                               std::to_string(m.capacity) + "; a larger local memory, more PEs or a smaller frame fits");
+    }
   }
 
   /// How many SystemC threads the machine elaborated (each needs a stack when simulation starts).
@@ -456,6 +472,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   r.needs = top.needs;
   r.engine_unsupported = top.engine_unsupported;
   r.scene_bytes = top.scene_bytes;
+  r.memory = top.memory;
   r.units = top.units;
   for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, "spawn_fifo"},
                             {top.units.shadow_rays, "shading.shadow_rays"},
