@@ -127,11 +127,13 @@ int run_render(const RenderOptions& opt) {
     if (const double tree = rays_per_primary_bound(scene); tree > 1e6)
       std::cerr << "rtm: note: one primary ray can grow into up to " << std::setprecision(3) << tree
                 << " rays (max_depth " << scene.max_depth << ", threshold " << scene.threshold
-                << "): the render may not finish; " << (opt.reference ? "" : "it stops if its ray trees outgrow --max-memory, and ")
-                << "Ctrl-C stops it cleanly\n";
+                << "): the render may not finish; it stops if its ray trees "
+                << (opt.reference ? "" : "outgrow --max-memory or ") << "pass --max-rays, and Ctrl-C stops it cleanly\n";
+    // The reference, alone or after the machine, is watched as the simulation is.
+    const ReferenceWatch watch{!opt.quiet && isatty(2), budget, uint64_t(opt.max_rays)};
 
     if (opt.reference) {
-      const ReferenceResult r = render_reference(scene, grid, opt.threads);
+      const ReferenceResult r = render_reference(scene, grid, opt.threads, watch);
       write_image(files.image, r.image);
       if (!opt.id_map.empty()) write_id_map(opt.id_map, r.image);
       stats.update(reference_render_json(r));
@@ -149,7 +151,7 @@ int run_render(const RenderOptions& opt) {
       return 3;
     }
     bool cache_hit = false;
-    const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit);
+    const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit, watch);
     ImageError err;
     try {
       err = compare_images(m.image, ref.image);

@@ -703,6 +703,41 @@ TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
   EXPECT_NE(folder.err.find("cannot write: Is a directory"), std::string::npos) << folder.err;
 }
 
+// A bounded spill area on random small machines: each frame either renders exactly the image and
+// rays of the unbounded machine (only timing moves: new primary rays wait for room) or, when a ray
+// tree outgrows the memory, stops with the one error that says so; never a deadlock or a lost ray.
+TEST(Machine, ABoundedSpillAreaNeverDeadlocksAndLosesNoRay) {
+  Tmp tmp;
+  std::mt19937 rng(2027);
+  const char* scenes[] = {"balls-1.nff", "tree-2.nff"};
+  int throttled = 0;
+  for (int i = 0; i < 6; ++i) {
+    const std::string args = kScenes + scenes[i % 2] + random_small_machine(rng, 4) + " --set loop_credits=0";
+    const json free = render(tmp, "free" + std::to_string(i), args);
+    ASSERT_FALSE(free.is_null()) << args;
+    const uint64_t used = free["memory"]["used_bytes"].get<uint64_t>();
+    const uint64_t spill = rng() % 24, on_chip = 1 + rng() % 4;
+    const std::string bounded = args + " --set local_memory_bytes=" +
+                                std::to_string(used + spill * free["memory"]["spill_record_bytes"].get<uint64_t>()) +
+                                " --set front_buffer_capacity=" + std::to_string(on_chip);
+    const std::string name = "bounded" + std::to_string(i);
+    const Proc r = run_rtm("render " + bounded + " --out " + (tmp / (name + ".exr")) + " --stats " +
+                                           (tmp / (name + ".json")) + " -q",
+                                  tmp);
+    if (r.exit_code == 1) {
+      EXPECT_EQ(r.err.rfind("rtm: local memory too small for the ray trees: PE ", 0), 0u) << bounded << "\n" << r.err;
+      continue;
+    }
+    ASSERT_EQ(r.exit_code, 0) << bounded << "\n" << r.err;
+    const json j = json::parse(slurp(tmp / (name + ".json")));
+    EXPECT_EQ(j["rays"], free["rays"]) << bounded;
+    EXPECT_EQ(rtm::read_image(tmp / (name + ".exr")).rgb, rtm::read_image(tmp / ("free" + std::to_string(i) + ".exr")).rgb)
+        << bounded;
+    throttled += j["cycles"] != free["cycles"];
+  }
+  EXPECT_GT(throttled, 0) << "no bounded frame took a different time: the bound was never felt";
+}
+
 TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {
   Tmp tmp;
   std::mt19937 rng(2026);

@@ -24,6 +24,8 @@ struct MachineOptions {
   /// The memory budget: the simulation stops with an error once the process holds more (what
   /// grows with the ray tree cannot be known before it runs). 0: none.
   uint64_t max_memory = 0;
+  /// The work budget: the simulation stops with an error once its PEs have traced more rays. 0: none.
+  uint64_t max_rays = 0;
 };
 
 /// Per FIFO kind, over all PEs.
