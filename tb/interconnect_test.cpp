@@ -159,4 +159,18 @@ TEST(InterconnectRender, ABroadcastOnAStarWithTooFewPortsIsRefusedNamingTheKeys)
   EXPECT_EQ(enough.exit_code, 0) << enough.err;
 }
 
+// The printed summary has the interconnect's line: topology, links, ports, bytes, busy cycles.
+TEST(InterconnectRender, TheSummarySaysWhatTheLinksCarried) {
+  Tmp tmp;
+  const Proc r = run_rtm("render " + kScene + " --size 4x4 --pes 2 --set link_topology=tree --set host_ports=2 --out " +
+                             (tmp / "o.png"),
+                         tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(slurp(tmp / "o.json"));
+  const std::string line = "interconnect: tree, 2 links, 2 host ports: " + std::to_string(j["interconnect"]["bytes"].get<uint64_t>()) +
+                           " bytes, busy " + std::to_string(j["interconnect"]["busy_cycles"].get<uint64_t>()) +
+                           " cycles over all links; the busiest, pe";
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+}
+
 }  // namespace

@@ -1,6 +1,7 @@
 #include "printed_summary.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -73,7 +74,8 @@ void print_interconnect(const MachineResult& m, const MachineConfig& c) {
   std::printf("interconnect: %s, %zu link%s", to_string(c.link_topology), m.links.size(), m.links.size() == 1 ? "" : "s");
   if (c.link_topology == MachineConfig::LinkTopology::Star || c.link_topology == MachineConfig::LinkTopology::Tree)
     std::printf(", %d host port%s", c.host_ports, c.host_ports == 1 ? "" : "s");
-  std::printf(": %llu bytes, busy %.0f cycles", (unsigned long long)bytes, m.host.link_busy / period);
+  std::printf(": %llu bytes, busy %llu cycles", (unsigned long long)bytes,
+              (unsigned long long)std::llround(m.host.link_busy / period));  // as the stats round it
   if (m.links.size() == 1)
     std::printf(" (%.1f%% of the frame)\n", share);
   else
