@@ -29,6 +29,12 @@ def random_config(rng, scenes):
             "dispatch_interval": rng.choice([0, 1, 2]), "search_interval": rng.choice([0, 1, 1, 3]),
             "mac_streaming": rng.choice(["true", "false"]), "root_interval": rng.choice([0, 1, 2]),
             "shade_interval": rng.choice([0, 1, 4])}
+    # The interconnect, drawn after the rest (whose draws stay what they were); a broadcast on a
+    # star needs a host port per PE.
+    sets.update({"link_topology": rng.choice(["serial", "bus", "star", "tree"]), "host_ports": rng.randint(1, 4),
+                 "tree_fanout": rng.randint(1, 3)})
+    if sets["link_topology"] == "star" and sets["broadcast"] == "true":
+        sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():
         args += ["--set", f"{k}={v}"]
     return args

@@ -76,6 +76,13 @@ struct EnumNames<M::RayGeneration> {
                                                                      {M::RayGeneration::Pe, "pe"}};
 };
 template <>
+struct EnumNames<M::LinkTopology> {
+  static constexpr std::pair<M::LinkTopology, const char*> all[] = {{M::LinkTopology::Serial, "serial"},
+                                                                    {M::LinkTopology::Bus, "bus"},
+                                                                    {M::LinkTopology::Star, "star"},
+                                                                    {M::LinkTopology::Tree, "tree"}};
+};
+template <>
 struct EnumNames<M::Gather> {
   static constexpr std::pair<M::Gather, const char*> all[] = {{M::Gather::AfterAll, "after_all"},
                                                               {M::Gather::AsFinished, "as_finished"}};
@@ -218,6 +225,7 @@ const char* to_string(MachineConfig::MacSchedule m) { return name_of(m); }
 const char* to_string(MachineConfig::SearchWalk w) { return name_of(w); }
 const char* to_string(MachineConfig::RayGeneration g) { return name_of(g); }
 const char* to_string(MachineConfig::Gather g) { return name_of(g); }
+const char* to_string(MachineConfig::LinkTopology t) { return name_of(t); }
 const char* to_string(MachineConfig::Arbitration a) { return name_of(a); }
 const char* to_string(MachineConfig::PeSimulation p) { return name_of(p); }
 
@@ -264,7 +272,8 @@ std::string ConfigKey::accepted() const {
 //   thread's stack costs the process two memory maps; Linux's default limit of 65530 maps
 //   (vm.max_map_count) holds about 32000 threads. rtm render refuses, before simulating, a
 //   configuration whose threads the host's limit cannot hold.
-// - tile and ray_block need not exceed the largest image (16384 a side).
+// - tile and ray_block need not exceed the largest image (16384 a side); host_ports and
+//   tree_fanout need not exceed the most PEs.
 constexpr int kMaxPes = 16384;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxPixels = kMaxImageSide * kMaxImageSide;
@@ -354,8 +363,15 @@ const std::vector<ConfigKey>& config_keys() {
       int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles, from(0, kMaxOpCycles)),
       double_key("link_bandwidth_mb_s", "host <-> PE link bandwidth, MB/s", &M::link_bandwidth_mb_s,
                  from(kMinBandwidthMbS, kMaxBandwidthMbS)),
-      double_key("link_latency_ns", "host <-> PE link latency per transaction, ns", &M::link_latency_ns, from(0, kMaxLinkLatencyNs)),
-      bool_key("broadcast", "one scene transfer reaches every PE (else one transfer per PE)", &M::broadcast),
+      double_key("link_latency_ns", "host <-> PE link latency per transaction, ns (per hop on a tree)", &M::link_latency_ns,
+                 from(0, kMaxLinkLatencyNs)),
+      enum_key("link_topology", "host <-> PE interconnect: serial (one link, one transfer at a time: the model's original link), bus (one shared medium: one transfer at a time, a broadcast reaches every PE), star (a link per PE, the host drives host_ports of them at once) or tree (a link from each PE to its parent: the host drives host_ports children, each PE forwards to tree_fanout children, store-and-forward)",
+               &M::link_topology),
+      int_key("host_ports", "links the host drives at once: on a star its ports onto the PEs' links, on a tree its children (serial and bus: one medium, so one)",
+              &M::host_ports, from(1, kMaxPes)),
+      int_key("tree_fanout", "children of each PE on a tree (link_topology = tree; 1: a chain)", &M::tree_fanout, from(1, kMaxPes)),
+      bool_key("broadcast", "one scene transfer reaches every PE (else one transfer per PE): on serial and bus one transfer on the medium, on a tree forwarded from parent to children, on a star only with host_ports >= pes (every link driven at once)",
+               &M::broadcast),
       int_key("ray_block", "primary rays per host -> PE transfer (0: all of a PE's rays at once)", &M::ray_block, from(0, kMaxPixels)),
       enum_key("arbitration", "same-cycle order: ranked (a fixed order by unit, independent of the kernel: clocked and fast timing give the same cycles on any frame) or kernel (SystemC's event queue decides)",
                &M::arbitration),
@@ -391,6 +407,8 @@ const std::vector<Preset>& presets() {
            {"add_latency", "1", "§5.2: two multipliers and an adder chained as a 3-stage pipeline: a cycle a stage"},
            {"flow_control", "credits", "silent (what keeps the feedback loop from deadlocking is left open): credits, which change no ray's work; without them gears-1 at 64x64 deadlocks"},
            {"ray_generation", "host", "§3.2: the host generates one primary ray per pixel"},
+           {"link_topology", "serial", "silent (§3.1: the PEs are the host's back-end; §3.2: the host transfers the results to each PE): one link, PE after PE"},
+           {"host_ports", "1", "silent (no interconnect is described): the host drives one transfer at a time"},
            {"broadcast", "false", "§3.1-3.2: the host transfers the data to every PE, each into its own local memory"},
            {"ray_block", "0", "§3.2: pre-processing first, then the transfer: every ray is generated before any is sent"},
            {"gather", "after_all", "silent (frame-buffer gathering is left open): the host reads the frame buffers once every PE is done"},
@@ -521,6 +539,11 @@ int MachineConfig::safe_credits() const {
 
 void MachineConfig::validate() const {
   for (const ConfigKey& k : config_keys()) k.check(*this);
+  if (broadcast && link_topology == LinkTopology::Star && host_ports < pes)
+    bad("broadcast", "true with link_topology = star needs host_ports >= pes (" + std::to_string(host_ports) + " < " +
+                         std::to_string(pes) + "): a star's link reaches one PE, so one transfer reaches every PE only "
+                         "when the host drives every link at once; broadcast = false sends a copy down each link, "
+                         "host_ports at a time");
   if (loop_credits > safe_credits())
     bad("loop_credits", "must not exceed the smallest FIFO depth past the front buffer (" +
                             std::to_string(safe_credits()) + "), or a full FIFO could deadlock the loop");

@@ -97,6 +97,12 @@ struct MachineConfig {
   int host_ray_cycles = 20;
   double link_bandwidth_mb_s = 400;
   double link_latency_ns = 1000;
+  // The interconnect (model/net/interconnect.h, docs/machine.md "The host-PE interconnect").
+  // Serial is the model's original link, so the default figures are what they always were.
+  enum class LinkTopology { Serial, Bus, Star, Tree };
+  LinkTopology link_topology = LinkTopology::Serial;
+  int host_ports = 1;
+  int tree_fanout = 2;
   bool broadcast = false;
   int ray_block = 0;
   enum class Gather { AfterAll, AsFinished };
@@ -197,6 +203,7 @@ const char* to_string(Precision p);
 const char* to_string(FlowControl f);
 const char* to_string(MachineConfig::RayGeneration g);
 const char* to_string(MachineConfig::Gather g);
+const char* to_string(MachineConfig::LinkTopology t);
 const char* to_string(MachineConfig::Arbitration a);
 const char* to_string(MachineConfig::PeSimulation p);
 const char* to_string(MachineConfig::SearchWalk w);

@@ -484,6 +484,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   MachineResult r;
   r.end = sc_core::sc_time_stamp();
   r.host = top.host->times;
+  r.links = top.host->link_use();
   for (auto& pe : top.pes) {
     if (!pe->finished()) {
       r.deadlock = true;

@@ -43,6 +43,7 @@ struct MachineResult {
   std::vector<PeCounters> per_pe;
   std::vector<FifoSummary> fifos;
   HostTimes host;
+  std::vector<LinkUse> links;   ///< the interconnect's links: busy time and bytes of each (net/interconnect.h)
   uint64_t scene_bytes = 0;     ///< one PE's copy of the scene as the link carries it
   std::vector<MemoryLayout> memory;  ///< each PE's local memory (units/memory_layout.h)
   sc_core::sc_time end;
