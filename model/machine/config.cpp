@@ -46,6 +46,12 @@ struct EnumNames<FlowControl> {
                                                                 {FlowControl::None, "none"}};
 };
 template <>
+struct EnumNames<MemoryArbitration> {
+  static constexpr std::pair<MemoryArbitration, const char*> all[] = {{MemoryArbitration::RoundRobin, "round_robin"},
+                                                                      {MemoryArbitration::FixedPriority, "fixed_priority"},
+                                                                      {MemoryArbitration::Fcfs, "fcfs"}};
+};
+template <>
 struct EnumNames<Discriminant> {
   static constexpr std::pair<Discriminant, const char*> all[] = {{Discriminant::Plain, "plain"},
                                                                  {Discriminant::Fma, "fma"}};
@@ -218,6 +224,7 @@ const char* to_string(Partition p) { return name_of(p); }
 const char* to_string(Timing t) { return name_of(t); }
 const char* to_string(Precision p) { return name_of(p); }
 const char* to_string(FlowControl f) { return name_of(f); }
+const char* to_string(MemoryArbitration a) { return name_of(a); }
 const char* to_string(Discriminant d) { return name_of(d); }
 const char* to_string(CoefScaling s) { return name_of(s); }
 const char* to_string(OriginLatch o) { return name_of(o); }
@@ -274,6 +281,15 @@ std::string ConfigKey::accepted() const {
 //   configuration whose threads the host's limit cannot hold.
 // - tile and ray_block need not exceed the largest image (16384 a side); host_ports and
 //   tree_fanout need not exceed the most PEs.
+// - Local memory timing (model/memory/, docs/memory.md): ports and banks at most 1024, each a
+//   table of booked cycles (a PE has at most 323 requesters: 256 search units, 64 lanes, the front
+//   buffer, shading, the host). The granule and the port width: at most 64 KiB. The latency, like
+//   any operation, at most 65536 cycles, and at least 1: a request is then complete a cycle after it is issued at the earliest, and its
+//   grant is known by then (the requests of its cycle are resolved together).
+// - The MAC's coefficient RAM: at most 2^24 primitives. It holds at most the primitives it has
+//   seen, so a capacity above the scene's primitive count acts as that count: compulsory misses only.
+//   The voxel cache: at most 1 GiB, more than the voxel data of the largest grid (2^24 voxels)
+//   with its lists; its tags are allocated whole (8 bytes a line).
 constexpr int kMaxPes = 16384;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxPixels = kMaxImageSide * kMaxImageSide;
@@ -286,6 +302,10 @@ constexpr int kMaxBufferRays = 65536;
 constexpr double kMinBandwidthMbS = 0.001;
 constexpr double kMaxBandwidthMbS = 1e9;
 constexpr double kMaxLinkLatencyNs = 1e6;
+constexpr int kMaxMemoryUnits = 1024;
+constexpr int kMaxMemoryWidth = 65536;
+constexpr int kMaxMacRamPrimitives = 1 << 24;
+constexpr int kMaxVoxelCacheBytes = 1 << 30;
 
 const std::vector<ConfigKey>& config_keys() {
   static const std::vector<ConfigKey> keys = {
@@ -355,6 +375,22 @@ const std::vector<ConfigKey>& config_keys() {
                &M::flow_control),
       int_key("loop_credits", "rays allowed past the front buffer at once (0: the largest safe value); at most the smallest FIFO depth past the front buffer",
               &M::loop_credits, from(0, kMaxBufferRays)),
+      int_key("memory_ports", "local memory ports, each moving memory_bytes_per_cycle a cycle (0: as many as the requests need, no port contention)",
+              &M::memory_ports, from(0, kMaxMemoryUnits)),
+      int_key("memory_banks", "local memory banks, interleaved every memory_interleave_bytes; a bank serves one beat a cycle (0: no bank conflicts)",
+              &M::memory_banks, from(0, kMaxMemoryUnits)),
+      int_key("memory_interleave_bytes", "local memory interleave granule: consecutive granules lie in consecutive banks",
+              &M::memory_interleave_bytes, from(1, kMaxMemoryWidth)),
+      int_key("memory_latency", "local memory access latency: cycles from a request's start to its first beat's data",
+              &M::memory_latency, from(1, kMaxOpCycles)),
+      int_key("memory_bytes_per_cycle", "bytes a local memory port moves a cycle: a request of B bytes takes ceil(B / this) beats, one a cycle",
+              &M::memory_bytes_per_cycle, from(1, kMaxMemoryWidth)),
+      enum_key("memory_arbitration", "order of the local memory requests issued in one cycle: round_robin (rotating by requester), fixed_priority (lower requester first) or fcfs (in the order made); older requests always go first",
+               &M::memory_arbitration),
+      int_key("mac_ram_primitives", "primitives whose coefficients each MAC's coefficient RAM holds, least recently used replaced, a miss loading them from local memory (0: every primitive's, loaded before rendering)",
+              &M::mac_ram_primitives, from(0, kMaxMacRamPrimitives)),
+      int_key("voxel_cache_bytes", "bytes of a direct-mapped cache of voxel data (entries and primitive lists) in front of local memory, lines of memory_bytes_per_cycle (0: none)",
+              &M::voxel_cache_bytes, from(0, kMaxVoxelCacheBytes)),
       enum_key("ray_generation", "who generates primary rays: host (the paper: generated and sent by the host) or pe (each PE from the camera, pe_ray_cycles each, in its front buffer)",
                &M::ray_generation),
       int_key("pe_ray_cycles", "PE cycles to generate one primary ray (ray_generation = pe)", &M::pe_ray_cycles, from(0, kMaxOpCycles)),
@@ -417,6 +453,14 @@ const std::vector<Preset>& presets() {
            {"mac_streaming", "true", "§5.2: the MAC is a pipeline of two multipliers and an adder: it does not drain between voxels"},
            {"root_interval", "1", "§2 ③, §5.1: the root unit and sort are pipelined: a primitive a cycle"},
            {"shade_interval", "1", "§2 ③, §6: the shading stage is pipelined: a ray a cycle"},
+           {"memory_ports", "1", "silent (§3.1: each PE has its own local memory, its timing not given): one memory, one port every unit shares"},
+           {"memory_banks", "1", "silent: one memory, not interleaved"},
+           {"memory_interleave_bytes", "4", "silent: a 32-bit word (with one bank it changes nothing)"},
+           {"memory_latency", "1", "silent: a word in the cycle after its address, so a voxel entry (two words) takes the 2 cycles of voxel_read_cycles"},
+           {"memory_bytes_per_cycle", "4", "silent: one 32-bit word a cycle, the word of the machine's single precision"},
+           {"memory_arbitration", "round_robin", "silent (how the units share the memory is not described): round robin, the plain fair arbiter"},
+           {"mac_ram_primitives", "0", "§5.2: the RAM holds the primitives' quadric coefficients: every primitive's, loaded before rendering"},
+           {"voxel_cache_bytes", "0", "§3.1: the voxel data is in the local memory; no cache is described"},
        }},
   };
   return all;

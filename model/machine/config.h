@@ -21,6 +21,8 @@ enum class Partition { Scanlines, Blocks, Strips, Pixels };
 enum class Timing { Fast, Clocked };
 enum class Precision { Fp32, Fp64 };
 enum class FlowControl { Credits, None };
+/// How a PE's local memory orders the requests issued in one cycle (memory/local_memory_timing.h).
+enum class MemoryArbitration { RoundRobin, FixedPriority, Fcfs };
 
 /// The preset of MachineConfig{} itself: no key changed.
 inline constexpr const char* kDefaultPreset = "default";
@@ -86,6 +88,16 @@ struct MachineConfig {
   int feedback_fifo_depth = 8;
   int loop_credits = 0;
   FlowControl flow_control = FlowControl::Credits;
+
+  // Local memory and the MAC's coefficient RAM: the timing models of model/memory/ (docs/memory.md).
+  int memory_ports = 0;  ///< 0: as many as the requests need (no port contention)
+  int memory_banks = 0;  ///< 0: no bank conflicts
+  int memory_interleave_bytes = 16;
+  int memory_latency = 2;
+  int memory_bytes_per_cycle = 16;
+  MemoryArbitration memory_arbitration = MemoryArbitration::RoundRobin;
+  int mac_ram_primitives = 0;  ///< 0: every primitive's coefficients resident (paper §5.2)
+  int voxel_cache_bytes = 0;   ///< 0: none
 
   // Host and interconnect
   enum class RayGeneration { Host, Pe };
@@ -201,6 +213,7 @@ const char* to_string(Partition p);
 const char* to_string(Timing t);
 const char* to_string(Precision p);
 const char* to_string(FlowControl f);
+const char* to_string(MemoryArbitration a);
 const char* to_string(MachineConfig::RayGeneration g);
 const char* to_string(MachineConfig::Gather g);
 const char* to_string(MachineConfig::LinkTopology t);
