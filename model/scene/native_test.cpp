@@ -381,6 +381,11 @@ TEST(NativeErrors, Primitives) {
     c.message = message;
     expect_error(c);
   }
+  std::string circle;  // 1025 corners: one past the most a polygon may have
+  for (int i = 0; i < 1025; ++i)
+    circle += (i ? ", [" : "[") + std::to_string(std::cos(6.283 * i / 1025)) + ", " + std::to_string(std::sin(6.283 * i / 1025)) + ", 0]";
+  expect_error({with_primitive("{polygon: {vertices: [" + circle + "]}, material: m}"), 6,
+                "primitives[0].polygon: polygon has 1025 vertices, at most 1024"});
   // A block-style primitive reports the line of the offending value.
   expect_error({with_primitive("material: m\n    sphere:\n      center: [0, 0, 0]\n      radius: -2"), 9,
                 "sphere.radius: must be > 0"});
