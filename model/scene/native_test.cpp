@@ -252,6 +252,12 @@ TEST(NativeErrors, SyntaxAndStructure) {
       {kCam + kPrims + "name: ../x\n", 3, "name: must be 1 to 100 letters"},
       {kCam + kPrims + "name: a b\n", 3, "name: must be 1 to 100 letters"},
       {kCam + kPrims + "name: ''\n", 3, "name: must be 1 to 100 letters"},
+      // An alias repeats a subtree for a few bytes: refused, anchors alone are harmless.
+      {"camera: {eye: &e [0, 0, 10], look_at: [0, 0, 0]}\nprimitives: []\nambient: *e\n", 3,
+       "YAML aliases (*name) are not supported"},
+      {"materials: {m: {}}\ncamera: {eye: [0, 0, 10], look_at: [0, 0, 0]}\nprimitives:\n"
+       "  - &p {sphere: {center: [0, 0, 0], radius: 1}, material: m}\n  - *p\n",
+       5, "YAML aliases"},
   };
   for (const BadCase& c : cases) expect_error(c);
 }
