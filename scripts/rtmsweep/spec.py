@@ -185,7 +185,7 @@ def parse(data, base, config_keys=None, default_name="sweep"):
     CONFIG_KEYS the machine-configuration keys `set` and variants may use (None: any)."""
     if not isinstance(data, dict):
         raise SpecError("expected a mapping of keys (name, scenes, sizes, pes, ...)")
-    unknown = sorted(set(data) - SPEC_KEYS)
+    unknown = sorted(map(str, set(data) - SPEC_KEYS))  # YAML keys may be numbers, booleans or null
     if unknown:
         raise SpecError(f"unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(SPEC_KEYS))}")
 
