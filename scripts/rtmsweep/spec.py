@@ -245,6 +245,8 @@ def load(path, config_keys=None):
         raise SpecError(f"cannot read {path}: {e.strerror}")
     except yaml.YAMLError as e:
         raise SpecError(f"{path}: not valid YAML: {e}")
+    except UnicodeDecodeError as e:
+        raise SpecError(f"{path}: not UTF-8 text: {e}")
     if not isinstance(data, dict):
         raise SpecError(f"{path}: expected a mapping of keys (name, scenes, sizes, pes, ...)")
     return parse(data, os.path.dirname(os.path.abspath(path)), config_keys,
