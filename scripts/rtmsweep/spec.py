@@ -9,6 +9,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import math
 import os
 import re
 
@@ -226,7 +227,8 @@ def parse(data, base, config_keys=None, default_name="sweep"):
 
     config = _path(data["config"], base) if data.get("config") else None
     timeout = data.get("timeout")
-    if timeout is not None and (isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or timeout <= 0):
+    if timeout is not None and (isinstance(timeout, bool) or not isinstance(timeout, (int, float))
+                                or not math.isfinite(timeout) or timeout <= 0):
         raise SpecError(f"timeout: {timeout!r} is not a positive number of seconds")
     images = data.get("images", True)
     if not isinstance(images, bool):
