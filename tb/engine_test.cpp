@@ -113,6 +113,13 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"LongIntervalsStallingPipelines",
              "mount-1.nff --size 32x32 --pes 2 --search-units 2 --set search_interval=3 --set shade_interval=5"
              " --set root_interval=4 --set dispatch_interval=2 --set feedback_fifo_depth=1 --set front_buffer_capacity=2"},
+        // Rays landing while the PEs work, from a star's two ports and down a tree (net/interconnect.h).
+        Case{"StarStreamedRaysGatherAsFinished",
+             "tree-2.nff --size 24x24 --pes 3 --set link_topology=star --set host_ports=2 --set ray_block=37"
+             " --set gather=as_finished"},
+        Case{"TreeBroadcastStreamedRays",
+             "balls-2.nff --size 24x24 --pes 5 --set link_topology=tree --set broadcast=true --set ray_block=20"
+             " --set gather=as_finished"},
         Case{"SlowLinkNoLeaveOut",
              "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false --set clock_ns=7"}),
     [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });

@@ -94,6 +94,10 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--max-memory", r.max_memory,
                      "Memory budget, e.g. 512M or 4G (default 3/4 of the machine's): a render estimated to need more is "
                      "refused before it starts, and one whose ray trees outgrow it is stopped");
+  render->add_option("--max-rays", r.max_rays,
+                     "Work budget, e.g. 1e9: a render (the machine's or the reference's) that traces more rays is "
+                     "stopped (default no limit)")
+      ->check(CLI::Range(1.0, 1e18));
   render->add_flag("--strict", r.strict,
                    "Degenerate shapes (zero area, radius or length) are errors instead of skipped with a warning");
   render->add_flag("--skip-unknown", r.skip_unknown,

@@ -23,6 +23,7 @@ struct RenderOptions {
   int threads = 0;             ///< reference renderer threads; 0: all cores
   bool quiet = false;
   std::string max_memory;      ///< the memory budget, e.g. "4G"; empty: 3/4 of the machine's
+  double max_rays = 0;         ///< the work budget in rays traced; 0: none
   bool strict = false;         ///< degenerate shapes are errors, not skipped records
   bool skip_unknown = false;   ///< unknown NFF records are skipped with a warning, not errors
 

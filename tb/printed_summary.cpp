@@ -1,6 +1,7 @@
 #include "printed_summary.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -57,6 +58,38 @@ void print_working_windows(const std::vector<PeCounters>& pes, const MachineConf
   std::printf("\n");
 }
 
+/// The interconnect in one line: topology, links, bytes, busy time, and the busiest link's share
+/// of the frame.
+void print_interconnect(const MachineResult& m, const MachineConfig& c) {
+  if (m.links.empty()) return;
+  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
+  const LinkUse* busiest = &m.links.front();
+  uint64_t bytes = 0;
+  for (const LinkUse& l : m.links) {
+    bytes += l.bytes;
+    if (l.busy_ticks > busiest->busy_ticks) busiest = &l;
+  }
+  const double busiest_cycles = sc_core::sc_time::from_value(busiest->busy_ticks) / period;
+  const double share = m.cycles ? 100 * busiest_cycles / double(m.cycles) : 0;
+  std::printf("interconnect: %s, %zu link%s", to_string(c.link_topology), m.links.size(), m.links.size() == 1 ? "" : "s");
+  if (c.link_topology == MachineConfig::LinkTopology::Star || c.link_topology == MachineConfig::LinkTopology::Tree)
+    std::printf(", %d host port%s", c.host_ports, c.host_ports == 1 ? "" : "s");
+  std::printf(": %llu bytes, busy %llu cycles", (unsigned long long)bytes,
+              (unsigned long long)std::llround(m.host.link_busy / period));  // as the stats round it
+  if (m.links.size() == 1)
+    std::printf(" (%.1f%% of the frame)\n", share);
+  else
+    std::printf(" over all links; the busiest, %s, %.0f (%.1f%% of the frame)\n", busiest->name.c_str(), busiest_cycles, share);
+}
+
+void print_local_memory(const std::vector<MemoryLayout>& pes) {
+  const size_t fullest = fullest_pe(pes);
+  const MemoryLayout& m = pes[fullest];
+  std::printf("local memory: pe%zu uses %.1f of %.1f MiB (%s); spill area %llu rays\n", fullest,
+              double(m.used) / (1 << 20), double(m.capacity) / (1 << 20), m.describe().c_str(),
+              (unsigned long long)m.spill_rays());
+}
+
 }  // namespace
 
 void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds, const ReferenceResult& r,
@@ -88,6 +121,8 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   print_units("over the PEs' working windows", st.profile.busy);
   std::printf(", credit stall %.1f%%\n", 100 * st.profile.credit_stall);
   print_working_windows(m.per_pe, c);
+  print_interconnect(m, c);
+  print_local_memory(m.memory);
   std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
   std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
   std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,

@@ -213,7 +213,8 @@ void store(const fs::path& p, uint64_t digest, const ReferenceResult& r) {
 
 }  // namespace
 
-ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit) {
+ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit,
+                                 const ReferenceWatch& watch) {
   std::ostringstream key;
   key.precision(17);
   key << scene_text << "|" << s.camera.width << "x" << s.camera.height << "|grid " << g.n[0] << "," << g.n[1] << ","
@@ -244,7 +245,7 @@ ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::strin
     }
   }
   if (hit) *hit = false;
-  r = render_reference(s, g, 0);
+  r = render_reference(s, g, 0, watch);
   if (!dir.empty()) store(dir / name, digest, r);
   return r;
 }

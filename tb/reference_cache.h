@@ -16,8 +16,10 @@ namespace rtm {
 /// damaged, truncated or made for another key is reported on stderr once, deleted and rendered
 /// again. Writers write a temporary of their own and rename it, so concurrent runs are safe. After
 /// each store the least recently used entries go until the cache holds at most $RTM_CACHE_SIZE
-/// (default kDefaultCacheCap), and temporaries left by writers that are gone are removed.
-ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit);
+/// (default kDefaultCacheCap), and temporaries left by writers that are gone are removed. A
+/// render the watch stops (render_reference) is not stored.
+ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit,
+                                 const ReferenceWatch& watch);
 
 constexpr uint64_t kDefaultCacheCap = uint64_t(2) << 30;  ///< 2 GiB: about 1100 entries of 256x256
 

@@ -6,6 +6,9 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "byte_size.h"
 #include "machine/machine.h"
@@ -45,6 +48,20 @@ void clear_outputs(const std::vector<std::string>& paths) {
     if (fs::is_regular_file(st) || fs::is_symlink(st)) fs::remove(p, ec);
     remove_abandoned_partials(p);
   }
+}
+
+/// An output that cannot be written is a bad command line, found before the simulation rather than
+/// after it. Creates the file's folder, as writing it would.
+void check_writable(const char* option, const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return;
+  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  std::error_code ec, ignored;
+  fs::create_directories(folder, ec);
+  if (!ec && !fs::is_directory(fs::status(folder, ignored))) ec = std::make_error_code(std::errc::not_a_directory);
+  if (!ec && fs::is_directory(fs::status(path, ignored))) ec = std::make_error_code(std::errc::is_a_directory);
+  if (!ec && access(folder.c_str(), W_OK) != 0) ec = std::error_code(errno, std::generic_category());
+  if (ec) throw UsageError(std::string(option) + ": " + path + ": cannot write: " + ec.message());
 }
 
 }  // namespace
@@ -87,6 +104,12 @@ int run_render(const RenderOptions& opt) {
       files.vcd = vcd_file(opt.vcd);
       files.gtkw = mopt.gtkw;
     }
+    check_writable("--out", files.image);
+    check_writable("--stats", files.stats);
+    check_writable("--id-map", files.id_map);
+    check_writable("--vcd", files.vcd);
+    check_writable("--vcd", files.gtkw);
+    if (!opt.reference) check_writable("--event-log", opt.event_log);
     // The statistics are written last: an image without them is from a run that did not finish.
     clear_outputs({files.image, files.stats, files.id_map, files.vcd, files.gtkw, opt.reference ? "" : opt.event_log});
 
@@ -104,11 +127,13 @@ int run_render(const RenderOptions& opt) {
     if (const double tree = rays_per_primary_bound(scene); tree > 1e6)
       std::cerr << "rtm: note: one primary ray can grow into up to " << std::setprecision(3) << tree
                 << " rays (max_depth " << scene.max_depth << ", threshold " << scene.threshold
-                << "): the render may not finish; " << (opt.reference ? "" : "it stops if its ray trees outgrow --max-memory, and ")
-                << "Ctrl-C stops it cleanly\n";
+                << "): the render may not finish; it stops if its ray trees "
+                << (opt.reference ? "" : "outgrow --max-memory or ") << "pass --max-rays, and Ctrl-C stops it cleanly\n";
+    // The reference, alone or after the machine, is watched as the simulation is.
+    const ReferenceWatch watch{!opt.quiet && isatty(2), budget, uint64_t(opt.max_rays)};
 
     if (opt.reference) {
-      const ReferenceResult r = render_reference(scene, grid, opt.threads);
+      const ReferenceResult r = render_reference(scene, grid, opt.threads, watch);
       write_image(files.image, r.image);
       if (!opt.id_map.empty()) write_id_map(opt.id_map, r.image);
       stats.update(reference_render_json(r));
@@ -126,7 +151,7 @@ int run_render(const RenderOptions& opt) {
       return 3;
     }
     bool cache_hit = false;
-    const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit);
+    const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit, watch);
     ImageError err;
     try {
       err = compare_images(m.image, ref.image);

@@ -141,6 +141,7 @@ MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c)
   if (!opt.vcd.empty()) m.gtkw = std::filesystem::path(vcd_file(opt.vcd)).replace_extension(".gtkw").string();
   m.event_log = opt.event_log;
   m.progress = !opt.quiet;
+  m.max_rays = uint64_t(opt.max_rays);
   if (!opt.vcd_window.empty()) {
     std::smatch w;
     if (!std::regex_match(opt.vcd_window, w, std::regex(R"((?:pe(\d{1,6})\+)?(\d*):(\d*))")))

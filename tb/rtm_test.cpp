@@ -645,7 +645,41 @@ TEST(Cli, WarnsOfIdlePesAndOfAFastWaveformWithoutTheMac) {
   EXPECT_EQ(std::count(fast.err.begin(), fast.err.end(), '\n'), 1) << fast.err;
 }
 
-// --vcd creates its folder as --out does; where it cannot write, one line says why (as for --out).
+// --vcd creates its folder as --out does; where it cannot write, one line says why before any
+// simulation, a bad command line like every unwritable output.
+// Each PE's local memory holds the scene copy, its primary rays and its frame buffer; what is
+// left is the spill area. A PE they do not fit in is refused before the simulation, by name.
+TEST(Cli, LocalMemoryIsLaidOutReportedAndTooSmallAMemoryIsRefused) {
+  Tmp tmp;
+  const std::string scene = "render " + kScenes + "balls-1.nff --size 16x16 --pes 2 --out " + (tmp / "o.png");
+  const Proc ok = run_rtm(scene + " --set local_memory_bytes=1000000", tmp);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("local memory: pe0 uses"), std::string::npos) << ok.out;
+  const json j = stats(tmp / "o.json");
+  const json& m = j["memory"];
+  EXPECT_EQ(m["capacity_bytes"].get<uint64_t>(), 1000000u);
+  uint64_t used = 0;
+  for (const auto& [name, bytes] : m["sections_bytes"].items()) used += bytes.get<uint64_t>();
+  EXPECT_EQ(m["used_bytes"].get<uint64_t>(), used);
+  const uint64_t scene_copy = m["sections_bytes"]["primitives"].get<uint64_t>() +
+                              m["sections_bytes"]["voxel data"].get<uint64_t>() +
+                              m["sections_bytes"]["lights and materials"].get<uint64_t>();
+  EXPECT_EQ(scene_copy, j["host"]["scene_bytes"].get<uint64_t>());
+  EXPECT_EQ(m["sections_bytes"]["frame buffer"].get<uint64_t>(), 128u * 16);  // 16x16 over 2 PEs, 16 bytes a pixel
+  EXPECT_EQ(m["spill_area_bytes"].get<uint64_t>(), 1000000u - used);
+  EXPECT_EQ(m["spill_area_rays"].get<uint64_t>(), (1000000u - used) / m["spill_record_bytes"].get<uint64_t>());
+  EXPECT_EQ(j["per_pe"][1]["memory_used_bytes"].get<uint64_t>(), used);
+
+  const Proc small = run_rtm(scene + " --set local_memory_bytes=" + std::to_string(used - 1), tmp);
+  EXPECT_EQ(small.exit_code, 1);
+  EXPECT_EQ(small.err.rfind("rtm: local memory too small: PE 0 needs " + std::to_string(used) + " bytes (primitives ", 0), 0u)
+      << small.err;
+  EXPECT_NE(small.err.find("frame buffer 2048 B) but local_memory_bytes is " + std::to_string(used - 1)), std::string::npos)
+      << small.err;
+  EXPECT_EQ(std::count(small.err.begin(), small.err.end(), '\n'), 1) << small.err;
+  EXPECT_FALSE(fs::exists(tmp / "o.png"));
+}
+
 TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
   Tmp tmp;
   const std::string scene = "render " + kScenes + "balls-1.nff --size 8x8 --timing clocked -q";
@@ -655,9 +689,53 @@ TEST(Cli, AWaveformFolderIsCreatedOrItsFailureIsOneLine) {
   EXPECT_TRUE(fs::exists(tmp / "new/deeper/w.gtkw"));
   spit(tmp / "file", "");
   const Proc r = run_rtm(scene + " --vcd " + (tmp / "file/w.vcd") + " --out " + (tmp / "p.png"), tmp);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "rtm: " + (tmp / "file/w.vcd") + ": cannot write: Not a directory\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "rtm: --vcd: " + (tmp / "file/w.vcd") + ": cannot write: Not a directory\n");
   EXPECT_FALSE(fs::exists(tmp / "p.png"));
+  for (const char* option : {"--out", "--stats", "--id-map", "--event-log"}) {
+    const Proc o = run_rtm(scene + " " + option + " " + (tmp / "file/x.exr"), tmp);
+    EXPECT_EQ(o.exit_code, 2) << option << ": " << o.err;
+    EXPECT_EQ(o.err, "rtm: " + std::string(option) + ": " + (tmp / "file/x.exr") + ": cannot write: Not a directory\n");
+  }
+  fs::create_directory(tmp / "dir.png");
+  const Proc folder = run_rtm(scene + " --out " + (tmp / "dir.png"), tmp);
+  EXPECT_EQ(folder.exit_code, 2) << folder.err;
+  EXPECT_NE(folder.err.find("cannot write: Is a directory"), std::string::npos) << folder.err;
+}
+
+// A bounded spill area on random small machines: each frame either renders exactly the image and
+// rays of the unbounded machine (only timing moves: new primary rays wait for room) or, when a ray
+// tree outgrows the memory, stops with the one error that says so; never a deadlock or a lost ray.
+TEST(Machine, ABoundedSpillAreaNeverDeadlocksAndLosesNoRay) {
+  Tmp tmp;
+  std::mt19937 rng(2027);
+  const char* scenes[] = {"balls-1.nff", "tree-2.nff"};
+  int throttled = 0;
+  for (int i = 0; i < 6; ++i) {
+    const std::string args = kScenes + scenes[i % 2] + random_small_machine(rng, 4) + " --set loop_credits=0";
+    const json free = render(tmp, "free" + std::to_string(i), args);
+    ASSERT_FALSE(free.is_null()) << args;
+    const uint64_t used = free["memory"]["used_bytes"].get<uint64_t>();
+    const uint64_t spill = rng() % 24, on_chip = 1 + rng() % 4;
+    const std::string bounded = args + " --set local_memory_bytes=" +
+                                std::to_string(used + spill * free["memory"]["spill_record_bytes"].get<uint64_t>()) +
+                                " --set front_buffer_capacity=" + std::to_string(on_chip);
+    const std::string name = "bounded" + std::to_string(i);
+    const Proc r = run_rtm("render " + bounded + " --out " + (tmp / (name + ".exr")) + " --stats " +
+                                           (tmp / (name + ".json")) + " -q",
+                                  tmp);
+    if (r.exit_code == 1) {
+      EXPECT_EQ(r.err.rfind("rtm: local memory too small for the ray trees: PE ", 0), 0u) << bounded << "\n" << r.err;
+      continue;
+    }
+    ASSERT_EQ(r.exit_code, 0) << bounded << "\n" << r.err;
+    const json j = json::parse(slurp(tmp / (name + ".json")));
+    EXPECT_EQ(j["rays"], free["rays"]) << bounded;
+    EXPECT_EQ(rtm::read_image(tmp / (name + ".exr")).rgb, rtm::read_image(tmp / ("free" + std::to_string(i) + ".exr")).rgb)
+        << bounded;
+    throttled += j["cycles"] != free["cycles"];
+  }
+  EXPECT_GT(throttled, 0) << "no bounded frame took a different time: the bound was never felt";
 }
 
 TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {

@@ -74,6 +74,41 @@ uint64_t whole_cycles(const sc_core::sc_time& t, const MachineConfig& c) {
 
 double sim_time_ns(const MachineResult& m) { return m.end.to_seconds() * 1e9; }
 
+/// The topology, each link's busy time and bytes, and their totals.
+nlohmann::json interconnect_json(const MachineResult& m, const MachineConfig& c) {
+  nlohmann::json links = nlohmann::json::array();
+  uint64_t bytes = 0;
+  for (const LinkUse& l : m.links) {
+    const sc_core::sc_time busy = sc_core::sc_time::from_value(l.busy_ticks);
+    links.push_back({{"name", l.name},
+                     {"busy_cycles", whole_cycles(busy, c)},
+                     {"busy_seconds", busy.to_seconds()},
+                     {"bytes", l.bytes},
+                     {"transfers", l.hops}});
+    bytes += l.bytes;
+  }
+  return {{"topology", to_string(c.link_topology)},
+          {"links", links},
+          {"busy_cycles", whole_cycles(m.host.link_busy, c)},
+          {"busy_seconds", m.host.link_busy.to_seconds()},
+          {"bytes", bytes}};
+}
+
+namespace {
+
+/// The local memory of the PE that needs the most (all PEs hold the same scene copy).
+nlohmann::json memory_json(const std::vector<MemoryLayout>& pes) {
+  const size_t fullest = fullest_pe(pes);
+  const MemoryLayout& m = pes[fullest];
+  nlohmann::json sections = nlohmann::json::object();
+  for (const MemorySection& s : m.sections) sections[s.name] = s.bytes;
+  return {{"capacity_bytes", m.capacity}, {"fullest_pe", fullest},     {"sections_bytes", sections},
+          {"used_bytes", m.used},         {"spill_area_bytes", m.spill_bytes()}, {"spill_area_rays", m.spill_rays()},
+          {"spill_record_bytes", kSpillRecordBytes}};
+}
+
+}  // namespace
+
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   auto cyc = [&](const sc_core::sc_time& t) { return whole_cycles(t, c); };
   auto ticks = [&](uint64_t t) { return cyc(sc_core::sc_time::from_value(t)); };  // PeCounters' times
@@ -88,6 +123,8 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"credit_stall_cycles", ticks(p.credit_stall)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
+                      {"memory_used_bytes", m.memory[i].used},
+                      {"spill_area_rays", m.memory[i].spill_rays()},
                       {"busy_cycles", unit_figures(p, &UnitStats::busy_cycles)},
                       {"issue_cycles", unit_figures(p, &UnitStats::issue_cycles)},
                       {"held_cycles", unit_figures(p, &UnitStats::held_cycles)},
@@ -118,6 +155,8 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
             {"gathered_cycle", cyc(m.host.gathered)},
             {"link_busy_cycles", cyc(m.host.link_busy)},
             {"scene_bytes", m.scene_bytes}}},
+          {"interconnect", interconnect_json(m, c)},
+          {"memory", memory_json(m.memory)},
           {"utilisation", utilisation_json(s.utilisation)},
           {"pe_utilisation", pe_utilisation_json(s.profile)},
           {"pe_issue", utilisation_json(s.profile.issue)},

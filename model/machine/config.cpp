@@ -46,6 +46,12 @@ struct EnumNames<FlowControl> {
                                                                 {FlowControl::None, "none"}};
 };
 template <>
+struct EnumNames<MemoryArbitration> {
+  static constexpr std::pair<MemoryArbitration, const char*> all[] = {{MemoryArbitration::RoundRobin, "round_robin"},
+                                                                      {MemoryArbitration::FixedPriority, "fixed_priority"},
+                                                                      {MemoryArbitration::Fcfs, "fcfs"}};
+};
+template <>
 struct EnumNames<Discriminant> {
   static constexpr std::pair<Discriminant, const char*> all[] = {{Discriminant::Plain, "plain"},
                                                                  {Discriminant::Fma, "fma"}};
@@ -74,6 +80,13 @@ template <>
 struct EnumNames<M::RayGeneration> {
   static constexpr std::pair<M::RayGeneration, const char*> all[] = {{M::RayGeneration::Host, "host"},
                                                                      {M::RayGeneration::Pe, "pe"}};
+};
+template <>
+struct EnumNames<M::LinkTopology> {
+  static constexpr std::pair<M::LinkTopology, const char*> all[] = {{M::LinkTopology::Serial, "serial"},
+                                                                    {M::LinkTopology::Bus, "bus"},
+                                                                    {M::LinkTopology::Star, "star"},
+                                                                    {M::LinkTopology::Tree, "tree"}};
 };
 template <>
 struct EnumNames<M::Gather> {
@@ -109,6 +122,9 @@ std::string fmt(double x) {
   }
 }
 
+/// A PE's local memory in bytes: the most whole MiB a 32-bit integer key holds (2047 MiB; a
+/// 16384x16384 frame needs 11.8 GB of rays and frame buffer, so eight PEs or more).
+constexpr double kMaxLocalMemoryBytes = 2047.0 * (1 << 20);
 Range from(double min, double max = HUGE_VAL) { return {min, max, false, 0}; }
 Range from(double min, double max, double step) { return {min, max, false, step}; }
 
@@ -208,6 +224,7 @@ const char* to_string(Partition p) { return name_of(p); }
 const char* to_string(Timing t) { return name_of(t); }
 const char* to_string(Precision p) { return name_of(p); }
 const char* to_string(FlowControl f) { return name_of(f); }
+const char* to_string(MemoryArbitration a) { return name_of(a); }
 const char* to_string(Discriminant d) { return name_of(d); }
 const char* to_string(CoefScaling s) { return name_of(s); }
 const char* to_string(OriginLatch o) { return name_of(o); }
@@ -215,6 +232,7 @@ const char* to_string(MachineConfig::MacSchedule m) { return name_of(m); }
 const char* to_string(MachineConfig::SearchWalk w) { return name_of(w); }
 const char* to_string(MachineConfig::RayGeneration g) { return name_of(g); }
 const char* to_string(MachineConfig::Gather g) { return name_of(g); }
+const char* to_string(MachineConfig::LinkTopology t) { return name_of(t); }
 const char* to_string(MachineConfig::Arbitration a) { return name_of(a); }
 const char* to_string(MachineConfig::PeSimulation p) { return name_of(p); }
 
@@ -261,7 +279,17 @@ std::string ConfigKey::accepted() const {
 //   thread's stack costs the process two memory maps; Linux's default limit of 65530 maps
 //   (vm.max_map_count) holds about 32000 threads. rtm render refuses, before simulating, a
 //   configuration whose threads the host's limit cannot hold.
-// - tile and ray_block need not exceed the largest image (16384 a side).
+// - tile and ray_block need not exceed the largest image (16384 a side); host_ports and
+//   tree_fanout need not exceed the most PEs.
+// - Local memory timing (model/memory/, docs/memory.md): ports and banks at most 1024, each a
+//   table of booked cycles (a PE has at most 323 requesters: 256 search units, 64 lanes, the front
+//   buffer, shading, the host). The granule and the port width: at most 64 KiB. The latency, like
+//   any operation, at most 65536 cycles, and at least 1: a request is then complete a cycle after it is issued at the earliest, and its
+//   grant is known by then (the requests of its cycle are resolved together).
+// - The MAC's coefficient RAM: at most 2^24 primitives. It holds at most the primitives it has
+//   seen, so a capacity above the scene's primitive count acts as that count: compulsory misses only.
+//   The voxel cache: at most 1 GiB, more than the voxel data of the largest grid (2^24 voxels)
+//   with its lists; its tags are allocated whole (8 bytes a line).
 constexpr int kMaxPes = 16384;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxPixels = kMaxImageSide * kMaxImageSide;
@@ -274,6 +302,10 @@ constexpr int kMaxBufferRays = 65536;
 constexpr double kMinBandwidthMbS = 0.001;
 constexpr double kMaxBandwidthMbS = 1e9;
 constexpr double kMaxLinkLatencyNs = 1e6;
+constexpr int kMaxMemoryUnits = 1024;
+constexpr int kMaxMemoryWidth = 65536;
+constexpr int kMaxMacRamPrimitives = 1 << 24;
+constexpr int kMaxVoxelCacheBytes = 1 << 30;
 
 const std::vector<ConfigKey>& config_keys() {
   static const std::vector<ConfigKey> keys = {
@@ -331,6 +363,8 @@ const std::vector<ConfigKey>& config_keys() {
               &M::shade_interval, from(0, kMaxOpCycles)),
       int_key("front_buffer_capacity", "on-chip front buffer size in rays (overflow spills to local memory)",
               &M::front_buffer_capacity, from(1, kMaxBufferRays)),
+      int_key("local_memory_bytes", "each PE's local memory: the scene copy, its primary rays and frame buffer must fit (else the render is refused); the rest is the front buffer's spill area",
+              &M::local_memory_bytes, from(1024, kMaxLocalMemoryBytes)),
       int_key("spill_cycles", "extra cycles per ray moved to or from the spill area", &M::spill_cycles, from(0, kMaxOpCycles)),
       int_key("search_fifo_depth", "FIFO depth, front buffer -> search units", &M::search_fifo_depth, from(1, kMaxBufferRays)),
       int_key("intersect_fifo_depth", "FIFO depth, search -> intersection", &M::intersect_fifo_depth, from(1, kMaxBufferRays)),
@@ -341,6 +375,22 @@ const std::vector<ConfigKey>& config_keys() {
                &M::flow_control),
       int_key("loop_credits", "rays allowed past the front buffer at once (0: the largest safe value); at most the smallest FIFO depth past the front buffer",
               &M::loop_credits, from(0, kMaxBufferRays)),
+      int_key("memory_ports", "local memory ports, each moving memory_bytes_per_cycle a cycle (0: as many as the requests need, no port contention)",
+              &M::memory_ports, from(0, kMaxMemoryUnits)),
+      int_key("memory_banks", "local memory banks, interleaved every memory_interleave_bytes; a bank serves one beat a cycle (0: no bank conflicts)",
+              &M::memory_banks, from(0, kMaxMemoryUnits)),
+      int_key("memory_interleave_bytes", "local memory interleave granule: consecutive granules lie in consecutive banks",
+              &M::memory_interleave_bytes, from(1, kMaxMemoryWidth)),
+      int_key("memory_latency", "local memory access latency: cycles from a request's start to its first beat's data",
+              &M::memory_latency, from(1, kMaxOpCycles)),
+      int_key("memory_bytes_per_cycle", "bytes a local memory port moves a cycle: a request of B bytes takes ceil(B / this) beats, one a cycle",
+              &M::memory_bytes_per_cycle, from(1, kMaxMemoryWidth)),
+      enum_key("memory_arbitration", "order of the local memory requests issued in one cycle: round_robin (rotating by requester), fixed_priority (lower requester first) or fcfs (in the order made); older requests always go first",
+               &M::memory_arbitration),
+      int_key("mac_ram_primitives", "primitives whose coefficients each MAC's coefficient RAM holds, least recently used replaced, a miss loading them from local memory (0: every primitive's, loaded before rendering)",
+              &M::mac_ram_primitives, from(0, kMaxMacRamPrimitives)),
+      int_key("voxel_cache_bytes", "bytes of a direct-mapped cache of voxel data (entries and primitive lists) in front of local memory, lines of memory_bytes_per_cycle (0: none)",
+              &M::voxel_cache_bytes, from(0, kMaxVoxelCacheBytes)),
       enum_key("ray_generation", "who generates primary rays: host (the paper: generated and sent by the host) or pe (each PE from the camera, pe_ray_cycles each, in its front buffer)",
                &M::ray_generation),
       int_key("pe_ray_cycles", "PE cycles to generate one primary ray (ray_generation = pe)", &M::pe_ray_cycles, from(0, kMaxOpCycles)),
@@ -349,8 +399,15 @@ const std::vector<ConfigKey>& config_keys() {
       int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles, from(0, kMaxOpCycles)),
       double_key("link_bandwidth_mb_s", "host <-> PE link bandwidth, MB/s", &M::link_bandwidth_mb_s,
                  from(kMinBandwidthMbS, kMaxBandwidthMbS)),
-      double_key("link_latency_ns", "host <-> PE link latency per transaction, ns", &M::link_latency_ns, from(0, kMaxLinkLatencyNs)),
-      bool_key("broadcast", "one scene transfer reaches every PE (else one transfer per PE)", &M::broadcast),
+      double_key("link_latency_ns", "host <-> PE link latency per transaction, ns (per hop on a tree)", &M::link_latency_ns,
+                 from(0, kMaxLinkLatencyNs)),
+      enum_key("link_topology", "host <-> PE interconnect: serial (one link, one transfer at a time: the model's original link), bus (one shared medium: one transfer at a time, a broadcast reaches every PE), star (a link per PE, the host drives host_ports of them at once) or tree (a link from each PE to its parent: the host drives host_ports children, each PE forwards to tree_fanout children, store-and-forward)",
+               &M::link_topology),
+      int_key("host_ports", "links the host drives at once: on a star its ports onto the PEs' links, on a tree its children (serial and bus: one medium, so one)",
+              &M::host_ports, from(1, kMaxPes)),
+      int_key("tree_fanout", "children of each PE on a tree (link_topology = tree; 1: a chain)", &M::tree_fanout, from(1, kMaxPes)),
+      bool_key("broadcast", "one scene transfer reaches every PE (else one transfer per PE): on serial and bus one transfer on the medium, on a tree forwarded from parent to children, on a star only with host_ports >= pes (every link driven at once)",
+               &M::broadcast),
       int_key("ray_block", "primary rays per host -> PE transfer (0: all of a PE's rays at once)", &M::ray_block, from(0, kMaxPixels)),
       enum_key("arbitration", "same-cycle order: ranked (a fixed order by unit, independent of the kernel: clocked and fast timing give the same cycles on any frame) or kernel (SystemC's event queue decides)",
                &M::arbitration),
@@ -386,6 +443,8 @@ const std::vector<Preset>& presets() {
            {"add_latency", "1", "§5.2: two multipliers and an adder chained as a 3-stage pipeline: a cycle a stage"},
            {"flow_control", "credits", "silent (what keeps the feedback loop from deadlocking is left open): credits, which change no ray's work; without them gears-1 at 64x64 deadlocks"},
            {"ray_generation", "host", "§3.2: the host generates one primary ray per pixel"},
+           {"link_topology", "serial", "silent (§3.1: the PEs are the host's back-end; §3.2: the host transfers the results to each PE): one link, PE after PE"},
+           {"host_ports", "1", "silent (no interconnect is described): the host drives one transfer at a time"},
            {"broadcast", "false", "§3.1-3.2: the host transfers the data to every PE, each into its own local memory"},
            {"ray_block", "0", "§3.2: pre-processing first, then the transfer: every ray is generated before any is sent"},
            {"gather", "after_all", "silent (frame-buffer gathering is left open): the host reads the frame buffers once every PE is done"},
@@ -394,6 +453,14 @@ const std::vector<Preset>& presets() {
            {"mac_streaming", "true", "§5.2: the MAC is a pipeline of two multipliers and an adder: it does not drain between voxels"},
            {"root_interval", "1", "§2 ③, §5.1: the root unit and sort are pipelined: a primitive a cycle"},
            {"shade_interval", "1", "§2 ③, §6: the shading stage is pipelined: a ray a cycle"},
+           {"memory_ports", "1", "silent (§3.1: each PE has its own local memory, its timing not given): one memory, one port every unit shares"},
+           {"memory_banks", "1", "silent: one memory, not interleaved"},
+           {"memory_interleave_bytes", "4", "silent: a 32-bit word (with one bank it changes nothing)"},
+           {"memory_latency", "1", "silent: a word in the cycle after its address, so a voxel entry (two words) takes the 2 cycles of voxel_read_cycles"},
+           {"memory_bytes_per_cycle", "4", "silent: one 32-bit word a cycle, the word of the machine's single precision"},
+           {"memory_arbitration", "round_robin", "silent (how the units share the memory is not described): round robin, the plain fair arbiter"},
+           {"mac_ram_primitives", "0", "§5.2: the RAM holds the primitives' quadric coefficients: every primitive's, loaded before rendering"},
+           {"voxel_cache_bytes", "0", "§3.1: the voxel data is in the local memory; no cache is described"},
        }},
   };
   return all;
@@ -526,6 +593,11 @@ int MachineConfig::safe_credits() const {
 
 void MachineConfig::validate() const {
   for (const ConfigKey& k : config_keys()) k.check(*this);
+  if (broadcast && link_topology == LinkTopology::Star && host_ports < pes)
+    bad("broadcast", "true with link_topology = star needs host_ports >= pes (" + std::to_string(host_ports) + " < " +
+                         std::to_string(pes) + "): a star's link reaches one PE, so one transfer reaches every PE only "
+                         "when the host drives every link at once; broadcast = false sends a copy down each link, "
+                         "host_ports at a time");
   if (loop_credits > safe_credits())
     bad("loop_credits", "must not exceed the smallest FIFO depth past the front buffer (" +
                             std::to_string(safe_credits()) + "), or a full FIFO could deadlock the loop");

@@ -21,6 +21,8 @@ enum class Partition { Scanlines, Blocks, Strips, Pixels };
 enum class Timing { Fast, Clocked };
 enum class Precision { Fp32, Fp64 };
 enum class FlowControl { Credits, None };
+/// How a PE's local memory orders the requests issued in one cycle (memory/local_memory_timing.h).
+enum class MemoryArbitration { RoundRobin, FixedPriority, Fcfs };
 
 /// The preset of MachineConfig{} itself: no key changed.
 inline constexpr const char* kDefaultPreset = "default";
@@ -77,6 +79,7 @@ struct MachineConfig {
 
   // Buffers (rays)
   int front_buffer_capacity = 64;
+  int local_memory_bytes = 1 << 30;
   int spill_cycles = 8;
   int search_fifo_depth = 16;
   int intersect_fifo_depth = 16;
@@ -85,6 +88,16 @@ struct MachineConfig {
   int feedback_fifo_depth = 8;
   int loop_credits = 0;
   FlowControl flow_control = FlowControl::Credits;
+
+  // Local memory and the MAC's coefficient RAM: the timing models of model/memory/ (docs/memory.md).
+  int memory_ports = 0;  ///< 0: as many as the requests need (no port contention)
+  int memory_banks = 0;  ///< 0: no bank conflicts
+  int memory_interleave_bytes = 16;
+  int memory_latency = 2;
+  int memory_bytes_per_cycle = 16;
+  MemoryArbitration memory_arbitration = MemoryArbitration::RoundRobin;
+  int mac_ram_primitives = 0;  ///< 0: every primitive's coefficients resident (paper §5.2)
+  int voxel_cache_bytes = 0;   ///< 0: none
 
   // Host and interconnect
   enum class RayGeneration { Host, Pe };
@@ -96,6 +109,12 @@ struct MachineConfig {
   int host_ray_cycles = 20;
   double link_bandwidth_mb_s = 400;
   double link_latency_ns = 1000;
+  // The interconnect (model/net/interconnect.h, docs/machine.md "The host-PE interconnect").
+  // Serial is the model's original link, so the default figures are what they always were.
+  enum class LinkTopology { Serial, Bus, Star, Tree };
+  LinkTopology link_topology = LinkTopology::Serial;
+  int host_ports = 1;
+  int tree_fanout = 2;
   bool broadcast = false;
   int ray_block = 0;
   enum class Gather { AfterAll, AsFinished };
@@ -198,8 +217,10 @@ const char* to_string(Partition p);
 const char* to_string(Timing t);
 const char* to_string(Precision p);
 const char* to_string(FlowControl f);
+const char* to_string(MemoryArbitration a);
 const char* to_string(MachineConfig::RayGeneration g);
 const char* to_string(MachineConfig::Gather g);
+const char* to_string(MachineConfig::LinkTopology t);
 const char* to_string(MachineConfig::Arbitration a);
 const char* to_string(MachineConfig::PeSimulation p);
 const char* to_string(MachineConfig::SearchWalk w);

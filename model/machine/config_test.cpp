@@ -190,6 +190,21 @@ TEST(ConfigKeys, ValidateChecksEachRangeAndTheRulesAcrossKeys) {
   bad.loop_credits = 4;
   EXPECT_EQ(refused(bad).rfind("loop_credits: must not exceed the smallest FIFO depth past the front buffer (3)", 0), 0u)
       << refused(bad);
+  // A broadcast on a star needs every link driven at once; serial keeps its old broadcast.
+  bad = {};
+  bad.pes = 4;
+  bad.link_topology = MachineConfig::LinkTopology::Star;
+  bad.host_ports = 3;
+  bad.broadcast = true;
+  EXPECT_EQ(refused(bad).rfind("broadcast: true with link_topology = star needs host_ports >= pes (3 < 4)", 0), 0u)
+      << refused(bad);
+  bad.host_ports = 4;
+  EXPECT_NO_THROW(bad.validate());
+  for (auto t : {MachineConfig::LinkTopology::Serial, MachineConfig::LinkTopology::Bus, MachineConfig::LinkTopology::Tree}) {
+    bad.link_topology = t;
+    bad.host_ports = 1;
+    EXPECT_NO_THROW(bad.validate()) << to_string(t);
+  }
 }
 
 TEST(ConfigKeys, EveryEnumNameParsesToItsValueAndBack) {

@@ -9,6 +9,25 @@ namespace rtm {
 
 using sc_core::sc_time;
 
+namespace {
+
+uint64_t now() { return sc_core::sc_time_stamp().value(); }
+
+/// The interconnect's answer; a transfer that would end past the horizon is the frame's time
+/// error, as every long delay of the machine is (sim_time.h).
+template <class Ask>
+auto timed(Ask&& ask) -> decltype(ask()) {
+  try {
+    return ask();
+  } catch (const InterconnectTimeError& e) {
+    const std::string msg = std::string(e.what()) + ": past the simulated time a frame may take (SystemC counts time in 64-bit picoseconds)";
+    SC_REPORT_ERROR("rtm/time", msg.c_str());
+    throw;
+  }
+}
+
+}  // namespace
+
 Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
            std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
            Timekeeper* keeper)
@@ -20,21 +39,15 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       image_(std::move(image)),
       parts_(std::move(parts)),
       pes_(std::move(pes)),
-      sleep_(keeper, 0) {
+      sleep_(keeper, 0),
+      net_(c, kTimeHorizonTicks) {
   for (size_t i = 0; i < pes_.size(); ++i)
     links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(("link" + std::to_string(i)).c_str()));
   SC_THREAD(run);
 }
 
-sc_time Host::link_time(uint64_t bytes) const {
-  // The latency is at most 1 ms (its key's range); the bytes' time is what can pass the horizon.
-  return sc_time(config_.link_latency_ns, sc_core::SC_NS) +
-         checked_seconds(double(bytes) / (config_.link_bandwidth_mb_s * 1e6),
-                         "a transfer of " + std::to_string(bytes) + " bytes over the link");
-}
-
-void Host::transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, uint64_t timed_bytes,
-                    SceneImageExtension* ext) {
+void Host::transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, sc_time delay,
+                     SceneImageExtension* ext) {
   tlm::tlm_generic_payload t;
   t.set_command(cmd);
   t.set_address(addr);
@@ -45,19 +58,33 @@ void Host::transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* 
   t.set_dmi_allowed(false);
   t.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
   if (ext) t.set_extension(ext);
-  sc_time delay = timed_bytes ? link_time(timed_bytes) : sc_core::SC_ZERO_TIME;
-  times.link_busy += delay;
-  busy_until = sc_core::sc_time_stamp() + delay;
   (*links[size_t(pe)])->b_transport(t, delay);
   if (ext) t.clear_extension(ext);
   if (t.is_response_error()) SC_REPORT_FATAL("rtm/host", ("transfer to PE " + std::to_string(pe) + " failed: " + t.get_response_string()).c_str());
-  sleep_(delay);
 }
 
-void Host::host_wait(sc_time t) {
-  busy_until = sc_core::sc_time_stamp() + t;
-  sleep_(t);
+void Host::deliver_at(uint64_t arrive, std::function<void()> deliver) {
+  if (arrive <= now())
+    deliver();
+  else
+    pending_.emplace(arrive, std::move(deliver));  // after any due at the same time
 }
+
+void Host::host_sleep_until(uint64_t t) {
+  busy_until = std::max(busy_until, sc_time::from_value(std::max(t, net_.idle_at())));
+  while (!pending_.empty() && pending_.begin()->first <= t) {
+    const auto first = pending_.begin();
+    if (first->first > now()) sleep_(sc_time::from_value(first->first - now()));
+    const std::function<void()> deliver = std::move(first->second);
+    pending_.erase(first);
+    deliver();
+  }
+  if (t > now()) sleep_(sc_time::from_value(t - now()));
+}
+
+void Host::wait_for_a_port() { host_sleep_until(net_.host_free()); }
+
+void Host::host_wait(sc_time t) { host_sleep_until(now() + t.value()); }
 
 void Host::run() {
   const sc_time host_cycle(config_.host_clock_ns, sc_core::SC_NS);
@@ -77,22 +104,43 @@ void Host::run() {
       rays.push_back(camera.at(int(px[i] % uint32_t(scene_.camera.width)), int(px[i] / uint32_t(scene_.camera.width))));
     return rays;
   };
+  // Each transfer is asked of the interconnect when the host issues it; its data lands in the
+  // PE's memory when the interconnect says it arrives, and the host goes on once it has a free
+  // port (on one medium: once the transfer is over, as the original link had it).
   const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
-  auto send_rays = [&](int pe, std::vector<Ray>& rays) {
+  auto send_rays = [&](int pe, std::vector<Ray> rays) {
     if (rays.empty()) return;
     // With ray generation on the PEs only the camera and the PE's share of the screen travel;
     // the simulator still hands over the rays the PE will generate.
-    transfer(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase, reinterpret_cast<unsigned char*>(rays.data()),
-             rays.size() * sizeof(Ray), pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes);
+    const uint64_t bytes = pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes;
+    const TransferTimes t = timed([&] { return net_.send(pe, bytes, now()); });
+    auto data = std::make_shared<std::vector<Ray>>(std::move(rays));
+    deliver_at(t.arrive, [this, pe, data, d = t.end - t.arrive] {
+      transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase, reinterpret_cast<unsigned char*>(data->data()),
+                data->size() * sizeof(Ray), sc_time::from_value(d));
+    });
+    wait_for_a_port();
   };
-  auto send_scene = [&](int pe, bool timed) {
-    SceneImageExtension ext;
-    ext.image = image_;
-    unsigned char unused = 0;  // the image travels in the extension; its size times the transfer
-    transfer(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kSceneBase, &unused, 1, timed ? image_->bytes : 0, &ext);
+  auto deliver_scene = [&](int pe, const TransferTimes& t) {
+    deliver_at(t.arrive, [this, pe, d = t.end - t.arrive] {
+      SceneImageExtension ext;
+      ext.image = image_;
+      unsigned char unused = 0;  // the image travels in the extension; its size times the transfer
+      transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kSceneBase, &unused, 1, sc_time::from_value(d), &ext);
+    });
+  };
+  auto send_scene = [&](int pe) {
+    deliver_scene(pe, timed([&] { return net_.send(pe, image_->bytes, now()); }));
+    wait_for_a_port();
   };
   auto send_scene_to_all = [&]() {
-    for (int pe = 0; pe < n; ++pe) send_scene(pe, !config_.broadcast || pe == 0);
+    if (!config_.broadcast) {
+      for (int pe = 0; pe < n; ++pe) send_scene(pe);
+      return;
+    }
+    const std::vector<TransferTimes> t = timed([&] { return net_.broadcast(image_->bytes, now()); });
+    for (int pe = 0; pe < n; ++pe) deliver_scene(pe, t[size_t(pe)]);
+    wait_for_a_port();
   };
 
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
@@ -104,9 +152,8 @@ void Host::run() {
     times.rays = sc_core::sc_time_stamp();
     if (config_.broadcast) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {
-      if (!config_.broadcast) send_scene(pe, true);
-      std::vector<Ray> rays = rays_of(pe, 0, parts_[size_t(pe)].size());
-      send_rays(pe, rays);
+      if (!config_.broadcast) send_scene(pe);
+      send_rays(pe, rays_of(pe, 0, parts_[size_t(pe)].size()));
     }
   } else {
     // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs' work.
@@ -119,26 +166,32 @@ void Host::run() {
         any = true;
         host_wait(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * rays.size()),
                                   "the host's primary-ray generation"));
-        send_rays(pe, rays);
+        send_rays(pe, std::move(rays));
       }
       if (!any) break;
     }
     times.rays = sc_core::sc_time_stamp();
   }
+  host_sleep_until(net_.idle_at());  // every transfer over
   times.transfer = sc_core::sc_time_stamp();
 
   auto gather = [&](int pe) {
     const auto& px = parts_[size_t(pe)];
     std::vector<PixelSum> frame(px.size());
     std::vector<int32_t> ids(px.size());
-    transfer(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase, reinterpret_cast<unsigned char*>(frame.data()),
-             frame.size() * sizeof(PixelSum), px.size() * kPixelRecordBytes);
-    transfer(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase, reinterpret_cast<unsigned char*>(ids.data()),
-             ids.size() * sizeof(int32_t), 0);
+    const TransferTimes t = timed([&] { return net_.gather(pe, px.size() * kPixelRecordBytes, now()); });
+    // The PE is done, so its frame buffer no longer changes: read at once, the interconnect
+    // timing the transfer. The ids travel in the same 16 bytes a pixel.
+    const sc_time d = sc_time::from_value(t.end - t.arrive);
+    transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase, reinterpret_cast<unsigned char*>(frame.data()),
+              frame.size() * sizeof(PixelSum), d);
+    transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase, reinterpret_cast<unsigned char*>(ids.data()),
+              ids.size() * sizeof(int32_t), sc_core::SC_ZERO_TIME);
     for (size_t i = 0; i < px.size(); ++i) {
       image.rgb[px[i]] = frame[i].value();
       image.ids[px[i]] = ids[i];
     }
+    wait_for_a_port();
   };
   if (config_.gather == MachineConfig::Gather::AfterAll) {
     for (Pe* pe : pes_)
@@ -146,8 +199,8 @@ void Host::run() {
     times.pes_done = sc_core::sc_time_stamp();
     for (int pe = 0; pe < n; ++pe) gather(pe);
   } else {
-    // Whichever PEs are done, in PE order; then wait for the next to finish. The link is busy
-    // with one transfer at a time, so PEs finishing meanwhile queue up.
+    // Whichever PEs are done, in PE order; then wait for the next to finish. A gather waits for
+    // its links and a host port, so PEs finishing meanwhile queue up.
     std::vector<bool> gathered(size_t(n), false);
     for (int left = n; left > 0;) {
       int ready = -1;
@@ -171,7 +224,9 @@ void Host::run() {
     for (Pe* pe : pes_)
       times.pes_done = std::max(times.pes_done, sc_core::sc_time::from_value(pe->ctx.counters.finish));
   }
+  host_sleep_until(net_.idle_at());
   times.gathered = sc_core::sc_time_stamp();
+  for (const LinkUse& l : net_.links()) times.link_busy += sc_time::from_value(l.busy_ticks);
   done = true;
   sc_core::sc_stop();  // in clocked timing the clock would run on forever
 }

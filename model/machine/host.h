@@ -1,9 +1,11 @@
 // The host (paper §3.2): voxel-data generation and primary-ray generation, then the transfer of
-// the scene and each PE's primary rays into the PEs' local memories over the host-PE link
-// (TLM-2.0 b_transport, timed by bytes, bandwidth and latency), and at the end the gathering
-// of the PEs' frame buffers.
+// the scene and each PE's primary rays into the PEs' local memories over the interconnect
+// (TLM-2.0 b_transport, timed by net/interconnect.h: topology, bytes, bandwidth, latency), and
+// at the end the gathering of the PEs' frame buffers.
 #pragma once
 
+#include <functional>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -12,18 +14,22 @@
 #include <tlm_utils/simple_initiator_socket.h>
 
 #include "machine/pe.h"
+#include "net/interconnect.h"
+#include "units/memory_layout.h"
 
 namespace rtm {
 
 /// When each phase of the frame ended.
 struct HostTimes {
   sc_core::sc_time voxels, rays, transfer, pes_done, gathered;
-  sc_core::sc_time link_busy = sc_core::SC_ZERO_TIME;
+  sc_core::sc_time link_busy = sc_core::SC_ZERO_TIME;  ///< summed over the links
 };
 
 class Host : public sc_core::sc_module {
  public:
-  std::vector<std::unique_ptr<tlm_utils::simple_initiator_socket<Host>>> links;  ///< one per PE
+  /// One per PE: the logical path from the host to its local memory, whatever links the
+  /// interconnect routes it over (their timing is net_'s).
+  std::vector<std::unique_ptr<tlm_utils::simple_initiator_socket<Host>>> links;
 
   SC_HAS_PROCESS(Host);
   Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
@@ -34,13 +40,22 @@ class Host : public sc_core::sc_module {
   Image image;  ///< the gathered frame
   bool done = false;
   sc_core::sc_time busy_until = sc_core::SC_ZERO_TIME;  ///< the host's current work ends then (for stall detection)
+  /// The links' use over the frame (topology's names, busy times and bytes).
+  const std::vector<LinkUse>& link_use() const { return net_.links(); }
 
  private:
-  void run();
-  void transfer(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, uint64_t timed_bytes,
-                SceneImageExtension* ext = nullptr);
-  sc_core::sc_time link_time(uint64_t bytes) const;
+  /// A b_transport into PE `pe`'s local memory, at once.
+  void transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len,
+                 sc_core::sc_time delay, SceneImageExtension* ext = nullptr);
+  /// Carries out `deliver` (a write into a PE) when the transfer's data arrives there: now, or
+  /// when the host's clock passes that time (host_sleep_until).
+  void deliver_at(uint64_t arrive, std::function<void()> deliver);
+  /// Sleeps until `t`, carrying out on the way the deliveries due before it.
+  void host_sleep_until(uint64_t t);
+  /// After asking the interconnect for a transfer: on until one of the host's ports is free.
+  void wait_for_a_port();
   void host_wait(sc_core::sc_time t);
+  void run();
 
   MachineConfig config_;
   const Scene& scene_;
@@ -49,14 +64,10 @@ class Host : public sc_core::sc_module {
   std::vector<std::vector<uint32_t>> parts_;
   std::vector<Pe*> pes_;
   Sleeper sleep_;  ///< rank 0: the host goes first in its cycle
+  Interconnect net_;
+  /// Writes issued for later (a star's or a tree's link still busy), by arrival, then issue order.
+  std::multimap<uint64_t, std::function<void()>> pending_;
 };
 
-/// Bytes the hardware would move for one primary ray: origin and direction as six words and a
-/// pixel number.
-constexpr uint64_t kRayRecordBytes = 28;
-/// Bytes of the camera and screen-share descriptor a PE needs to generate its own primary rays.
-constexpr uint64_t kCameraRecordBytes = 64;
-/// Bytes per gathered pixel: RGB as three floats and the primitive id.
-constexpr uint64_t kPixelRecordBytes = 16;
 
 }  // namespace rtm

@@ -4,11 +4,11 @@
 #include "machine/gtkw.h"
 #include "machine/modules_pe.h"
 #include "machine/partition.h"
-#include "machine/progress.h"
 #include "machine/sim_time.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/partial_files.h"
+#include "render/progress.h"
 #include "render/scene_needs.h"
 
 #include <algorithm>
@@ -28,14 +28,6 @@ using sc_core::sc_time;
 
 namespace {
 
-/// The process's resident size now (/proc/self/statm); 0 where it cannot be read.
-uint64_t resident_bytes() {
-  std::ifstream f("/proc/self/statm");
-  uint64_t size = 0, resident = 0;
-  if (!(f >> size >> resident)) return 0;
-  return resident * uint64_t(sysconf(_SC_PAGESIZE));
-}
-
 class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
@@ -45,17 +37,19 @@ class Machine : public sc_core::sc_module {
   SceneNeeds needs;
   PeUnits units;
   uint64_t scene_bytes = 0;
+  std::vector<MemoryLayout> memory;  ///< per PE
 
   SC_HAS_PROCESS(Machine);
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
 
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
-          bool tracing, uint64_t max_memory)
+          bool tracing, uint64_t max_memory, uint64_t max_rays)
       : sc_module(name),
         engine_unsupported(rtm::engine_unsupported(c, tracing)),
         config_(c),
         progress_(progress),
-        max_memory_(max_memory) {
+        max_memory_(max_memory),
+        max_rays_(max_rays) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
@@ -64,6 +58,7 @@ class Machine : public sc_core::sc_module {
     auto image = std::make_shared<SceneImage>(s, g, c);
     needs = image->visit([&](const auto& mem) { return analyse_scene(s, mem.rams); });
     scene_bytes = image->bytes;
+    check_local_memory(*image, parts, c);
     if (c.leave_out) {
       units.shadow_rays = needs.shadow_rays;
       units.reflection = needs.reflected_rays;
@@ -79,6 +74,9 @@ class Machine : public sc_core::sc_module {
       else
         pes.push_back(std::make_unique<ModulesPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
+      PeState& st = pes.back()->ctx;
+      st.spill_rays = memory[size_t(i)].spill_rays();
+      st.spawn_fanout = (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
@@ -88,11 +86,48 @@ class Machine : public sc_core::sc_module {
     const double quiet_cycles = std::max(8.0 * kMonitorStepCycles, 2.0 * double(longest_item_cycles(s, g, c)));
     quiet_window_ = sc_time::from_value(
         uint64_t(std::min(quiet_cycles * double(period.value()), double(kTimeHorizonTicks))));
-    // With arbitration = kernel the monitor's own wake-ups take part in SystemC's same-time
-    // order, and so in the figures: there it runs where it always did, on its fixed schedule.
-    fixed_schedule_ = c.arbitration == MachineConfig::Arbitration::Kernel;
-    if (!fixed_schedule_ || progress_ || c.timing == Timing::Clocked || c.flow_control == FlowControl::None)
-      SC_THREAD(monitor);
+    base_step_ = period * kMonitorStepCycles;
+    longest_step_ = std::max(base_step_, quiet_window_ / 8.0);
+    for (auto& pe : pes) active_.push_back(pe.get());
+    // With arbitration = kernel a monitor process's wake-ups would take part in SystemC's
+    // same-time order, and so in the figures: there the monitor looks from outside, between
+    // slices of the simulation (run()).
+    if (c.arbitration == MachineConfig::Arbitration::Ranked) SC_THREAD(monitor);
+  }
+
+  /// Simulates the frame to its end, or until the monitor stops it. With arbitration = kernel in
+  /// slices of sc_start, the monitor looking after each: sc_start(T) adds no event to the
+  /// kernel's schedule (it only stops at T, after triggering what falls due then, and the next
+  /// slice carries on with exactly that), so the figures are those of one sc_start().
+  void run() {
+    if (config_.arbitration == MachineConfig::Arbitration::Ranked) {
+      sc_core::sc_start();
+      return;
+    }
+    sc_time step = base_step_;
+    for (;;) {
+      sc_core::sc_start(step);
+      // The host stops the simulation when the frame is gathered; no activity left is a deadlock.
+      if (host->done || !sc_core::sc_pending_activity()) return;
+      if (!look(step)) {
+        sc_core::sc_stop();
+        return;
+      }
+    }
+  }
+
+  /// Lays out each PE's local memory; a PE whose sections do not fit stops the render before it
+  /// starts, naming them (the PE with the most pixels needs the most).
+  void check_local_memory(const SceneImage& image, const std::vector<std::vector<uint32_t>>& parts,
+                          const MachineConfig& c) {
+    for (const auto& px : parts) memory.push_back(memory_layout(image, px.size(), c));
+    for (size_t pe = 0; pe < memory.size(); ++pe) {
+      const MemoryLayout& m = memory[pe];
+      if (m.fits()) continue;
+      throw std::runtime_error("local memory too small: PE " + std::to_string(pe) + " needs " + std::to_string(m.used) +
+                               " bytes (" + m.describe() + ") but local_memory_bytes is " +
+                               std::to_string(m.capacity) + "; a larger local memory, more PEs or a smaller frame fits");
+    }
   }
 
   /// How many SystemC threads the machine elaborated (each needs a stack when simulation starts).
@@ -128,116 +163,124 @@ class Machine : public sc_core::sc_module {
            uint64_t(c.pe_ray_cycles);
   }
 
-  /// Every few thousand cycles: redraw the progress line (at most twice a second of wall time),
-  /// stop the simulation if nothing has moved for longer than any unit takes over one item (a
-  /// deadlock the clock would otherwise hide), and stop it if its time passes the horizon. While
-  /// nothing moves it looks less and less often, and across a long host phase not at all, so a
-  /// long simulated time costs few wake-ups.
+  /// Every few thousand cycles (ranked arbitration): a look, until the frame is done or a look
+  /// says stop.
   void monitor() {
-    const auto start = std::chrono::steady_clock::now();
-    auto last_draw = start, last_measured = start;
-    const sc_time base = sc_time(config_.clock_ns, sc_core::SC_NS) * kMonitorStepCycles;
-    const sc_time longest_step = std::max(base, quiet_window_ / 8.0);
-    sc_time step = base, quiet_since = sc_core::SC_ZERO_TIME;
-    uint64_t last_work = ~0ull, finished_work = 0;
-    std::vector<Pe*> active;  // the PEs not yet finished
-    for (auto& pe : pes) active.push_back(pe.get());
+    sc_time step = base_step_;
     while (!host->done) {
       sc_core::wait(step);
-      const sc_time at = sc_core::sc_time_stamp();
-      if (at.value() >= kTimeHorizonTicks) {
-        overran = true;
+      if (!look(step)) {
         sc_core::sc_stop();
         return;
       }
-      // Rays waiting in the front buffers grow with the ray tree: hold the process to the budget.
-      if (const auto wall = std::chrono::steady_clock::now(); max_memory_ && wall - last_measured > kMeasureEvery) {
-        last_measured = wall;
-        if (const uint64_t rss = resident_bytes(); rss > max_memory_) {
-          over_budget = rss;
-          sc_core::sc_stop();
-          return;
-        }
-      }
-      // The host's own phase (sending every PE its scene, say) is no stall: look again when it
-      // ends, without summing every PE's counters on each transfer.
-      const bool host_busy = at < host->busy_until;
-      uint64_t work = last_work;
-      if (!host_busy || fixed_schedule_) {
-        // A finished PE's counters no longer change: add them once and look at it no more.
-        work = finished_work;
-        for (size_t i = 0; i < active.size();) {
-          const PeCounters& k = active[i]->ctx.counters;
-          const uint64_t w = k.front.items + k.search().items + k.mac.items + k.root.items + k.shade.items;
-          if (active[i]->finished()) {
-            finished_work += w;
-            active[i] = active.back();
-            active.pop_back();
-          } else {
-            ++i;
-          }
-          work += w;
-        }
-      }
-      const bool moved = work != last_work;
-      last_work = work;
-      if (moved) {
-        quiet_since = at;
-        step = base;
-      } else if (fixed_schedule_) {
-        if (host_busy)
-          quiet_since = at;
-        else if (at - quiet_since >= quiet_window_) {
-          stalled = true;
-          sc_core::sc_stop();
-          return;
-        }
-      } else if (host_busy) {
-        quiet_since = host->busy_until;
-        step = std::max(base, host->busy_until - at);
-      } else if (at >= quiet_since && at - quiet_since >= quiet_window_) {
-        stalled = true;
-        sc_core::sc_stop();
-        return;
-      } else {
-        step = std::min(step * 2.0, longest_step);
-      }
-      if (!progress_) continue;
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_draw < std::chrono::milliseconds(500) || now - start < std::chrono::seconds(1)) continue;
-      last_draw = now;
-      Progress p;
-      bool all_done = true;
-      for (auto& pe : pes) {
-        p.pixels_started += pe->ctx.counters.counts.rays[0];
-        all_done = all_done && pe->finished();
-      }
-      const bool generated = host->times.rays != sc_core::SC_ZERO_TIME;  // the host's primary rays
-      p.phase = all_done ? "gather" : p.pixels_started ? "PEs" : generated ? "transfer" : "host";
-      p.pixels = total_pixels_;
-      p.seconds = std::chrono::duration<double>(now - start).count();
-      p.resident_bytes = resident_bytes();
-      std::fprintf(stderr, "\r%-79s", progress_line(p).c_str());
-      std::fflush(stderr);
-      drew = true;
     }
+  }
+
+  /// One look of the monitor at the simulation, now: returns false, with the reason set (stalled,
+  /// overran, over_budget, over_rays), when it must stop; else sets when to look next. It stops a
+  /// simulation whose time passes the horizon, whose process holds more than the memory budget
+  /// (read every 50 ms of wall time) or whose PEs traced more rays than the work budget, and one
+  /// in which nothing has moved for longer than any unit takes over one item (a deadlock the
+  /// clock would otherwise hide); and redraws the progress line (at most twice a second of wall
+  /// time). While nothing moves it looks less and less often, and across a long host phase not
+  /// at all, so a long simulated time costs few looks.
+  bool look(sc_time& step) {
+    const sc_time at = sc_core::sc_time_stamp();
+    if (at.value() >= kTimeHorizonTicks) {
+      overran = true;
+      return false;
+    }
+    // Rays waiting in the front buffers grow with the ray tree: hold the process to the budget.
+    if (const auto wall = std::chrono::steady_clock::now(); max_memory_ && wall - last_measured_ > kMeasureEvery) {
+      last_measured_ = wall;
+      if (const uint64_t rss = resident_bytes(); rss > max_memory_) {
+        over_budget = rss;
+        return false;
+      }
+    }
+    // The host's own phase (sending every PE its scene, say) is no stall: look again when it
+    // ends, without summing every PE's counters on each transfer.
+    const bool host_busy = at < host->busy_until;
+    uint64_t work = last_work_;
+    if (!host_busy) {
+      // A finished PE's counters no longer change: add them once and look at it no more.
+      work = finished_work_;
+      uint64_t rays = finished_rays_;
+      for (size_t i = 0; i < active_.size();) {
+        const PeCounters& k = active_[i]->ctx.counters;
+        const uint64_t w = k.front.items + k.search().items + k.mac.items + k.root.items + k.shade.items;
+        const uint64_t r = k.counts.total_rays();
+        if (active_[i]->finished()) {
+          finished_work_ += w;
+          finished_rays_ += r;
+          active_[i] = active_.back();
+          active_.pop_back();
+        } else {
+          ++i;
+        }
+        work += w;
+        rays += r;
+      }
+      if (max_rays_ && rays > max_rays_) {
+        over_rays = rays;
+        return false;
+      }
+    }
+    const bool moved = work != last_work_;
+    last_work_ = work;
+    if (moved) {
+      quiet_since_ = at;
+      step = base_step_;
+    } else if (host_busy) {
+      quiet_since_ = host->busy_until;
+      step = std::max(base_step_, host->busy_until - at);
+    } else if (at >= quiet_since_ && at - quiet_since_ >= quiet_window_) {
+      stalled = true;
+      return false;
+    } else {
+      step = std::min(step * 2.0, longest_step_);
+    }
+    if (!progress_) return true;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_draw_ < std::chrono::milliseconds(500) || now - start_ < std::chrono::seconds(1)) return true;
+    last_draw_ = now;
+    Progress p;
+    bool all_done = true;
+    for (auto& pe : pes) {
+      p.pixels_started += pe->ctx.counters.counts.rays[0];
+      all_done = all_done && pe->finished();
+    }
+    const bool generated = host->times.rays != sc_core::SC_ZERO_TIME;  // the host's primary rays
+    p.phase = all_done ? "gather" : p.pixels_started ? "PEs" : generated ? "transfer" : "host";
+    p.pixels = total_pixels_;
+    p.seconds = std::chrono::duration<double>(now - start_).count();
+    p.resident_bytes = resident_bytes();
+    std::fprintf(stderr, "\r%-79s", progress_line(p).c_str());
+    std::fflush(stderr);
+    drew = true;
+    return true;
   }
 
  public:
   bool stalled = false;  ///< the monitor stopped a simulation in which nothing moved
   bool overran = false;  ///< the monitor stopped a simulation whose time passed the horizon
   bool drew = false;     ///< a progress line is on the terminal
+  uint64_t over_budget = 0;  ///< the resident size the monitor stopped the simulation at; 0: it did not
+  uint64_t over_rays = 0;    ///< the rays traced when the monitor stopped it at the work budget; 0: it did not
 
  private:
   sc_time quiet_window_;  ///< this long with nothing done (and the host idle) is a stall
-  bool fixed_schedule_ = false;  ///< wake every kMonitorStepCycles, whatever happens
   MachineConfig config_;
   bool progress_;
-  uint64_t max_memory_;
+  uint64_t max_memory_, max_rays_;
   uint64_t total_pixels_ = 0;
-
- public:
-  uint64_t over_budget = 0;  ///< the resident size the monitor stopped the simulation at; 0: it did not
+  // The monitor's own state from one look to the next.
+  sc_time base_step_, longest_step_;  ///< how often it looks while things move, and at least
+  sc_time quiet_since_ = sc_core::SC_ZERO_TIME;
+  uint64_t last_work_ = ~0ull, finished_work_ = 0, finished_rays_ = 0;
+  std::vector<Pe*> active_;  ///< the PEs not yet finished
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_draw_ = start_,
+                                        last_measured_ = start_;
 };
 
 std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
@@ -362,7 +405,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
   check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
-  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory);
+  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory, opt.max_rays);
 
   check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 
@@ -401,30 +444,37 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     }
   }
 
-  sc_core::sc_start();
+  top.run();
   if (top.drew) std::fprintf(stderr, "\r%80s\r", "");
 
-  if (top.over_budget) {
+  if (top.over_budget || top.over_rays) {
     uint64_t rays = 0;
     for (auto& pe : top.pes) rays += pe->ctx.counters.counts.total_rays();
-    auto text = [](uint64_t bytes) {
-      char t[32];
-      std::snprintf(t, sizeof t, bytes < (uint64_t(1) << 30) ? "%.1f MiB" : "%.2f GiB",
-                    double(bytes) / double(bytes < (uint64_t(1) << 30) ? 1 << 20 : 1 << 30));
-      return std::string(t);
-    };
-    const std::string held = text(top.over_budget), budget = text(opt.max_memory);
-    throw std::runtime_error("the simulation stopped holding " + held + ", more than its memory budget of " +
-                             budget + " (--max-memory), at cycle " +
-                             std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
-                             " with " + std::to_string(rays) + " rays traced: the rays waiting in the front buffers " +
-                             "grow with the ray tree (max_depth " + std::to_string(s.max_depth) + ", threshold " +
-                             [&] {
-                               std::ostringstream t;
-                               t << s.threshold;
-                               return t.str();
-                             }() + ")");
+    std::ostringstream why;
+    why << "the simulation stopped ";
+    if (top.over_budget)
+      why << "holding " << bytes_text(top.over_budget) << ", more than its memory budget of "
+          << bytes_text(opt.max_memory) << " (--max-memory)";
+    else
+      why << "at its work budget of " << opt.max_rays << " rays (--max-rays)";
+    why << ", at cycle " << uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS)) << " with "
+        << rays << " rays traced: ";
+    if (top.over_budget)
+      why << "the rays waiting in the front buffers grow with the ray tree (max_depth " << s.max_depth
+          << ", threshold " << s.threshold << ")";
+    else
+      why << "the ray trees grow with max_depth " << s.max_depth << " and threshold " << s.threshold;
+    throw BudgetExceeded(why.str());
   }
+  for (size_t pe = 0; pe < top.pes.size(); ++pe)
+    if (const PeCounters& k = top.pes[pe]->ctx.counters; k.spill_overflow)
+      throw std::runtime_error(
+          "local memory too small for the ray trees: PE " + std::to_string(pe) + "'s front buffer had " +
+          std::to_string(k.spill_overflow) + " rays waiting at cycle " + std::to_string(top.pes[pe]->ctx.cycles(k.spill_overflow_at)) +
+          ", more than its " + std::to_string(c.front_buffer_capacity) + " on chip and the " +
+          std::to_string(top.memory[pe].spill_rays()) + " its spill area holds (" + std::to_string(top.memory[pe].spill_bytes()) +
+          " bytes of local_memory_bytes " + std::to_string(c.local_memory_bytes) +
+          "); a larger local memory, a higher threshold or a lower max_depth fits");
   if (top.overran)
     throw std::runtime_error("the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
                              std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
@@ -434,6 +484,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   MachineResult r;
   r.end = sc_core::sc_time_stamp();
   r.host = top.host->times;
+  r.links = top.host->link_use();
   for (auto& pe : top.pes) {
     if (!pe->finished()) {
       r.deadlock = true;
@@ -455,6 +506,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   r.needs = top.needs;
   r.engine_unsupported = top.engine_unsupported;
   r.scene_bytes = top.scene_bytes;
+  r.memory = top.memory;
   r.units = top.units;
   for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, "spawn_fifo"},
                             {top.units.shadow_rays, "shading.shadow_rays"},

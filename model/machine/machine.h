@@ -7,6 +7,7 @@
 
 #include "machine/frame_stats.h"
 #include "machine/host.h"
+#include "units/memory_layout.h"
 #include "render/scene_needs.h"
 
 namespace rtm {
@@ -23,6 +24,8 @@ struct MachineOptions {
   /// The memory budget: the simulation stops with an error once the process holds more (what
   /// grows with the ray tree cannot be known before it runs). 0: none.
   uint64_t max_memory = 0;
+  /// The work budget: the simulation stops with an error once its PEs have traced more rays. 0: none.
+  uint64_t max_rays = 0;
 };
 
 /// Per FIFO kind, over all PEs.
@@ -40,7 +43,9 @@ struct MachineResult {
   std::vector<PeCounters> per_pe;
   std::vector<FifoSummary> fifos;
   HostTimes host;
+  std::vector<LinkUse> links;   ///< the interconnect's links: busy time and bytes of each (net/interconnect.h)
   uint64_t scene_bytes = 0;     ///< one PE's copy of the scene as the link carries it
+  std::vector<MemoryLayout> memory;  ///< each PE's local memory (units/memory_layout.h)
   sc_core::sc_time end;
   uint64_t cycles = 0;          ///< the frame's simulated time in PE cycles
   FrameStats stats;             ///< derived from the counters above (frame_stats.h)

@@ -3,13 +3,18 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <cstdio>
 #include <limits>
+#include <mutex>
+#include <sstream>
 #include <thread>
 #include <utility>
 
 #include "geom/occupancy.h"
 #include "render/camera.h"
 #include "render/pixel_sum.h"
+#include "render/progress.h"
 #include "render/shade.h"
 #include "render/voxel_test.h"
 
@@ -159,15 +164,26 @@ VoxelHit walk(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb) {
   return VoxelHit{};
 }
 
+/// What the workers share with the watch: how far they are, and its word to stop.
+struct Shared {
+  std::atomic<uint64_t> rays{0}, pixels{0};
+  std::atomic<bool> stop{false};
+};
+/// A worker adds its rays to Shared::rays, and looks whether to stop, this often: inside one
+/// pixel too, whose tree may never end.
+constexpr uint64_t kRaysPerReport = 4096;
+
 /// Traces a pixel's whole ray tree depth first.
 struct Scratch {
   explicit Scratch(size_t prims) : mailbox(prims) {}
   std::vector<Ray> stack;
   Mailbox mailbox;
   ShadeOut shade;
+  uint64_t unreported = 0;  ///< rays traced since the last report to Shared
 };
 
-void trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts& c, Scratch& w) {
+/// False when the watch said stop before the tree was done (the pixel is left unfinished).
+bool trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts& c, Scratch& w, Shared& shared) {
   const Scene& s = *d.mem.scene;
   PixelSum sum;
   std::vector<Ray>& stack = w.stack;
@@ -178,6 +194,11 @@ void trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts
     const Ray ray = stack.back();
     stack.pop_back();
     ++c.rays[size_t(ray.kind)];
+    if (++w.unreported == kRaysPerReport) {
+      shared.rays.fetch_add(w.unreported, std::memory_order_relaxed);
+      w.unreported = 0;
+      if (shared.stop.load(std::memory_order_relaxed)) return false;
+    }
     const VoxelHit h = walk(d, ray, c, w.mailbox);
     if (ray.kind == RayKind::Shadow) {
       if (!h.hit) sum.add(ray.brightness);
@@ -194,13 +215,68 @@ void trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts
     stack.insert(stack.end(), out.rays.rbegin(), out.rays.rend());
   }
   img.rgb[primary.pixel] = sum.value();
+  shared.pixels.fetch_add(1, std::memory_order_relaxed);
+  return true;
 }
+
+/// Every 50 ms of wall time while the workers run: the budgets, then (at most twice a second,
+/// after the first) the progress line. Returns why the render must stop; empty: it goes on.
+class Watcher {
+ public:
+  Watcher(const ReferenceWatch& w, const Scene& s, const Shared& shared) : watch_(w), scene_(s), shared_(shared) {}
+
+  std::string look() {
+    const auto now = std::chrono::steady_clock::now();
+    const uint64_t rays = shared_.rays.load(std::memory_order_relaxed);
+    const uint64_t pixels = uint64_t(scene_.camera.width) * uint64_t(scene_.camera.height);
+    const std::string where = std::to_string(shared_.pixels.load(std::memory_order_relaxed)) + " of " +
+                              std::to_string(pixels) + " pixels done";
+    if (watch_.max_rays && rays > watch_.max_rays) {
+      std::ostringstream why;
+      why << "the reference render stopped at its work budget of " << watch_.max_rays << " rays (--max-rays), with "
+          << where << ": the ray trees grow with max_depth " << scene_.max_depth << " and threshold "
+          << scene_.threshold;
+      return why.str();
+    }
+    if (const uint64_t rss = watch_.max_memory ? resident_bytes() : 0; rss > watch_.max_memory)
+      return "the reference render stopped holding " + bytes_text(rss) + ", more than its memory budget of " +
+             bytes_text(watch_.max_memory) + " (--max-memory), with " + where + " and " + std::to_string(rays) +
+             " rays traced";
+    if (watch_.progress && now - start_ >= std::chrono::seconds(1) &&
+        now - last_draw_ >= std::chrono::milliseconds(500)) {
+      last_draw_ = now;
+      Progress p;
+      p.phase = "reference";
+      p.pixels_started = shared_.pixels.load(std::memory_order_relaxed);
+      p.pixels = pixels;
+      p.seconds = std::chrono::duration<double>(now - start_).count();
+      p.rays = rays;
+      p.resident_bytes = resident_bytes();
+      std::fprintf(stderr, "\r%-79s", progress_line(p).c_str());
+      std::fflush(stderr);
+      drew_ = true;
+    }
+    return {};
+  }
+
+  ~Watcher() {
+    if (drew_) std::fprintf(stderr, "\r%80s\r", "");
+  }
+
+ private:
+  const ReferenceWatch& watch_;
+  const Scene& scene_;
+  const Shared& shared_;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_draw_ = start_;
+  bool drew_ = false;
+};
 
 }  // namespace
 
 const char* reference_build_id() { return __DATE__ " " __TIME__; }
 
-ReferenceResult render_reference(const Scene& s, const Grid& g, int threads) {
+ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, const ReferenceWatch& watch) {
   const auto t0 = std::chrono::steady_clock::now();
   ReferenceResult r;
   r.image = Image(s.camera.width, s.camera.height);
@@ -212,17 +288,36 @@ ReferenceResult render_reference(const Scene& s, const Grid& g, int threads) {
 
   std::atomic<int> next_row{0};
   std::vector<TraceCounts> counts(static_cast<size_t>(threads));
+  Shared shared;
+  std::mutex m;
+  std::condition_variable finished;
+  int running = threads;
   auto worker = [&](int id) {
     Scratch scratch(s.primitives.size());
     TraceCounts mine;  // local, not counts[id]: neighbouring entries share a cache line
-    for (int y; (y = next_row.fetch_add(1)) < s.camera.height;)
-      for (int x = 0; x < s.camera.width; ++x) trace_pixel(data, camera.at(x, y), r.image, mine, scratch);
+    bool go = true;
+    for (int y; go && (y = next_row.fetch_add(1)) < s.camera.height;)
+      for (int x = 0; go && x < s.camera.width; ++x) go = trace_pixel(data, camera.at(x, y), r.image, mine, scratch, shared);
     counts[size_t(id)] = mine;
+    const std::lock_guard<std::mutex> lock(m);
+    --running;
+    finished.notify_one();
   };
+  // The watch has a thread of its own, so worker 0 still starts at once on this one (a thread
+  // started while the image library loads waits for the loader's lock).
+  std::string stopped;
+  std::thread watching([&] {
+    Watcher watcher(watch, s, shared);
+    std::unique_lock<std::mutex> lock(m);
+    while (!finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return running == 0; }))
+      if (stopped.empty() && !(stopped = watcher.look()).empty()) shared.stop = true;
+  });
   std::vector<std::thread> pool;
   for (int i = 1; i < threads; ++i) pool.emplace_back(worker, i);
   worker(0);
   for (auto& t : pool) t.join();
+  watching.join();
+  if (!stopped.empty()) throw BudgetExceeded(stopped);
   for (const TraceCounts& c : counts) r.counts.add(c);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

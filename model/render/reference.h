@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -50,7 +51,22 @@ struct ReferenceResult {
 /// Identifies the build of the reference renderer (for caches of its images).
 const char* reference_build_id();
 
-/// Renders the whole frame. threads <= 0: all hardware threads.
-ReferenceResult render_reference(const Scene& s, const Grid& g, int threads);
+/// What watches a reference render while it runs, as the machine's monitor watches a simulation:
+/// a tree that never ends (a glass sphere among mirrors at threshold 0) holds little memory, since
+/// each pixel's tree is traced depth first, but its rays go on.
+struct ReferenceWatch {
+  bool progress = false;   ///< redraw a progress line on stderr (the caller checks it is a terminal)
+  uint64_t max_memory = 0; ///< stop once the process holds more bytes; 0: no limit
+  uint64_t max_rays = 0;   ///< stop once more rays than this are traced; 0: no limit
+};
+
+/// A render its watch stopped, over its memory or work budget; the message says which, where.
+struct BudgetExceeded : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Renders the whole frame. threads <= 0: all hardware threads. Throws BudgetExceeded when the
+/// watch's budget is passed.
+ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, const ReferenceWatch& watch = {});
 
 }  // namespace rtm

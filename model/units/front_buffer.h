@@ -12,6 +12,8 @@
 // `Item` is how the scheduler holds a ray: a MachineRay (the modules) or a slot number (the engine).
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <deque>
 
 #include "units/output.h"
@@ -48,7 +50,7 @@ class FrontBufferPolicy {
   Next next() const {
     if (in_flight_ < credits_) {
       if (!queue_.empty()) return Next::Queued;
-      if (next_primary_ < primaries_) return Next::Primary;
+      if (next_primary_ < primaries_ && room_for_primary()) return Next::Primary;
     }
     if (next_primary_ == rays_expected_ && queue_.empty() && in_flight_ == 0) return Next::Finished;
     return Next::Wait;
@@ -109,8 +111,14 @@ class FrontBufferPolicy {
       d.from = kFromHost;
       return d;
     }
-    if (finished_) return d;
+    if (finished_ || overflowed()) return d;
     drain();
+    if (queue_.size() > capacity()) {
+      // The ray trees outgrew local memory: the machine stops the frame (machine/machine.cpp).
+      pe_.counters.spill_overflow = queue_.size();
+      pe_.counters.spill_overflow_at = now;
+      return d;
+    }
     switch (next()) {
       case Next::Queued: {
         bool spilled = false;
@@ -155,6 +163,23 @@ class FrontBufferPolicy {
   uint64_t interval(uint64_t cycles) const { return pipeline_interval(pe_.config.dispatch_interval, cycles); }
 
   bool finished() const { return finished_; }
+  bool overflowed() const { return pe_.counters.spill_overflow > 0; }
+  /// Rays it can hold: on chip, then in the spill area.
+  uint64_t capacity() const {
+    const uint64_t on_chip = uint64_t(pe_.config.front_buffer_capacity);
+    return pe_.spill_rays > UINT64_MAX - on_chip ? UINT64_MAX : on_chip + pe_.spill_rays;
+  }
+  /// Flow control for a bounded spill area: a new primary ray goes only if every ray in the loop
+  /// and it can each come back or spawn its most children without the waiting rays outgrowing
+  /// what the front buffer holds, or if the loop is empty. Rays already in the loop always go on
+  /// (they may spawn more, and a tree too wide for the memory stops the frame with an error), so
+  /// a primary ray waits only for rays that will leave: no wait can close a cycle.
+  bool room_for_primary() const {
+    if (pe_.spill_rays == UINT64_MAX || (in_flight_ == 0 && queue_.empty())) return true;
+    const uint64_t per_ray = std::max<uint64_t>(1, pe_.spawn_fanout);
+    const uint64_t rays = uint64_t(in_flight_) + 1;
+    return queue_.size() <= capacity() && rays <= (capacity() - queue_.size()) / per_ray;
+  }
   int in_flight() const { return in_flight_; }
   size_t waiting() const { return queue_.size(); }
   size_t primaries_known() const { return primaries_; }

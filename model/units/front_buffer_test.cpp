@@ -168,11 +168,56 @@ TEST(FrontBufferPolicy, RandomTrafficKeepsTheCreditRule) {
   }
 }
 
-}  // namespace
-}  // namespace rtm
+// A bounded spill area: new primary rays wait until every ray in the loop, and the new one, could
+// each spawn its most children into what the front buffer holds; rays in the loop always go on.
+TEST(FrontBufferPolicy, ABoundedSpillAreaHoldsBackPrimaryRaysNotRaysInTheLoop) {
+  PeState pe = pe_with(8, 2);
+  pe.spill_rays = 4;    // holds 2 + 4 = 6 rays
+  pe.spawn_fanout = 2;  // each ray's end may spawn two
+  Policy p(pe, 10);
+  p.primaries_arrived(10);
+  EXPECT_EQ(p.capacity(), 6u);
+  // 1, 2, 3 rays in flight need 2, 4, 6 places; a fourth would need 8.
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(hand_out(p), -1 - i);
+  EXPECT_EQ(p.next(), Next::Wait) << "credits are left, but no room for a fourth ray's children";
+  p.ended();
+  p.spawned(100);
+  p.spawned(101);  // 2 waiting, 2 in flight: 2 + 3 * 2 > 6
+  EXPECT_EQ(p.next(), Next::Queued) << "spawned rays are in the loop: they go";
+  EXPECT_EQ(hand_out(p), 100);
+  EXPECT_EQ(hand_out(p), 101);
+  EXPECT_EQ(p.in_flight(), 4);
+  p.ended();
+  p.ended();
+  p.ended();  // 1 in flight, none waiting: 0 + 2 * 2 <= 6
+  EXPECT_EQ(p.next(), Next::Primary);
+}
 
-namespace rtm {
-namespace {
+TEST(FrontBufferPolicy, RaysOutgrowingTheSpillAreaStopTheFrontBuffer) {
+  PeState pe = pe_with(8, 1);
+  pe.spill_rays = 1;
+  pe.spawn_fanout = 3;
+  FrontBufferPolicy<int> p(pe, 1);
+  using D = FrontBufferPolicy<int>::Decision;
+  p.primaries_arrived(1);
+  bool ended = false;
+  const auto drain = [&] {
+    if (!ended) return;
+    p.ended();
+    for (int i = 0; i < 3; ++i) p.spawned(i);  // three children, room for two
+    ended = false;
+  };
+  const D first = p.decide(0, 1, drain);
+  ASSERT_EQ(first.kind, D::Primary);
+  p.dispatched(0, 0, first.cycles, first.from);
+  ended = true;
+  EXPECT_EQ(p.decide(5, 1, drain).kind, D::None);
+  EXPECT_TRUE(p.overflowed());
+  EXPECT_EQ(pe.counters.spill_overflow, 3u);
+  EXPECT_EQ(pe.counters.spill_overflow_at, 5u);
+  EXPECT_FALSE(p.finished());
+  EXPECT_EQ(p.decide(6, 1, drain).kind, D::None) << "it hands out nothing more";
+}
 
 TEST(FrontBufferPolicy, DecidesToAlignPrimaryRaysToTheClockAndToWaitForInput) {
   PeState pe = pe_with(8, 4);

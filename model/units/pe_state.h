@@ -45,6 +45,8 @@ struct PeCounters {
   uint64_t start = 0;         ///< the first primary ray handed out
   uint64_t finish = 0;        ///< the last ray ended
   uint64_t credit_stall = 0;  ///< rays waiting but no credit to send them
+  uint64_t spill_overflow = 0;  ///< rays waiting when they outgrew the spill area (0: they never did)
+  uint64_t spill_overflow_at = 0;
 };
 
 /// Which optional units a PE elaborates (all of them unless the machine leaves out what the
@@ -72,6 +74,11 @@ struct PeState {
   PeCounters counters;
   uint32_t next_ray_id = 0;
   EventLog* log = nullptr;  ///< null: no event log
+  /// Rays the front buffer can hold: on chip, and in the spill area local memory leaves over
+  /// (units/memory_layout.h); and the most rays one ray's end can spawn (a shadow ray per light,
+  /// a reflected and a transmitted ray), which new primary rays must leave room for.
+  uint64_t spill_rays = UINT64_MAX;
+  uint64_t spawn_fanout = 0;
 
   uint64_t cycles(uint64_t ticks) const { return ticks / cycle; }
 };

@@ -17,7 +17,7 @@ SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c) : 
   // voxel data (one offset per voxel plus one id per reference); per light 6 words, per
   // material 8.
   const uint64_t word = mem32 ? 4 : 8;
-  bytes = visit([&](const auto& mem) {
+  primitive_bytes = word * visit([&](const auto& mem) {
     uint64_t words = 0;
     for (size_t i = 0; i < s.primitives.size(); ++i) {
       uint64_t ram = kRamWords;
@@ -27,9 +27,11 @@ SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c) : 
       }
       words += ram + 3 + 4 * s.primitives[i].clips.size() + 6 + 1;
     }
-    words += 6 * s.lights.size() + 8 * s.materials.size();
-    return words * word + 4 * (g.start.size() + g.items.size());
+    return words;
   });
+  voxel_bytes = 4 * (uint64_t(g.start.size()) + uint64_t(g.items.size()));
+  light_bytes = word * (6 * uint64_t(s.lights.size()) + 8 * uint64_t(s.materials.size()));
+  bytes = primitive_bytes + voxel_bytes + light_bytes;
 }
 
 }  // namespace rtm

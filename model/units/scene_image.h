@@ -15,7 +15,11 @@ struct SceneImage {
   const Grid* grid = nullptr;
   std::optional<SceneMemory<float>> mem32;   ///< precision = fp32 only
   std::optional<SceneMemory<double>> mem64;  ///< precision = fp64 only
-  uint64_t bytes = 0;  ///< the size the transfer is timed by
+  // The bytes of each part of a PE's copy (model/units/scene_image.cpp says what each holds).
+  uint64_t primitive_bytes = 0;
+  uint64_t voxel_bytes = 0;
+  uint64_t light_bytes = 0;  ///< lights and materials
+  uint64_t bytes = 0;        ///< the whole copy: the size the transfer is timed by
 
   SceneImage(const Scene& s, const Grid& g, const MachineConfig& c);
 

@@ -44,6 +44,12 @@ def read_csv(path):
     return head, [dict(zip(head, r)) for r in records[1:]]
 
 
+def row_files(out):
+    """The row files in OUT/runs/, sorted: one per run that is done."""
+    runs = out / "runs"
+    return sorted(n for n in os.listdir(runs) if n.endswith(".row")) if runs.is_dir() else []
+
+
 def is_number(s):
     try:
         float(s)

@@ -9,16 +9,11 @@ import time
 
 import pytest
 
-from support import PLOTS, ROOT, SCENES, SCRIPTS, SWEEP, check_png, env, is_number, read_csv, write_spec
+from support import PLOTS, ROOT, SCENES, SCRIPTS, SWEEP, check_png, env, is_number, read_csv, row_files, write_spec
 from rtmsweep import columns
 
 COLUMNS = columns.header([])
 TINY = os.path.join(SCRIPTS, "sweep-examples", "tiny.yaml")
-
-
-def row_files(out):
-    runs = out / "runs"
-    return sorted(n for n in os.listdir(runs) if n.endswith(".row")) if runs.is_dir() else []
 
 
 def spec_order(rows):

@@ -1,4 +1,4 @@
-#include "machine/progress.h"
+#include "render/progress.h"
 
 #include <gtest/gtest.h>
 
@@ -26,12 +26,33 @@ TEST(Progress, BeforeThePesStartThereIsNoRate) {
   EXPECT_EQ(progress_line(p), "transfer: at pixel 0/100 (0.0%), 1.2 s");
 }
 
+// The reference's line: a pixel whose ray tree grows shows no pixel rate, but its rays.
+TEST(Progress, TheReferenceAddsTheRaysTraced) {
+  Progress p;
+  p.phase = "reference";
+  p.pixels = 1;
+  p.seconds = 3;
+  p.rays = 123456789;
+  p.resident_bytes = uint64_t(1) << 27;
+  EXPECT_EQ(progress_line(p), "reference: at pixel 0/1 (0.0%), 3.0 s, 1.23e+08 rays, 0.12 GiB");
+}
+
+TEST(Progress, BudgetsAreInMibBelowAGibibyte) {
+  EXPECT_EQ(bytes_text(uint64_t(220) << 20), "220.0 MiB");
+  EXPECT_EQ(bytes_text(uint64_t(3) << 29), "1.50 GiB");
+}
+
+TEST(Progress, TheResidentSizeIsRead) {
+  EXPECT_GT(resident_bytes(), uint64_t(1) << 20);  // a test program holds more than a megabyte
+}
+
 TEST(Progress, TheLineFitsATerminal) {
   Progress p;
   p.phase = "PEs";
   p.pixels_started = 123456789;
   p.pixels = 268435456;
   p.seconds = 99999;
+  p.rays = ~uint64_t(0);
   p.resident_bytes = uint64_t(1) << 40;
   EXPECT_LE(progress_line(p).size(), 79u);
 }

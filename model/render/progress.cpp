@@ -1,7 +1,10 @@
-#include "machine/progress.h"
+#include "render/progress.h"
+
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 namespace rtm {
 namespace {
@@ -30,9 +33,25 @@ std::string progress_line(const Progress& p) {
   if (rate > 0 && n < int(sizeof line))
     n += std::snprintf(line + n, sizeof line - size_t(n), ", %.0f px/s, ETA %s", rate,
                        duration(double(p.pixels - p.pixels_started) / rate).c_str());
+  if (p.rays && n < int(sizeof line))
+    n += std::snprintf(line + n, sizeof line - size_t(n), ", %.3g rays", double(p.rays));
   if (p.resident_bytes && n < int(sizeof line))
     std::snprintf(line + n, sizeof line - size_t(n), ", %.2f GiB", double(p.resident_bytes) / double(1 << 30));
   return std::string(line).substr(0, 79);
+}
+
+std::string bytes_text(uint64_t bytes) {
+  const bool mib = bytes < (uint64_t(1) << 30);
+  char t[32];
+  std::snprintf(t, sizeof t, mib ? "%.1f MiB" : "%.2f GiB", double(bytes) / double(mib ? 1 << 20 : 1 << 30));
+  return t;
+}
+
+uint64_t resident_bytes() {
+  std::ifstream f("/proc/self/statm");
+  uint64_t size = 0, resident = 0;
+  if (!(f >> size >> resident)) return 0;
+  return resident * uint64_t(sysconf(_SC_PAGESIZE));
 }
 
 }  // namespace rtm

@@ -1,0 +1,143 @@
+#include "memory/local_memory_timing.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace rtm {
+
+LocalMemoryTiming::Config LocalMemoryTiming::Config::from(const MachineConfig& c) {
+  return {c.memory_ports,
+          c.memory_banks,
+          uint64_t(c.memory_interleave_bytes),
+          uint64_t(c.memory_latency),
+          uint64_t(c.memory_bytes_per_cycle),
+          c.memory_arbitration};
+}
+
+LocalMemoryTiming::LocalMemoryTiming(const Config& c, std::vector<std::string> requesters) : config_(c) {
+  if (c.ports < 0 || c.banks < 0 || c.interleave_bytes < 1 || c.latency < 1 || c.bytes_per_cycle < 1)
+    throw std::invalid_argument("local memory: ports and banks must be >= 0, granule, latency and width >= 1");
+  if (requesters.empty()) throw std::invalid_argument("local memory: no requester");
+  for (std::string& name : requesters) requesters_.push_back({std::move(name)});
+  port_stats_.resize(size_t(c.ports));
+  port_booked_.resize(size_t(c.ports));
+  bank_stats_.resize(size_t(c.banks));
+  bank_booked_.resize(size_t(c.banks));
+}
+
+LocalMemoryTiming::Ticket LocalMemoryTiming::request(int requester, uint64_t address, uint64_t bytes, uint64_t cycle) {
+  if (requester < 0 || size_t(requester) >= requesters_.size())
+    throw std::invalid_argument("local memory: no requester " + std::to_string(requester));
+  if (bytes == 0) throw std::invalid_argument("local memory: a request of 0 bytes");
+  if (cycle < open_from_)
+    throw std::logic_error("local memory: a request for cycle " + std::to_string(cycle) + ", but cycles before " +
+                           std::to_string(open_from_) + " are closed");
+  // A request for a later cycle closes the cycle of those waiting: none can join them now.
+  if (!waiting_.empty() && waiting_.front().cycle < cycle) admit_waiting();
+  open_from_ = cycle;
+  const Request r{next_ticket_++, requester, address, bytes, cycle};
+  if (config_.arbitration == MemoryArbitration::Fcfs)
+    admit(r);
+  else
+    waiting_.push_back(r);
+  return r.ticket;
+}
+
+void LocalMemoryTiming::resolve(uint64_t cycle) {
+  if (!waiting_.empty() && waiting_.front().cycle <= cycle) admit_waiting();
+  open_from_ = std::max(open_from_, cycle + 1);
+}
+
+LocalMemoryTiming::Grant LocalMemoryTiming::collect(Ticket t) {
+  const auto it = grants_.find(t);
+  if (it == grants_.end())
+    throw std::logic_error("local memory: request " + std::to_string(t) +
+                           (t < next_ticket_ ? " is not resolved yet, or was collected" : " was never made"));
+  const Grant g = it->second;
+  grants_.erase(it);
+  return g;
+}
+
+void LocalMemoryTiming::admit_waiting() {
+  const int n = int(requesters_.size());
+  auto rank = [&](const Request& r) {
+    return config_.arbitration == MemoryArbitration::RoundRobin ? (r.requester - pointer_ + n) % n : r.requester;
+  };
+  // Stable: one requester's requests keep the order they were made in.
+  std::stable_sort(waiting_.begin(), waiting_.end(), [&](const Request& a, const Request& b) { return rank(a) < rank(b); });
+  pointer_ = (waiting_.front().requester + 1) % n;
+  for (const Request& r : waiting_) admit(r);
+  waiting_.clear();
+}
+
+void LocalMemoryTiming::admit(const Request& r) {
+  forget_before(r.cycle);
+  const uint64_t n = beats(r.bytes);
+  const std::vector<Use> uses = bank_uses(r.address, r.bytes);
+  // Conflicts: the banks its unloaded schedule would find booked.
+  std::vector<int> conflicting;
+  for (const Use& u : uses)
+    if (bank_booked_[size_t(u.bank)].count(r.cycle + u.beat)) conflicting.push_back(u.bank);
+  std::sort(conflicting.begin(), conflicting.end());
+  conflicting.erase(std::unique(conflicting.begin(), conflicting.end()), conflicting.end());
+  for (int b : conflicting) ++bank_stats_[size_t(b)].conflicts;
+
+  uint64_t start = r.cycle;
+  int port = -1;
+  while (!banks_free(uses, start) || (port = free_port(start, n)) < 0) ++start;
+
+  for (uint64_t k = 0; k < n; ++k) port_booked_[size_t(port)].insert(start + k);
+  port_stats_[size_t(port)].busy_cycles += n;
+  for (const Use& u : uses) {
+    bank_booked_[size_t(u.bank)].insert(start + u.beat);
+    ++bank_stats_[size_t(u.bank)].busy_cycles;
+  }
+  RequesterStats& s = requesters_[size_t(r.requester)];
+  ++s.requests;
+  s.bytes += r.bytes;
+  s.stall_cycles += start - r.cycle;
+  grants_[r.ticket] = {r.cycle, start, start + config_.latency + n - 1, port};
+}
+
+/// The banks each beat uses.
+std::vector<LocalMemoryTiming::Use> LocalMemoryTiming::bank_uses(uint64_t address, uint64_t bytes) const {
+  std::vector<Use> uses;
+  if (config_.banks == 0) return uses;
+  const uint64_t w = config_.bytes_per_cycle, g = config_.interleave_bytes, banks = uint64_t(config_.banks);
+  for (uint64_t k = 0; k * w < bytes; ++k) {
+    const uint64_t lo = address + k * w, hi = address + std::min(bytes, (k + 1) * w);
+    // Consecutive granules lie in distinct banks, up to `banks` of them: a beat over more uses every bank.
+    const uint64_t first = lo / g, last = std::min((hi - 1) / g, first + banks - 1);
+    for (uint64_t granule = first; granule <= last; ++granule) uses.push_back({k, int(granule % banks)});
+  }
+  return uses;
+}
+
+bool LocalMemoryTiming::banks_free(const std::vector<Use>& uses, uint64_t start) const {
+  for (const Use& u : uses)
+    if (bank_booked_[size_t(u.bank)].count(start + u.beat)) return false;
+  return true;
+}
+
+/// The lowest-numbered port free in cycles start .. start + beats - 1, or -1; with ports = 0 a new
+/// port when none is.
+int LocalMemoryTiming::free_port(uint64_t start, uint64_t beats) {
+  for (size_t p = 0; p < port_booked_.size(); ++p) {
+    const auto next = port_booked_[p].lower_bound(start);
+    if (next == port_booked_[p].end() || *next >= start + beats) return int(p);
+  }
+  if (config_.ports > 0) return -1;
+  port_booked_.emplace_back();
+  port_stats_.emplace_back();
+  return int(port_booked_.size() - 1);
+}
+
+/// No request starts before `cycle` any more: its bookings before it are history.
+void LocalMemoryTiming::forget_before(uint64_t cycle) {
+  if (cycle <= forgotten_before_) return;
+  forgotten_before_ = cycle;
+  for (auto* booked : {&port_booked_, &bank_booked_})
+    for (std::set<uint64_t>& s : *booked) s.erase(s.begin(), s.lower_bound(cycle));
+}
+
+}  // namespace rtm

@@ -1,0 +1,34 @@
+#include "units/memory_layout.h"
+
+#include "units/scene_image.h"
+
+namespace rtm {
+
+std::string MemoryLayout::describe() const {
+  std::string s;
+  for (const MemorySection& m : sections) s += (s.empty() ? "" : ", ") + m.name + " " + std::to_string(m.bytes) + " B";
+  return s;
+}
+
+MemoryLayout memory_layout(const SceneImage& image, uint64_t pixels, const MachineConfig& c) {
+  MemoryLayout m;
+  m.capacity = uint64_t(c.local_memory_bytes);
+  const bool pe_rays = c.ray_generation == MachineConfig::RayGeneration::Pe;
+  // The program (§3.1) is not modelled: the units are hardwired.
+  m.sections = {{"primitives", image.primitive_bytes},
+                {"voxel data", image.voxel_bytes},
+                {"lights and materials", image.light_bytes},
+                {"primary rays", pe_rays ? kCameraRecordBytes : pixels * kRayRecordBytes},
+                {"frame buffer", pixels * kPixelRecordBytes}};
+  for (const MemorySection& s : m.sections) m.used += s.bytes;
+  return m;
+}
+
+size_t fullest_pe(const std::vector<MemoryLayout>& pes) {
+  size_t fullest = 0;
+  for (size_t i = 0; i < pes.size(); ++i)
+    if (pes[i].used > pes[fullest].used) fullest = i;
+  return fullest;
+}
+
+}  // namespace rtm

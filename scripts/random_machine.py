@@ -1,0 +1,40 @@
+"""Random machine configurations for the scripts that try many (scripts/engine-vs-modules,
+scripts/stress-deadlock): every timing parameter, FIFO depth and unit count the PE loop has,
+drawn so that the loop cannot deadlock by design (docs/machine.md, "Flow control": FIFOs no
+shallower than the search FIFO, loop credits within its depth). A seeded random.Random gives the
+same configurations on every run.
+"""
+
+
+def random_config(rng, scenes):
+    """`rtm render` arguments: one of SCENES (paths), a frame of 8..40 pixels a side, and a
+    random machine (credits flow control, the ranked order; the caller adds other axes)."""
+    d = rng.randint(1, 6)
+    args = [rng.choice(scenes), "--size", f"{rng.randint(8, 40)}x{rng.randint(8, 40)}", "--pes", str(rng.randint(1, 9)),
+            "--search-units", str(rng.randint(1, 8)), "--partition", rng.choice(["scanlines", "blocks", "strips", "pixels"]),
+            "--precision", rng.choice(["fp32", "fp64"]), "--mac-schedule", rng.choice(["sparse", "full"])]
+    sets = {"search_fifo_depth": d, "intersect_fifo_depth": rng.randint(d, 8), "root_fifo_depth": rng.randint(d, 8),
+            "shade_fifo_depth": rng.randint(d, 8), "feedback_fifo_depth": rng.randint(1, 6),
+            "front_buffer_capacity": rng.randint(1, 70), "loop_credits": rng.randint(0, d),
+            "fb_dispatch_cycles": rng.randint(1, 4), "dda_step_cycles": rng.randint(1, 4),
+            "voxel_read_cycles": rng.randint(0, 4), "spill_cycles": rng.randint(0, 10), "shade_cycles": rng.randint(1, 20),
+            "spawn_cycles": rng.randint(0, 6), "accumulate_cycles": rng.randint(1, 4), "root_latency": rng.randint(1, 14),
+            "clip_cycles": rng.randint(0, 5), "sort_cycles": rng.randint(0, 2), "mul_latency": rng.randint(1, 3),
+            "add_latency": rng.randint(1, 2), "coef_load_cycles": rng.randint(0, 30),
+            "ray_block": rng.choice([0, 0, 1, 7, 50]), "ray_generation": rng.choice(["host", "pe"]),
+            "broadcast": rng.choice(["true", "false"]), "gather": rng.choice(["after_all", "as_finished"]),
+            "search_walk": rng.choice(["per_voxel", "until_occupied"]), "clock_ns": rng.choice([10, 7, 3.3]),
+            "host_clock_ns": rng.choice([10, 4.1]), "leave_out": rng.choice(["true", "false"]),
+            "intersection_units": rng.choice([1, 1, 2, 3]),
+            "dispatch_interval": rng.choice([0, 1, 2]), "search_interval": rng.choice([0, 1, 1, 3]),
+            "mac_streaming": rng.choice(["true", "false"]), "root_interval": rng.choice([0, 1, 2]),
+            "shade_interval": rng.choice([0, 1, 4])}
+    # The interconnect, drawn after the rest (whose draws stay what they were); a broadcast on a
+    # star needs a host port per PE.
+    sets.update({"link_topology": rng.choice(["serial", "bus", "star", "tree"]), "host_ports": rng.randint(1, 4),
+                 "tree_fanout": rng.randint(1, 3)})
+    if sets["link_topology"] == "star" and sets["broadcast"] == "true":
+        sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
+    for k, v in sets.items():
+        args += ["--set", f"{k}={v}"]
+    return args

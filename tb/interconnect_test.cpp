@@ -1,0 +1,176 @@
+// The interconnect in whole renders (net/interconnect.h; docs/machine.md, "The host-PE
+// interconnect"): every topology gives the same image, only other times; the links carry the bytes
+// the transfers add up to; the topologies that overlap transfers finish them sooner; the
+// combination that cannot be built is refused naming its keys.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_test_support.h"
+#include "render/image_io.h"
+
+using nlohmann::json;
+using namespace rtm::test;
+
+namespace {
+
+const std::string kScene = std::string(RTM_SOURCE_DIR) + "/scenes/spd/balls-1.nff";
+constexpr int kWidth = 12, kHeight = 12, kPes = 5;
+constexpr uint64_t kRayBytes = 28, kPixelBytes = 16;  // machine/host.h
+
+struct Net {
+  const char* name;
+  std::string args;
+  std::string topology;
+  int host_ports = 1, fanout = 2;
+  bool broadcast = false;
+};
+
+/// Hops from the host to PE `pe` on a tree: the host's host_ports children are PEs 0..h-1, PE i's
+/// children PEs h + f·i ... h + f·i + f - 1 (docs/machine.md).
+int tree_depth(int pe, int h, int f) { return pe < h ? 1 : 1 + tree_depth((pe - h) / f, h, f); }
+
+/// What every link together carries: the scene once (a broadcast on one medium), once per link
+/// (a broadcast on a star or a tree), or once per PE and hop; each PE's rays and frame buffer
+/// once per hop. Scanlines: PE i renders the rows y with y mod N = i.
+uint64_t expected_bytes(const Net& n, uint64_t scene_bytes) {
+  const bool one_medium = n.topology == "serial" || n.topology == "bus";
+  uint64_t total = n.broadcast && one_medium ? scene_bytes : 0;
+  for (int pe = 0; pe < kPes; ++pe) {
+    const uint64_t pixels = uint64_t(kWidth) * uint64_t((kHeight - pe + kPes - 1) / kPes);
+    const uint64_t hops = n.topology == "tree" ? uint64_t(tree_depth(pe, n.host_ports, n.fanout)) : 1;
+    if (!n.broadcast) total += scene_bytes * hops;
+    if (n.broadcast && !one_medium) total += scene_bytes;
+    total += pixels * (kRayBytes + kPixelBytes) * hops;
+  }
+  return total;
+}
+
+Net net(const char* name, const std::string& topology, int host_ports, int fanout, bool broadcast,
+        const std::string& more = "") {
+  Net n{name, "", topology, host_ports, fanout, broadcast};
+  n.args = " --set link_topology=" + topology + " --set host_ports=" + std::to_string(host_ports) +
+           " --set tree_fanout=" + std::to_string(fanout) + " --set broadcast=" + (broadcast ? "true" : "false") + more;
+  return n;
+}
+
+TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
+  Tmp tmp;
+  const std::string frame = kScene + " --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight) +
+                            " --pes " + std::to_string(kPes);
+  const std::vector<Net> nets = {
+      net("serial", "serial", 1, 2, false),
+      net("serial-broadcast", "serial", 1, 2, true),
+      net("bus", "bus", 1, 2, false),
+      net("bus-broadcast", "bus", 1, 2, true),
+      net("star-2", "star", 2, 2, false),
+      net("star-5-broadcast", "star", 5, 2, true),
+      net("tree-2", "tree", 1, 2, false),
+      net("tree-broadcast", "tree", 1, 2, true),
+      net("tree-chain-broadcast", "tree", 2, 1, true),
+      net("star-streamed-as-finished", "star", 3, 2, false, " --set ray_block=10 --set gather=as_finished"),
+      net("tree-streamed-as-finished", "tree", 1, 3, true, " --set ray_block=10 --set gather=as_finished"),
+  };
+  const json serial = render(tmp, "serial", frame + nets[0].args);
+  ASSERT_FALSE(serial.is_null());
+  const auto serial_rgb = rtm::read_image(tmp / "serial.exr").rgb;
+  const auto serial_ids = rtm::read_id_map(tmp / "serial-id.exr").ids;
+  const uint64_t scene_bytes = serial["host"]["scene_bytes"];
+  for (const Net& n : nets) {
+    const json j = n.name == std::string("serial") ? serial : render(tmp, n.name, frame + n.args);
+    ASSERT_FALSE(j.is_null()) << n.name;
+    EXPECT_EQ(rtm::read_image(tmp / (std::string(n.name) + ".exr")).rgb, serial_rgb) << n.name << ": timing only";
+    EXPECT_EQ(rtm::read_id_map(tmp / (std::string(n.name) + "-id.exr")).ids, serial_ids) << n.name;
+    EXPECT_EQ(j["rays"], serial["rays"]) << n.name;
+    const json& ic = j["interconnect"];
+    EXPECT_EQ(ic["topology"], n.topology);
+    const bool one_medium = n.topology == "serial" || n.topology == "bus";
+    ASSERT_EQ(ic["links"].size(), one_medium ? 1u : size_t(kPes)) << n.name;
+    uint64_t bytes = 0;
+    double seconds = 0;
+    for (size_t i = 0; i < ic["links"].size(); ++i) {
+      const json& l = ic["links"][i];
+      EXPECT_EQ(l["name"], one_medium ? (n.topology == "bus" ? "bus" : "link") : "pe" + std::to_string(i));
+      EXPECT_GT(l["transfers"].get<uint64_t>(), 0u) << n.name << " " << l["name"];
+      bytes += l["bytes"].get<uint64_t>();
+      seconds += l["busy_seconds"].get<double>();
+    }
+    EXPECT_EQ(ic["bytes"].get<uint64_t>(), bytes) << n.name;
+    EXPECT_EQ(bytes, expected_bytes(n, scene_bytes)) << n.name;
+    EXPECT_NEAR(ic["busy_seconds"].get<double>(), seconds, 1e-12) << n.name;
+    EXPECT_EQ(ic["busy_cycles"], j["host"]["link_busy_cycles"]) << n.name;
+    EXPECT_EQ(ic["busy_cycles"], j["summary"]["link_busy_cycles"]) << n.name;
+    // Latency and bytes at 400 MB/s, 10 ns cycles: 100 cycles a transfer and 4 bytes a cycle.
+    uint64_t transfers = 0;
+    for (const json& l : ic["links"]) transfers += l["transfers"].get<uint64_t>();
+    EXPECT_NEAR(ic["busy_cycles"].get<double>(), 100.0 * double(transfers) + double(bytes) / 4, 1.0) << n.name;
+  }
+  // One medium gives the same times whichever it is called; a star or a tree overlaps transfers.
+  const json bus = json::parse(slurp(tmp / "bus.json"));
+  EXPECT_EQ(bus["cycles"], serial["cycles"]);
+  EXPECT_EQ(json::parse(slurp(tmp / "bus-broadcast.json"))["cycles"],
+            json::parse(slurp(tmp / "serial-broadcast.json"))["cycles"]);
+  const uint64_t serial_transfer = serial["host"]["transfer_done_cycle"];
+  // Each PE starts when its rays arrive. On the star with two ports (each hop 100 cycles and 4
+  // bytes a cycle: the scene S, PE i's rays R_i) PEs 0 and 1 get theirs after one scene, PEs 2
+  // and 3 on the ports freed after S + R_0, PE 4 on port 0 again after S + R_0 + S + R_2.
+  const json star = json::parse(slurp(tmp / "star-2.json"));
+  const double S = 100 + double(scene_bytes) / 4;
+  auto rays = [](int pe) { return 100 + double(kWidth * ((kHeight - pe + kPes - 1) / kPes) * kRayBytes) / 4; };
+  const double starts[kPes] = {S, S, 2 * S + rays(0), 2 * S + rays(1), 3 * S + rays(0) + rays(2)};
+  for (int pe = 0; pe < kPes; ++pe)
+    EXPECT_NEAR(star["per_pe"][pe]["start_cycle"].get<double>() - star["host"]["rays_done_cycle"].get<double>(),
+                starts[pe], 1.0)
+        << "PE " << pe;
+  for (const char* faster : {"star-2", "star-5-broadcast", "tree-broadcast"})
+    EXPECT_LT(json::parse(slurp(tmp / (std::string(faster) + ".json")))["host"]["transfer_done_cycle"].get<uint64_t>(),
+              serial_transfer)
+        << faster;
+}
+
+// A PE-engine frame and a modules frame agree on every topology (engine_test.cpp compares two
+// streamed ones event by event); so do fast and clocked timing.
+TEST(InterconnectRender, FastAndClockedTimingAgreeOnATreeAndAStar) {
+  Tmp tmp;
+  for (const std::string topology : {"tree --set broadcast=true", "star --set host_ports=2"}) {
+    const std::string args = kScene + " --size 6x6 --pes 3 --set link_topology=" + topology;
+    const json fast = render(tmp, "fast", args);
+    const json clocked = render(tmp, "clocked", args + " --timing clocked");
+    ASSERT_FALSE(fast.is_null() || clocked.is_null());
+    EXPECT_EQ(fast["cycles"], clocked["cycles"]) << topology;
+    EXPECT_EQ(fast["host"], clocked["host"]) << topology;
+    EXPECT_EQ(fast["interconnect"], clocked["interconnect"]) << topology;
+    EXPECT_EQ(rtm::read_image(tmp / "fast.exr").rgb, rtm::read_image(tmp / "clocked.exr").rgb) << topology;
+  }
+}
+
+// One scene transfer cannot reach every PE of a star unless the host drives every link at once.
+TEST(InterconnectRender, ABroadcastOnAStarWithTooFewPortsIsRefusedNamingTheKeys) {
+  Tmp tmp;
+  const std::string args = "render " + kScene + " --size 4x4 --pes 4 --set link_topology=star --set broadcast=true -q";
+  const Proc refused = run_rtm(args + " --set host_ports=3 --out " + (tmp / "x.png"), tmp);
+  EXPECT_EQ(refused.exit_code, 2);
+  for (const char* word : {"broadcast", "link_topology = star", "host_ports >= pes (3 < 4)"})
+    EXPECT_NE(refused.err.find(word), std::string::npos) << word << "\n" << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "x.png"));
+  const Proc enough = run_rtm(args + " --set host_ports=4 --out " + (tmp / "o.png"), tmp);
+  EXPECT_EQ(enough.exit_code, 0) << enough.err;
+}
+
+// The printed summary has the interconnect's line: topology, links, ports, bytes, busy cycles.
+TEST(InterconnectRender, TheSummarySaysWhatTheLinksCarried) {
+  Tmp tmp;
+  const Proc r = run_rtm("render " + kScene + " --size 4x4 --pes 2 --set link_topology=tree --set host_ports=2 --out " +
+                             (tmp / "o.png"),
+                         tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(slurp(tmp / "o.json"));
+  const std::string line = "interconnect: tree, 2 links, 2 host ports: " + std::to_string(j["interconnect"]["bytes"].get<uint64_t>()) +
+                           " bytes, busy " + std::to_string(j["interconnect"]["busy_cycles"].get<uint64_t>()) +
+                           " cycles over all links; the busiest, pe";
+  EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
+}
+
+}  // namespace
