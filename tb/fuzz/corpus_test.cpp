@@ -1,6 +1,6 @@
-// The committed fuzz corpus (tb/fuzz-corpus/TARGET: the inputs libFuzzer kept as covering the most,
-// merged with -merge=1, and any that once broke a reader), replayed through the fuzz targets' own
-// entry functions in this build: each input is read or refused with its reader's error, never
+// The committed fuzz corpus (tb/fuzz-corpus/TARGET: what scripts/fuzz --merge kept, the fewest
+// inputs covering the most, and any that once broke a reader), replayed through the fuzz targets'
+// own entry functions in this build: each input is read or refused with its reader's error, never
 // another exception, and well within the fuzzers' limit of 1 s.
 #include <chrono>
 #include <filesystem>
