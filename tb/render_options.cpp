@@ -115,9 +115,11 @@ MachineConfig machine_config(const RenderOptions& opt) {
     }
   };
   for (const std::string& kv : opt.sets) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError("--set: expected KEY=VALUE, got '" + kv + "'");
-    set(kv.substr(0, eq), kv.substr(eq + 1), "--set");
+    try {
+      set_config_assignment(c, kv);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--set: ") + e.what());
+    }
   }
   if (opt.pes) set("pes", std::to_string(*opt.pes), "--pes");
   if (!opt.timing.empty()) set("timing", opt.timing, "--timing");

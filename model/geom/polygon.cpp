@@ -178,6 +178,10 @@ std::vector<std::vector<int>> convex_pieces(const std::vector<Point2>& p) {
 }
 
 std::vector<Primitive> make_polygon_pieces(const std::vector<Vec3>& in) {
+  if (in.size() > kMaxPolygonCorners)
+    throw std::invalid_argument("polygon has " + std::to_string(in.size()) + " vertices, at most " +
+                                std::to_string(kMaxPolygonCorners) +
+                                " (splitting a concave polygon takes time quadratic in its corners)");
   for (const Vec3& p : in)
     if (!all_finite(p)) throw std::invalid_argument("polygon vertex is not finite");
   // The outline and its plane exactly as make_polygon sees them.

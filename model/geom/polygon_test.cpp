@@ -1,5 +1,6 @@
 #include "geom/polygon.h"
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -247,6 +248,37 @@ TEST(PolygonPieces, ConcavePiecesShareThePlaneAndCloseEveryGap) {
       }
     EXPECT_EQ(diagonals, 2 * 36);  // each tooth's base, seen from both sides
     EXPECT_EQ(on_diagonals, 0);
+  }
+}
+
+/// A comb of teeth on a base: concave, with a reflex corner at the foot of every tooth.
+std::vector<Point2> comb_outline(int teeth) {
+  std::vector<Point2> p = {{0, 0}, {2.0 * teeth, 0}};
+  for (int i = teeth; i > 0; --i) {
+    p.push_back({2.0 * i - 1, 100});
+    p.push_back({2.0 * i - 2, 1});
+  }
+  return p;
+}
+
+TEST(PolygonPieces, TheMostCornersSplitQuicklyAndOneMoreIsRefused) {
+  const int teeth = int(kMaxPolygonCorners) / 2 - 1;
+  const std::vector<Point2> comb = comb_outline(teeth);
+  std::vector<Vec3> v = in_space(comb);
+  ASSERT_EQ(v.size(), kMaxPolygonCorners);
+  const auto t0 = std::chrono::steady_clock::now();
+  const size_t pieces = make_polygon_pieces(v).size();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+  EXPECT_GE(pieces, size_t(teeth));  // no convex piece holds two teeth
+  EXPECT_LE(pieces, size_t(2 * reflex_corners(comb) + 1));
+  v.insert(v.begin() + 1, {1, 0, 0});  // a straight corner on the base: the same polygon
+  try {
+    make_polygon_pieces(v);
+    FAIL() << kMaxPolygonCorners + 1 << " corners were taken";
+  } catch (const DegenerateShape&) {
+    FAIL() << "too many corners is an error, not degenerate";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("polygon has 1025 vertices, at most 1024"), std::string::npos) << e.what();
   }
 }
 

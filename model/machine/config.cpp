@@ -494,6 +494,12 @@ void set_config(MachineConfig& c, const std::string& key, const std::string& val
                " (rtm config lists them)");
 }
 
+void set_config_assignment(MachineConfig& c, const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw std::invalid_argument("expected KEY=VALUE, got '" + assignment + "'");
+  set_config(c, assignment.substr(0, eq), assignment.substr(eq + 1));
+}
+
 void apply_preset(MachineConfig& c, const std::string& name) {
   const Preset& p = find_preset(name);
   if (c.preset != kDefaultPreset && c.preset != name)
@@ -507,9 +513,13 @@ void load_config_file(MachineConfig& c, const std::string& path) {
   if (!f) throw ConfigError(path, 0, "cannot read the configuration file");
   std::stringstream text;
   text << f.rdbuf();
+  parse_config(c, text.str(), path);
+}
+
+void parse_config(MachineConfig& c, const std::string& text, const std::string& path) {
   YAML::Node root;
   try {
-    root = YAML::Load(text.str());
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(path, e.mark.line + 1, e.msg);
   }

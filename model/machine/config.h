@@ -193,6 +193,8 @@ const std::vector<Preset>& presets();
 
 /// Sets one key from text; throws std::invalid_argument ("unknown key", "not a number", ...).
 void set_config(MachineConfig& c, const std::string& key, const std::string& value);
+/// Sets one key from `KEY=VALUE`, as `--set` gives it; throws std::invalid_argument.
+void set_config_assignment(MachineConfig& c, const std::string& assignment);
 /// Sets the keys of preset `name` and records it in c.preset. c must not have started from another
 /// preset: one configuration has one starting point. Throws std::invalid_argument naming the
 /// known presets.
@@ -200,6 +202,8 @@ void apply_preset(MachineConfig& c, const std::string& name);
 /// Reads a YAML file holding one flat map of `key: value` pairs (the keys of config_keys()), and
 /// optionally `preset: NAME`, which is applied first, wherever the file has it. Throws ConfigError.
 void load_config_file(MachineConfig& c, const std::string& path);
+/// The same from the file's text; `file_name` is for messages.
+void parse_config(MachineConfig& c, const std::string& text, const std::string& file_name);
 /// A YAML file load_config_file reads back as c: its preset, then one
 /// `key: value  # meaning (accepted)` a line.
 std::string describe_config(const MachineConfig& c);

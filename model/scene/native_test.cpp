@@ -252,6 +252,12 @@ TEST(NativeErrors, SyntaxAndStructure) {
       {kCam + kPrims + "name: ../x\n", 3, "name: must be 1 to 100 letters"},
       {kCam + kPrims + "name: a b\n", 3, "name: must be 1 to 100 letters"},
       {kCam + kPrims + "name: ''\n", 3, "name: must be 1 to 100 letters"},
+      // An alias repeats a subtree for a few bytes: refused, anchors alone are harmless.
+      {"camera: {eye: &e [0, 0, 10], look_at: [0, 0, 0]}\nprimitives: []\nambient: *e\n", 3,
+       "YAML aliases (*name) are not supported"},
+      {"materials: {m: {}}\ncamera: {eye: [0, 0, 10], look_at: [0, 0, 0]}\nprimitives:\n"
+       "  - &p {sphere: {center: [0, 0, 0], radius: 1}, material: m}\n  - *p\n",
+       5, "YAML aliases"},
   };
   for (const BadCase& c : cases) expect_error(c);
 }
@@ -381,6 +387,11 @@ TEST(NativeErrors, Primitives) {
     c.message = message;
     expect_error(c);
   }
+  std::string circle;  // 1025 corners: one past the most a polygon may have
+  for (int i = 0; i < 1025; ++i)
+    circle += (i ? ", [" : "[") + std::to_string(std::cos(6.283 * i / 1025)) + ", " + std::to_string(std::sin(6.283 * i / 1025)) + ", 0]";
+  expect_error({with_primitive("{polygon: {vertices: [" + circle + "]}, material: m}"), 6,
+                "primitives[0].polygon: polygon has 1025 vertices, at most 1024"});
   // A block-style primitive reports the line of the offending value.
   expect_error({with_primitive("material: m\n    sphere:\n      center: [0, 0, 0]\n      radius: -2"), 9,
                 "sphere.radius: must be > 0"});

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <set>
@@ -394,6 +395,13 @@ void expect_error(const BadCase& c) {
   }
 }
 
+/// n points round a circle, one a line: a convex polygon.
+std::string many_corners(int n) {
+  std::string s;
+  for (int i = 0; i < n; ++i) s += std::to_string(std::cos(6.283 * i / n)) + " " + std::to_string(std::sin(6.283 * i / n)) + " 0\n";
+  return s;
+}
+
 TEST(NffErrors, EveryErrorHasALineAndAMessage) {
   const std::string h = kHeader;
   const int n = kHeaderLines + 1;  // the first line after the header
@@ -414,6 +422,7 @@ TEST(NffErrors, EveryErrorHasALineAndAMessage) {
       {h + "p 4\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n", n, "not simple: its edges cross"},
       {h + "p 4\n0 0 0\n2 2 0\n2 0 0\n0 1 0\n", n, "not simple: edges 1-2 and 3-4"},
       {h + "p 5\n0 0 0\n2 0 0\n2 2 0\n1 0 0\n0 2 0\n", n, "not simple"},
+      {h + "\np 1025\n" + many_corners(1025), n + 1, "p: polygon has 1025 vertices, at most 1024"},
       {h + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0\ns 0 0 0 1\n", n, "'pp' record has too few numbers"},
       {h + "l 1 2 3 1\ns 0 0 0 1\n", n, "too few numbers"},
       {h + "l 1 2 3 1\n", n, "'l' record ends early"},

@@ -9,6 +9,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import math
 import os
 import re
 
@@ -185,7 +186,7 @@ def parse(data, base, config_keys=None, default_name="sweep"):
     CONFIG_KEYS the machine-configuration keys `set` and variants may use (None: any)."""
     if not isinstance(data, dict):
         raise SpecError("expected a mapping of keys (name, scenes, sizes, pes, ...)")
-    unknown = sorted(set(data) - SPEC_KEYS)
+    unknown = sorted(map(str, set(data) - SPEC_KEYS))  # YAML keys may be numbers, booleans or null
     if unknown:
         raise SpecError(f"unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(SPEC_KEYS))}")
 
@@ -226,7 +227,8 @@ def parse(data, base, config_keys=None, default_name="sweep"):
 
     config = _path(data["config"], base) if data.get("config") else None
     timeout = data.get("timeout")
-    if timeout is not None and (isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or timeout <= 0):
+    if timeout is not None and (isinstance(timeout, bool) or not isinstance(timeout, (int, float))
+                                or not math.isfinite(timeout) or timeout <= 0):
         raise SpecError(f"timeout: {timeout!r} is not a positive number of seconds")
     images = data.get("images", True)
     if not isinstance(images, bool):
@@ -245,6 +247,8 @@ def load(path, config_keys=None):
         raise SpecError(f"cannot read {path}: {e.strerror}")
     except yaml.YAMLError as e:
         raise SpecError(f"{path}: not valid YAML: {e}")
+    except UnicodeDecodeError as e:
+        raise SpecError(f"{path}: not UTF-8 text: {e}")
     if not isinstance(data, dict):
         raise SpecError(f"{path}: expected a mapping of keys (name, scenes, sizes, pes, ...)")
     return parse(data, os.path.dirname(os.path.abspath(path)), config_keys,
