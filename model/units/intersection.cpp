@@ -49,11 +49,17 @@ Work MacUnit::take(MacResult& m, uint64_t now) {
   PeCounters& k = pe_.counters;
   k.mac_products += uint64_t(products);
   k.mac_products_saved += uint64_t(n) * kMacProducts - uint64_t(products);
-  // What the same job takes of the MAC's entry under the full schedule, with the same loads.
-  full_.counts.assign(size_t(n), kMacProducts);
-  full_.loads = loads;
-  timing_.plan(full_);
-  const uint64_t full = pe_.config.mac_streaming ? full_.issue_span() : full_.cycles();
+  // What the same job takes of the MAC's entry under the full schedule, with the same loads
+  // (MacTiming::plan's rule for 28 products a primitive, without building the plan).
+  const uint64_t slot = uint64_t(kMacProducts) * uint64_t(timing_.add_latency);
+  uint64_t full = 0;
+  if (n > 0) {
+    uint64_t at = loads.empty() ? 0 : loads[0];
+    for (int p = 0; p < n; ++p) at += std::max<uint64_t>(slot, size_t(p + 1) < loads.size() ? loads[size_t(p + 1)] : 0);
+    // Streaming: its issue slots; else its last sums out (the last primitive's slot less its
+    // last product's add, plus the pipe) and one cycle.
+    full = pe_.config.mac_streaming ? at : at - uint64_t(timing_.add_latency) + uint64_t(m.plan.pipe) + 1;
+  }
   k.mac_cycles_saved += full - w.interval;
   if (pe_.log) pe_.log->take(now, UnitKind::Mac, lane_, m.r.id, w.cycles);
   return w;

@@ -36,7 +36,6 @@ class MacUnit {
   PeState& pe_;
   int lane_;
   MacTiming timing_;
-  MacTiming::Job full_;  ///< the same job under the full schedule, for the cycles sparse ones save
 };
 
 /// Cycles the root unit, clip tests and sort need after the MAC finished a voxel, given each
