@@ -17,10 +17,10 @@ def random_config(rng, scenes):
             "shade_fifo_depth": rng.randint(d, 8), "feedback_fifo_depth": rng.randint(1, 6),
             "front_buffer_capacity": rng.randint(1, 70), "loop_credits": rng.randint(0, d),
             "fb_dispatch_cycles": rng.randint(1, 4), "dda_step_cycles": rng.randint(1, 4),
-            "voxel_read_cycles": rng.randint(0, 4), "spill_cycles": rng.randint(0, 10), "shade_cycles": rng.randint(1, 20),
+            "memory_latency": rng.randint(1, 4), "memory_bytes_per_cycle": rng.choice([4, 8, 16]), "shade_cycles": rng.randint(1, 20),
             "spawn_cycles": rng.randint(0, 6), "accumulate_cycles": rng.randint(1, 4), "root_latency": rng.randint(1, 14),
             "clip_cycles": rng.randint(0, 5), "sort_cycles": rng.randint(0, 2), "mul_latency": rng.randint(1, 3),
-            "add_latency": rng.randint(1, 2), "coef_load_cycles": rng.randint(0, 30),
+            "add_latency": rng.randint(1, 2), "memory_interleave_bytes": rng.choice([4, 8, 16, 32]),
             "ray_block": rng.choice([0, 0, 1, 7, 50]), "ray_generation": rng.choice(["host", "pe"]),
             "broadcast": rng.choice(["true", "false"]), "gather": rng.choice(["after_all", "as_finished"]),
             "search_walk": rng.choice(["per_voxel", "until_occupied"]), "clock_ns": rng.choice([10, 7, 3.3]),
@@ -33,6 +33,10 @@ def random_config(rng, scenes):
     # star needs a host port per PE.
     sets.update({"link_topology": rng.choice(["serial", "bus", "star", "tree"]), "host_ports": rng.randint(1, 4),
                  "tree_fanout": rng.randint(1, 3)})
+    # The local memory (docs/memory.md), drawn after the interconnect.
+    sets.update({"memory_ports": rng.choice([0, 1, 1, 2, 3]), "memory_banks": rng.choice([0, 1, 2, 4, 8]),
+                 "memory_arbitration": rng.choice(["round_robin", "fixed_priority", "fcfs"]),
+                 "mac_ram_primitives": rng.choice([0, 1, 2, 4, 16]), "voxel_cache_bytes": rng.choice([0, 0, 64, 1024])})
     if sets["link_topology"] == "star" and sets["broadcast"] == "true":
         sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <random>
 #include <sstream>
 #include <string>
@@ -34,6 +35,23 @@ inline std::string random_small_machine(std::mt19937& rng, int max_pes) {
        << " --set shade_cycles=" << pick(1, 20) << " --set dispatch_interval=" << pick(0, 2)
        << " --set search_interval=" << pick(0, 3) << " --set mac_streaming=" << (pick(0, 1) ? "true" : "false")
        << " --set root_interval=" << pick(0, 2) << " --set shade_interval=" << pick(0, 3);
+  return args.str();
+}
+
+/// Options for a random local memory (docs/memory.md): ports, banks, interleave, latency, width,
+/// arbiter, coefficient RAM and voxel cache, from the ideal memory to one port shared by all.
+inline std::string random_memory(std::mt19937& rng) {
+  auto one_of = [&](std::initializer_list<const char*> v) {
+    return *(v.begin() + std::uniform_int_distribution<size_t>(0, v.size() - 1)(rng));
+  };
+  std::ostringstream args;
+  args << " --set memory_ports=" << one_of({"0", "1", "1", "2", "3"}) << " --set memory_banks=" << one_of({"0", "1", "2", "4", "8"})
+       << " --set memory_interleave_bytes=" << one_of({"4", "8", "16", "32"})
+       << " --set memory_latency=" << one_of({"1", "2", "3", "8"})
+       << " --set memory_bytes_per_cycle=" << one_of({"4", "8", "16"})
+       << " --set memory_arbitration=" << one_of({"round_robin", "fixed_priority", "fcfs"})
+       << " --set mac_ram_primitives=" << one_of({"0", "1", "2", "4", "16"})
+       << " --set voxel_cache_bytes=" << one_of({"0", "0", "64", "1024"});
   return args.str();
 }
 

@@ -131,8 +131,8 @@ TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
   for (int i = 0; i < 6; ++i) {
     std::ostringstream args;
     args << kScenes << scenes[i % 4] << random_small_machine(rng, 4) << " --set fb_dispatch_cycles=" << pick(1, 3)
-         << " --set dda_step_cycles=" << pick(1, 3) << " --set spill_cycles=" << pick(0, 9)
-         << " --set intersection_units=" << pick(1, 3);
+         << " --set dda_step_cycles=" << pick(1, 3) << " --set memory_latency=" << pick(1, 9)
+         << " --set intersection_units=" << pick(1, 3) << random_memory(rng);
     expect_engine_matches_modules(args.str());
   }
 }

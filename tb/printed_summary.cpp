@@ -90,6 +90,22 @@ void print_local_memory(const std::vector<MemoryLayout>& pes) {
               (unsigned long long)m.spill_rays());
 }
 
+/// What the PEs' local memories did: traffic, what contention and late data cost, the stores.
+void print_memory_traffic(const MachineResult& m, const MachineConfig& c) {
+  uint64_t requests = 0, bytes = 0, stall = 0, wait = 0, hits = 0, misses = 0;
+  for (const MemoryUse& u : m.memory_use) {
+    for (const MemoryUse::Requester& q : u.requesters) requests += q.requests, bytes += q.bytes, stall += q.stall_cycles;
+    wait += u.wait_cycles();
+    hits += u.coef_hits;
+    misses += u.coef_misses;
+  }
+  std::printf("memory traffic: %llu requests, %.1f MiB (%s); stalls %llu, results waiting %llu cycles (%.1f%% of the "
+              "working windows); coefficient RAM hit rate %.1f%%\n",
+              (unsigned long long)requests, double(bytes) / (1 << 20), c.memory_ports == 0 && c.memory_banks == 0 ? "ideal memory" : "timed",
+              (unsigned long long)stall, (unsigned long long)wait, 100 * m.stats.profile.memory_wait,
+              hits + misses == 0 ? 100.0 : 100.0 * double(hits) / double(hits + misses));
+}
+
 }  // namespace
 
 void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds, const ReferenceResult& r,
@@ -123,6 +139,7 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   print_working_windows(m.per_pe, c);
   print_interconnect(m, c);
   print_local_memory(m.memory);
+  print_memory_traffic(m, c);
   std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
   std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
   std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,

@@ -96,15 +96,70 @@ nlohmann::json interconnect_json(const MachineResult& m, const MachineConfig& c)
 
 namespace {
 
-/// The local memory of the PE that needs the most (all PEs hold the same scene copy).
-nlohmann::json memory_json(const std::vector<MemoryLayout>& pes) {
-  const size_t fullest = fullest_pe(pes);
-  const MemoryLayout& m = pes[fullest];
+double rate(uint64_t hits, uint64_t misses) { return hits + misses == 0 ? 1.0 : double(hits) / double(hits + misses); }
+
+/// The local memory of the PE that needs the most (all PEs hold the same scene copy), and what
+/// every PE's memory did, summed (docs/memory.md).
+nlohmann::json memory_json(const MachineResult& r, const MachineConfig& c) {
+  const size_t fullest = fullest_pe(r.memory);
+  const MemoryLayout& m = r.memory[fullest];
   nlohmann::json sections = nlohmann::json::object();
   for (const MemorySection& s : m.sections) sections[s.name] = s.bytes;
+  nlohmann::json requesters = nlohmann::json::object();
+  std::vector<uint64_t> ports;
+  MemoryUse sum;
+  for (const MemoryUse& u : r.memory_use) {
+    for (const MemoryUse::Requester& q : u.requesters) {
+      nlohmann::json& j = requesters[q.name];
+      for (auto [key, v] : {std::pair<const char*, uint64_t>{"requests", q.requests}, {"bytes", q.bytes},
+                            {"stall_cycles", q.stall_cycles}, {"wait_cycles", q.wait_cycles},
+                            {"access_cycles", q.access_cycles}})
+        j[key] = (j.contains(key) ? j[key].get<uint64_t>() : 0) + v;
+    }
+    if (ports.size() < u.port_busy_cycles.size()) ports.resize(u.port_busy_cycles.size());
+    for (size_t i = 0; i < u.port_busy_cycles.size(); ++i) ports[i] += u.port_busy_cycles[i];
+    sum.beats += u.beats;
+    sum.bank_conflicts += u.bank_conflicts;
+    sum.coef_hits += u.coef_hits;
+    sum.coef_misses += u.coef_misses;
+    sum.coef_evictions += u.coef_evictions;
+    sum.cache_hits += u.cache_hits;
+    sum.cache_misses += u.cache_misses;
+    sum.cache_line_fills += u.cache_line_fills;
+  }
+  nlohmann::json port_json = nlohmann::json::array();
+  const double pe_cycles = double(r.cycles) * double(c.pes);
+  for (uint64_t busy : ports) port_json.push_back({{"busy_cycles", busy}, {"utilisation", pe_cycles > 0 ? double(busy) / pe_cycles : 0.0}});
+  uint64_t wait = 0, access = 0;
+  for (const MemoryUse& u : r.memory_use) wait += u.wait_cycles(), access += u.access_cycles();
+  const nlohmann::json cache =
+      c.voxel_cache_bytes > 0
+          ? nlohmann::json{{"bytes", c.voxel_cache_bytes}, {"hits", sum.cache_hits}, {"misses", sum.cache_misses},
+                           {"line_fills", sum.cache_line_fills}, {"hit_rate", rate(sum.cache_hits, sum.cache_misses)}}
+          : nlohmann::json(nullptr);
   return {{"capacity_bytes", m.capacity}, {"fullest_pe", fullest},     {"sections_bytes", sections},
           {"used_bytes", m.used},         {"spill_area_bytes", m.spill_bytes()}, {"spill_area_rays", m.spill_rays()},
-          {"spill_record_bytes", kSpillRecordBytes}};
+          {"spill_record_bytes", kSpillRecordBytes},
+          {"ideal", r.memory_use.empty() || r.memory_use.front().ideal},
+          {"requesters", requesters},
+          {"ports", port_json},
+          {"beats", sum.beats},
+          {"bank_conflicts", sum.bank_conflicts},
+          {"wait_cycles", wait},
+          {"access_cycles", access},
+          {"coefficient_ram",
+           {{"capacity_primitives", c.mac_ram_primitives}, {"hits", sum.coef_hits}, {"misses", sum.coef_misses},
+            {"evictions", sum.coef_evictions}, {"hit_rate", rate(sum.coef_hits, sum.coef_misses)}}},
+          {"voxel_cache", cache}};
+}
+
+/// One PE's memory traffic.
+nlohmann::json memory_access_json(const MemoryUse& u) {
+  uint64_t requests = 0, bytes = 0, stall = 0;
+  for (const MemoryUse::Requester& q : u.requesters) requests += q.requests, bytes += q.bytes, stall += q.stall_cycles;
+  return {{"requests", requests}, {"bytes", bytes}, {"stall_cycles", stall}, {"wait_cycles", u.wait_cycles()},
+          {"port_busy_cycles", u.port_busy_cycles}, {"bank_conflicts", u.bank_conflicts},
+          {"coefficient_ram_misses", u.coef_misses}};
 }
 
 }  // namespace
@@ -125,6 +180,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"spills", p.spills},
                       {"memory_used_bytes", m.memory[i].used},
                       {"spill_area_rays", m.memory[i].spill_rays()},
+                      {"memory_access", memory_access_json(m.memory_use[i])},
                       {"busy_cycles", unit_figures(p, &UnitStats::busy_cycles)},
                       {"issue_cycles", unit_figures(p, &UnitStats::issue_cycles)},
                       {"held_cycles", unit_figures(p, &UnitStats::held_cycles)},
@@ -156,7 +212,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
             {"link_busy_cycles", cyc(m.host.link_busy)},
             {"scene_bytes", m.scene_bytes}}},
           {"interconnect", interconnect_json(m, c)},
-          {"memory", memory_json(m.memory)},
+          {"memory", memory_json(m, c)},
           {"utilisation", utilisation_json(s.utilisation)},
           {"pe_utilisation", pe_utilisation_json(s.profile)},
           {"pe_issue", utilisation_json(s.profile.issue)},

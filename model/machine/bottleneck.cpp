@@ -23,6 +23,10 @@ Bottleneck bottleneck(const FrameProfile& p) {
   const char* host_or_link = host >= link ? "host_preprocessing" : "interconnect";
   const std::string host_and_link = "host pre-processing " + percent(host) + " and the link " + percent(link) + " of the frame";
   if (host + link >= 0.5) return {host_or_link, host_and_link};
+  if (p.memory_access >= 0.5 || p.memory_wait >= 0.5)
+    return {"memory", "reads of local memory " + percent(p.memory_access) + " of the units' item-cycles, results waiting for it " +
+                          percent(p.memory_wait) + " of the PEs' working windows (summed over the units); the busiest port busy " +
+                          percent(p.memory_port)};
 
   const UnitShares& u = p.issue;
   const std::vector<std::pair<double, const char*>> units = {

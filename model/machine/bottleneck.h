@@ -23,14 +23,18 @@ struct FrameProfile {
   UnitShares occupancy;  ///< mean items inside
   UnitShares starved;    ///< able to take an item, none there
   double credit_stall = 0;      ///< fraction of the working windows the front buffer had rays but no credit
+  double memory_wait = 0;       ///< results' waits for local-memory data, summed over the units, per working-window cycle
+  double memory_port = 0;       ///< the busiest local-memory port's busy share of its PE's working window (0: ideal memory)
+  double memory_access = 0;     ///< the units' reads' times over the item-cycles the units held: their share of the work
   double imbalance = 1;         ///< max / mean PE working window
 };
 
 /// Every verdict bottleneck() gives, declared once: docs/stats.schema.json's enum is tested
 /// against this list.
-inline constexpr std::array<const char*, 10> kBottleneckNames = {
+inline constexpr std::array<const char*, 11> kBottleneckNames = {
     "host_preprocessing",  // voxel and primary-ray generation on the host
     "interconnect",        // the link: the scene and rays to the PEs, frame buffers back
+    "memory",          // the PEs' local memory: results waiting for their data
     "search", "mac", "root", "shading", "front_buffer",  // a PE unit whose entry is nearly always taken
     "loop_credits",    // too few rays allowed in flight: back-pressure
     "load_imbalance",  // one PE works much longer than the mean
@@ -43,7 +47,9 @@ struct Bottleneck {
 };
 
 /// The unit or phase that limits the frame. Rules, in order: host pre-processing and the link
-/// together taking half the frame (the larger of the two is named); a PE unit whose entry is taken
+/// together taking half the frame (the larger of the two is named); the units' reads of local
+/// memory taking half their item-cycles, or results waiting for it half the working window
+/// (summed over the units); a PE unit whose entry is taken
 /// (`issue`) >= 60% of the working window (for an unpipelined unit the same as busy; a pipelined
 /// one can hold items all the time and still take more); credit stalls >= 30%; imbalance >= 1.3;
 /// the larger host/link share if >= 25%; else latency.

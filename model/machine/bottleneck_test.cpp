@@ -85,6 +85,23 @@ TEST(Bottleneck, TheReasonGivesTheFiguresThatDecidedIt) {
   EXPECT_EQ(bottleneck(p).reason, "host pre-processing 60.0% and the link 3.0% of the frame");
 }
 
+// Local memory limits the frame when the units' reads take most of their item-cycles, or results
+// wait for data half the working window, even with a unit's entry nearly always taken.
+TEST(Bottleneck, LocalMemoryWhenReadsOrWaitsDominate) {
+  FrameProfile p = busy_pes();
+  p.issue.mac = 0.9;
+  p.memory_access = 0.6;
+  p.memory_port = 0.25;
+  EXPECT_EQ(bottleneck(p).name, "memory");
+  EXPECT_EQ(bottleneck(p).reason, "reads of local memory 60.0% of the units' item-cycles, results waiting for it 0.0% of the "
+                                  "PEs' working windows (summed over the units); the busiest port busy 25.0%");
+  p.memory_access = 0.1;
+  p.memory_wait = 0.8;
+  EXPECT_EQ(bottleneck(p).name, "memory");
+  p.memory_wait = 0.4;
+  EXPECT_EQ(bottleneck(p).name, "mac") << "neither share reaches half";
+}
+
 // Each declared name is the verdict of some profile, and every verdict is a declared name.
 TEST(Bottleneck, EveryDeclaredNameIsAVerdict) {
   std::vector<FrameProfile> profiles;
@@ -107,6 +124,9 @@ TEST(Bottleneck, EveryDeclaredNameIsAVerdict) {
   profiles.push_back(p);
   p = busy_pes();
   p.transfer = 600;
+  profiles.push_back(p);
+  p = busy_pes();
+  p.memory_access = 0.7;
   profiles.push_back(p);
   std::set<std::string> verdicts;
   for (const FrameProfile& q : profiles) verdicts.insert(bottleneck(q).name);

@@ -332,13 +332,9 @@ const std::vector<ConfigKey>& config_keys() {
                &M::search_walk),
       int_key("intersection_units", "MAC + root/sort lanes per PE (the paper has one)", &M::intersection_units, from(1, 64)),
       int_key("dda_step_cycles", "cycles for one 3DDDA step (compare and increment)", &M::dda_step_cycles, from(0, kMaxOpCycles)),
-      int_key("voxel_read_cycles", "cycles to read a voxel's occupancy and list header from local memory", &M::voxel_read_cycles,
-              from(0, kMaxOpCycles)),
       int_key("mul_latency", "pipeline depth of each MAC multiplier", &M::mul_latency, from(1, kMaxMacLatency)),
       int_key("add_latency", "MAC adder latency (dependent accumulation issues one product per add_latency)", &M::add_latency,
               from(1, kMaxMacLatency)),
-      int_key("coef_load_cycles", "cycles to load a primitive's 13 coefficient words into the MAC RAM (overlapped with the previous primitive)",
-              &M::coef_load_cycles, from(0, kMaxOpCycles)),
       int_key("root_latency", "root unit latency: discriminant, square root, two divisions (pipelined)", &M::root_latency, from(1, kMaxOpCycles)),
       int_key("fma_discriminant_cycles", "extra root unit latency with discriminant = fma (the dependent FMA stage)",
               &M::fma_discriminant_cycles, from(0, kMaxOpCycles)),
@@ -365,7 +361,6 @@ const std::vector<ConfigKey>& config_keys() {
               &M::front_buffer_capacity, from(1, kMaxBufferRays)),
       int_key("local_memory_bytes", "each PE's local memory: the scene copy, its primary rays and frame buffer must fit (else the render is refused); the rest is the front buffer's spill area",
               &M::local_memory_bytes, from(1024, kMaxLocalMemoryBytes)),
-      int_key("spill_cycles", "extra cycles per ray moved to or from the spill area", &M::spill_cycles, from(0, kMaxOpCycles)),
       int_key("search_fifo_depth", "FIFO depth, front buffer -> search units", &M::search_fifo_depth, from(1, kMaxBufferRays)),
       int_key("intersect_fifo_depth", "FIFO depth, search -> intersection", &M::intersect_fifo_depth, from(1, kMaxBufferRays)),
       int_key("root_fifo_depth", "FIFO depth, MAC -> root unit / sort", &M::root_fifo_depth, from(1, kMaxBufferRays)),
@@ -456,7 +451,7 @@ const std::vector<Preset>& presets() {
            {"memory_ports", "1", "silent (§3.1: each PE has its own local memory, its timing not given): one memory, one port every unit shares"},
            {"memory_banks", "1", "silent: one memory, not interleaved"},
            {"memory_interleave_bytes", "4", "silent: a 32-bit word (with one bank it changes nothing)"},
-           {"memory_latency", "1", "silent: a word in the cycle after its address, so a voxel entry (two words) takes the 2 cycles of voxel_read_cycles"},
+           {"memory_latency", "1", "silent: a word in the cycle after its address, so a voxel entry (two words) takes 2 cycles, as under the default"},
            {"memory_bytes_per_cycle", "4", "silent: one 32-bit word a cycle, the word of the machine's single precision"},
            {"memory_arbitration", "round_robin", "silent (how the units share the memory is not described): round robin, the plain fair arbiter"},
            {"mac_ram_primitives", "0", "§5.2: the RAM holds the primitives' quadric coefficients: every primitive's, loaded before rendering"},
@@ -483,10 +478,28 @@ const Preset& find_preset(const std::string& name) {
 
 }  // namespace
 
+namespace {
+
+/// Keys that were constants the local memory's timing now models, and what sets that time now.
+struct RemovedKey {
+  const char* name;
+  const char* replacement;
+};
+constexpr RemovedKey kRemovedKeys[] = {
+    {"voxel_read_cycles", "a voxel entry's 8 bytes take the local memory's time: memory_latency, memory_bytes_per_cycle"},
+    {"coef_load_cycles", "a coefficient RAM miss loads the record in the local memory's time (mac_ram_primitives: 0 holds every primitive, no loads)"},
+    {"spill_cycles", "a spilled ray's 60 bytes take the local memory's time: memory_latency, memory_bytes_per_cycle"},
+};
+
+}  // namespace
+
 void set_config(MachineConfig& c, const std::string& key, const std::string& value) {
   for (const ConfigKey& k : config_keys())
     if (k.name == key) return k.set(c, value);
   if (key == "preset") bad(key, "not a key but where the keys start: --preset NAME, or preset: NAME in a --config file");
+  for (const RemovedKey& r : kRemovedKeys)
+    if (key == r.name)
+      bad(key, std::string("no longer a key: ") + r.replacement + " (docs/memory.md; rtm config lists the keys)");
   std::vector<std::string> names;
   for (const ConfigKey& k : config_keys()) names.push_back(k.name);
   const std::string near = nearest_name(key, names);

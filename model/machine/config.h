@@ -55,10 +55,8 @@ struct MachineConfig {
   SearchWalk search_walk = SearchWalk::PerVoxel;
   int intersection_units = 1;
   int dda_step_cycles = 2;
-  int voxel_read_cycles = 2;
   int mul_latency = 1;
   int add_latency = 1;
-  int coef_load_cycles = 4;
   int root_latency = 12;
   int fma_discriminant_cycles = 2;
   int advance_cycles = 1;
@@ -80,7 +78,6 @@ struct MachineConfig {
   // Buffers (rays)
   int front_buffer_capacity = 64;
   int local_memory_bytes = 1 << 30;
-  int spill_cycles = 8;
   int search_fifo_depth = 16;
   int intersect_fifo_depth = 16;
   int root_fifo_depth = 16;

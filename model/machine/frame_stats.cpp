@@ -49,12 +49,20 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.transfer = (m.host.transfer - m.host.rays) / period;
   f.pe = (m.host.pes_done - m.host.transfer) / period;
   f.gather = (m.host.gathered - m.host.pes_done) / period;
-  double window = 0, longest = 0, stall = 0;
-  for (const PeCounters& p : m.per_pe) {
+  double window = 0, longest = 0, stall = 0, memory_wait = 0, memory_access = 0, held = 0;
+  for (size_t i = 0; i < m.per_pe.size(); ++i) {
+    const PeCounters& p = m.per_pe[i];
     const double w = working_window(p, period);
     window += w;
     longest = std::max(longest, w);
     stall += sc_core::sc_time::from_value(p.credit_stall) / period;
+    held += double(p.front.held_cycles + p.search().held_cycles + p.mac.held_cycles + p.root.held_cycles +
+                   p.shade.held_cycles);
+    if (i >= m.memory_use.size()) continue;
+    memory_wait += double(m.memory_use[i].wait_cycles());
+    memory_access += double(m.memory_use[i].access_cycles());
+    for (uint64_t busy : m.memory_use[i].port_busy_cycles)
+      if (w > 0) f.memory_port = std::max(f.memory_port, double(busy) / w);
   }
   f.busy = divided(sum(m, c, &UnitStats::busy_cycles), window);
   f.issue = divided(sum(m, c, &UnitStats::issue_cycles), window);
@@ -62,6 +70,8 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.starved = divided(sum(m, c, &UnitStats::starved_cycles), window);
   if (window > 0) {
     f.credit_stall = stall / window;
+    f.memory_wait = memory_wait / window;
+    f.memory_access = held > 0 ? memory_access / held : 0;
     f.imbalance = longest / (window / double(m.per_pe.size()));
   }
   return f;

@@ -25,20 +25,20 @@ void FrontBufferModule::drain() {
   if (ctx_.window.now()) traced_waiting_ = int(policy_.waiting());
 }
 
-void FrontBufferModule::dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now) {
+void FrontBufferModule::dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait) {
   policy_.dispatched(now, r.id, cycles, from);
   probe_.begin(r.id);
-  pipe_.accept(r, now, ctx_.period.value() * cycles, ctx_.period.value() * policy_.interval(cycles));
+  pipe_.accept(r, now, ctx_.period.value() * cycles, ctx_.period.value() * policy_.interval(cycles), std::move(wait));
 }
 
 bool FrontBufferModule::decide(uint64_t now) {
-  const auto d = policy_.decide(now, ctx_.period.value(), [&] { drain(); });
+  auto d = policy_.decide(now, ctx_.period.value(), [&] { drain(); });
   using D = FrontBufferPolicy<MachineRay>::Decision;
   switch (d.kind) {
-    case D::Queued: dispatch(d.queued, d.cycles, d.from, now); return true;
+    case D::Queued: dispatch(d.queued, d.cycles, d.from, now, std::move(d.wait)); return true;
     case D::Primary:
       if (d.primary == 0) ctx_.window.pe_started(ctx_.pe);  // a window counted from this PE's start opens
-      dispatch(primary_ray(ctx_, mem_.rays, d.primary), d.cycles, d.from, now);
+      dispatch(primary_ray(ctx_, mem_.rays, d.primary), d.cycles, d.from, now, std::move(d.wait));
       return true;
     case D::Align: sleep_->want(d.at); return false;
     case D::None:

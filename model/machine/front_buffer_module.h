@@ -26,7 +26,7 @@ class FrontBufferModule : public UnitModule {
   void drain();
   /// Carries out the policy's decision when it can hand out a ray; true when it handed one out.
   bool decide(uint64_t now);
-  void dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now);
+  void dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait);
 
   std::unique_ptr<Sleeper> sleep_;
   LocalMemory& mem_;

@@ -98,16 +98,18 @@ struct IntersectionModule::MacOps {
     Held h;
     if (!x.rays_in(FifoId::Intersect)->nb_read(h.m.r)) return false;
     x.mac_probe_.begin(h.m.r.id);
-    const Work w = x.mac_.take(h.m, x.ctx_.log_time());
+    Work w = x.mac_.take(h.m, now);
     h.out = w.out;
     if (x.clocked_) {
       const SceneImage& img = *x.ctx_.image;
       const DdaState& s = h.m.r.examined;
       const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
-      x.clocked_->start(img.visit([&](const auto& mem) { return make_job(mem, h.m.r, v); }));
+      MacJob job = img.visit([&](const auto& mem) { return make_job(mem, h.m.r, v); });
+      job.loads = h.m.plan.loads;
+      x.clocked_->start(std::move(job));
       x.job_cycles_.push_back(w.cycles);
     }
-    x.mac_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval);
+    x.mac_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() {
@@ -140,9 +142,9 @@ struct IntersectionModule::RootOps {
     Held h;
     if (!x.root_fifo_.nb_read(h.m)) return false;
     x.root_probe_.begin(h.m.r.id);
-    const Work w = x.root_.take(h.m, x.ctx_.log_time());
+    Work w = x.root_.take(h.m, now);
     h.out = w.out;
-    x.root_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval);
+    x.root_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() { waiting = true; }

@@ -18,14 +18,19 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time&) {
     t.get_extension(ext);
     if (!ext || !ext->image) return t.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
     ctx_.image = ext->image;
+    ctx_.memory->count(ctx_.memory->host(), ext->image->bytes);
   } else if (t.is_write() && addr == kRayBase && len % sizeof(Ray) == 0) {
     const size_t n = len / sizeof(Ray);
     const size_t old = rays.size();
     rays.resize(old + n);
     if (n > 0) std::memcpy(static_cast<void*>(rays.data() + old), t.get_data_ptr(), len);
     rays_arrived.notify(sc_core::SC_ZERO_TIME);
+    const bool camera = ctx_.config.ray_generation == MachineConfig::RayGeneration::Pe;
+    if (n > 0) ctx_.memory->count(ctx_.memory->host(), camera ? kCameraRecordBytes : n * kRayRecordBytes);
   } else if (t.is_read() && addr == kFrameBase && len == frame.size() * sizeof(PixelSum)) {
     if (len > 0) std::memcpy(t.get_data_ptr(), frame.data(), len);  // a PE without pixels has no frame buffer
+    // The ids travel in the frame entries' bytes: one read of the frame buffer.
+    if (len > 0) ctx_.memory->count(ctx_.memory->host(), frame.size() * kPixelRecordBytes);
   } else if (t.is_read() && addr == kIdBase && len == ids.size() * sizeof(int32_t)) {
     if (len > 0) std::memcpy(t.get_data_ptr(), ids.data(), len);
   } else {

@@ -22,7 +22,7 @@ void ClockedMac::start(MacJob job) {
   Posted p;
   std::vector<int> counts;
   for (size_t i = 0; i < job.rams.size(); ++i) counts.push_back(job.ops.empty() ? kMacProducts : int(job.ops[i].size()));
-  p.plan = timing_.job(counts);
+  p.plan = timing_.job(counts, job.loads);
   p.done.sums.assign(job.rams.size(), {0, 0, 0});
   p.job = std::move(job);
   p.start = tick_;  // the next edge runs cycle tick_

@@ -33,6 +33,7 @@ struct MacJob {
   std::vector<Latches<double>> latches;  ///< per primitive (the origin is re-centred on each)
   std::vector<CoefRam<double>> rams;
   std::vector<MacOps> ops;               ///< per primitive; empty: the full schedule for all
+  std::vector<uint64_t> loads;           ///< per primitive, cycles to load its coefficients (MacTiming::Job::loads)
   uint32_t ray_id = 0;
 };
 

@@ -76,6 +76,7 @@ class Machine : public sc_core::sc_module {
       raw.push_back(pes.back().get());
       PeState& st = pes.back()->ctx;
       st.spill_rays = memory[size_t(i)].spill_rays();
+      st.memory = std::make_shared<PeMemory>(c, *image, pixels);
       st.spawn_fanout = (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
     }
     total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
@@ -153,13 +154,17 @@ class Machine : public sc_core::sc_module {
     for (size_t v = 0; v + 1 < g.start.size(); ++v) fullest = std::max<uint64_t>(fullest, g.start[v + 1] - g.start[v]);
     uint64_t clips = 0;
     for (const Primitive& p : s.primitives) clips = std::max<uint64_t>(clips, p.clips.size());
-    const uint64_t test = uint64_t(kMacProducts) * uint64_t(c.add_latency) + uint64_t(c.coef_load_cycles) +
+    const uint64_t test = uint64_t(kMacProducts) * uint64_t(c.add_latency) +
                           2 * uint64_t(c.mul_latency) + uint64_t(c.add_latency) + uint64_t(c.root_cycles()) +
                           uint64_t(c.sort_cycles) + uint64_t(c.clip_cycles) * (clips + 1);
-    const uint64_t walk = uint64_t(g.n[0] + g.n[1] + g.n[2] + 3) * uint64_t(c.dda_step_cycles + c.voxel_read_cycles);
+    // A local-memory access at its slowest: its largest record behind one of every requester's.
+    const uint64_t record = std::max<uint64_t>({kSpillRecordBytes, coef_record_bytes(Precision::Fp64), voxel_list_bytes(fullest + 2)});
+    const uint64_t access = uint64_t(c.search_units + c.intersection_units + 3) *
+                            (uint64_t(c.memory_latency) + record / uint64_t(c.memory_bytes_per_cycle) + 1);
+    const uint64_t walk = uint64_t(g.n[0] + g.n[1] + g.n[2] + 3) * (uint64_t(c.dda_step_cycles) + access);
     const uint64_t shade =
         uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles + c.accumulate_cycles) * (s.lights.size() + 3);
-    return (fullest + 1) * test + walk + shade + uint64_t(c.fb_dispatch_cycles) + 2 * uint64_t(c.spill_cycles) +
+    return (fullest + 1) * (test + access) + walk + shade + 3 * access + uint64_t(c.fb_dispatch_cycles) +
            uint64_t(c.pe_ray_cycles);
   }
 
@@ -501,6 +506,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     r.mac_issue_cycles += k.mac.issue_cycles;
     r.spills += k.spills;
     r.per_pe.push_back(k);
+    r.memory_use.push_back(pe->ctx.memory->use());
   }
   r.fifos = summarise_fifos(top.pes, r.end);
   r.needs = top.needs;

@@ -8,6 +8,7 @@
 #include "machine/frame_stats.h"
 #include "machine/host.h"
 #include "units/memory_layout.h"
+#include "units/pe_memory.h"
 #include "render/scene_needs.h"
 
 namespace rtm {
@@ -46,6 +47,7 @@ struct MachineResult {
   std::vector<LinkUse> links;   ///< the interconnect's links: busy time and bytes of each (net/interconnect.h)
   uint64_t scene_bytes = 0;     ///< one PE's copy of the scene as the link carries it
   std::vector<MemoryLayout> memory;  ///< each PE's local memory (units/memory_layout.h)
+  std::vector<MemoryUse> memory_use;  ///< what each PE's local memory did (units/pe_memory.h)
   sc_core::sc_time end;
   uint64_t cycles = 0;          ///< the frame's simulated time in PE cycles
   FrameStats stats;             ///< derived from the counters above (frame_stats.h)

@@ -232,8 +232,8 @@ struct PeEngine::Ops {
         Fifo& in = e.fifo(FifoId::Search);
         if (in.visible == 0) return false;
         const uint32_t slot = in.read(now);
-        const Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
-        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
+        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
         return true;
     } else if constexpr (K == UnitKind::Mac) {
         Fifo& in = e.fifo(FifoId::Intersect);
@@ -248,23 +248,23 @@ struct PeEngine::Ops {
         MacResult& m = e.results_[result];
         m.r = e.slots_[slot];
         e.free_slots_.push_back(slot);  // the ray travels with its MAC result now
-        const Work w = e.macs_[size_t(index())].take(m, now);
-        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        Work w = e.macs_[size_t(index())].take(m, now);
+        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
         return true;
     } else if constexpr (K == UnitKind::Root) {
         Fifo& in = e.root_fifo_[size_t(index())];
         if (in.visible == 0) return false;
         const uint32_t result = in.read(now);
-        const Work w = e.roots_[size_t(index())].take(e.results_[result], now);
-        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        Work w = e.roots_[size_t(index())].take(e.results_[result], now);
+        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
         return true;
     } else {
         Fifo& in = e.fifo(FifoId::Shade);
         if (in.visible == 0) return false;
         const uint32_t slot = in.read(now);
         const MachineRay& r = e.slots_[slot];
-        const Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
-        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_);
+        Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
+        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
         return true;
     }
   }
@@ -296,7 +296,7 @@ void PeEngine::wake(size_t unit, uint64_t now) {
     default: place.waiting = false;
   }
   // One instance of the step per kind of unit: its operations inline, no switch per call.
-  auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, ops); };
+  auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, pe_.memory.get(), ops); };
   switch (place.kind) {
     case UnitKind::FrontBuffer: return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
     case UnitKind::Search: return step(Ops<UnitKind::Search>{*this, unit, now, place});
@@ -307,7 +307,7 @@ void PeEngine::wake(size_t unit, uint64_t now) {
 }
 
 bool PeEngine::front_decide(uint64_t now) {
-  const auto d = front_.decide(now, cycle_, [&] {
+  auto d = front_.decide(now, cycle_, [&] {
     Fifo& ends = fifo(FifoId::Ends);
     while (ends.visible > 0) {
       ends.read(now);
@@ -318,17 +318,19 @@ bool PeEngine::front_decide(uint64_t now) {
   });
   using D = FrontBufferPolicy<uint32_t>::Decision;
   switch (d.kind) {
-    case D::Queued: dispatch(d.queued, d.cycles, d.from, now); return true;
-    case D::Primary: dispatch(new_ray(primary_ray(pe_, rays_, d.primary)), d.cycles, d.from, now); return true;
+    case D::Queued: dispatch(d.queued, d.cycles, d.from, now, std::move(d.wait)); return true;
+    case D::Primary:
+      dispatch(new_ray(primary_ray(pe_, rays_, d.primary)), d.cycles, d.from, now, std::move(d.wait));
+      return true;
     case D::Align: want(kFront, d.at); return false;
     case D::None: return false;
   }
   return false;
 }
 
-void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now) {
+void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait) {
   front_.dispatched(now, slots_[slot].id, cycles, from);
-  places_[kFront].pipe.accept({slot, {}}, now, cycles * cycle_, front_.interval(cycles) * cycle_);
+  places_[kFront].pipe.accept({slot, {}}, now, cycles * cycle_, front_.interval(cycles) * cycle_, std::move(wait));
 }
 
 bool PeEngine::write_shading(uint64_t now) {

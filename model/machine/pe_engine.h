@@ -150,7 +150,7 @@ class PeEngine {
 
   /// Carries out the front buffer's decision when it can hand out a ray: true when it did.
   bool front_decide(uint64_t now);
-  void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now);
+  void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait);
   bool write_shading(uint64_t now);
 
   PeState& pe_;

@@ -28,9 +28,9 @@ struct SearchModule::Ops {
     Held h;
     if (!m.rays_in(FifoId::Search)->nb_read(h.r)) return false;
     m.probe_.begin(h.r.id);
-    const Work w = m.unit_.take(h.r, m.ctx_.log_time());
+    Work w = m.unit_.take(h.r, now);
     h.out = w.out;
-    m.pipe_.accept(h, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval);
+    m.pipe_.accept(h, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() {

@@ -54,8 +54,8 @@ struct ShadingModule::Ops {
     MachineRay r;
     if (!m.rays_in(FifoId::Shade)->nb_read(r)) return false;
     m.probe_.begin(r.id);
-    const Work w = m.unit_.take(r, m.mem_.frame[r.slot], m.mem_.ids[r.slot], m.ctx_.log_time());
-    m.pipe_.accept(r, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval);
+    Work w = m.unit_.take(r, m.mem_.frame[r.slot], m.mem_.ids[r.slot], now);
+    m.pipe_.accept(r, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() { waiting = true; }

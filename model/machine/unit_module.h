@@ -71,7 +71,7 @@ class UnitModule : public sc_core::sc_module {
       const uint64_t now = PeContext::now();
       ops.woke(now);
       ops.waiting = false;
-      step_unit(pipe, now, ctx_.period.value(), ops);
+      step_unit(pipe, now, ctx_.period.value(), ctx_.memory.get(), ops);
       sleep.wait(ops.waiting ? &ops.either : nullptr);
     }
   }

@@ -56,20 +56,36 @@ class FrontBufferPolicy {
     return Next::Wait;
   }
 
-  /// The waiting ray that goes next; `cycles` receives its dispatch time, `spilled` whether it came
-  /// from the spill area (rays beyond the on-chip capacity live in local memory).
-  Item pop_queued(uint64_t& cycles, bool& spilled) {
+  /// The waiting ray that goes next, handed out at `now`; `cycles` receives its dispatch time,
+  /// `spilled` whether it came from the spill area (rays beyond the on-chip capacity live in local
+  /// memory, and its record is read back: `wait`).
+  Item pop_queued(uint64_t now, uint64_t& cycles, bool& spilled, MemoryWait& wait) {
     spilled = queue_.size() > size_t(pe_.config.front_buffer_capacity);
-    if (spilled) ++pe_.counters.spills;
-    cycles = dispatch_cycles(spilled, false);
+    cycles = dispatch_cycles(false);
+    if (spilled) {
+      ++pe_.counters.spills;
+      if (PeMemory* m = pe_.memory.get()) {
+        cycles += m->unloaded(kSpillRecordBytes);
+        wait.latency = cycles;
+        m->request(m->front(), m->addresses().spilled_ray(spill_place(spill_reads_++)), kSpillRecordBytes,
+                   now / pe_.cycle, cycles, wait);
+      }
+    }
+    wait.latency = cycles;
     Item r = queue_.front();
     queue_.pop_front();
     return r;
   }
   /// The number of the next primary ray in local memory, handed out at `now`; `cycles` as above.
-  size_t pop_primary(uint64_t now, uint64_t& cycles) {
+  /// A ray the host made is read from local memory within the dispatch (`wait`).
+  size_t pop_primary(uint64_t now, uint64_t& cycles, MemoryWait& wait) {
     if (next_primary_ == 0) pe_.counters.start = now;
-    cycles = dispatch_cycles(false, true);
+    cycles = dispatch_cycles(true);
+    wait.latency = cycles;
+    PeMemory* m = pe_.memory.get();
+    if (m && pe_.config.ray_generation == MachineConfig::RayGeneration::Host)
+      m->request(m->front(), m->addresses().primary_ray(next_primary_), kRayRecordBytes, now / pe_.cycle,
+                 std::max(cycles, m->unloaded(kRayRecordBytes)), wait);
     return next_primary_++;
   }
   /// A ray (`id`) goes past the front buffer: it takes a credit and `cycles` of the front buffer.
@@ -96,6 +112,7 @@ class FrontBufferPolicy {
     uint64_t cycles = 0;  ///< Queued, Primary: its dispatch time
     uint8_t from = 0;     ///< Queued, Primary: where it came from (FrontSource)
     uint64_t at = 0;      ///< Align
+    MemoryWait wait;      ///< Queued, Primary: what it reads from local memory
   };
   /// Decides at `now` (`cycle`: the PE clock period, in now's unit); `drain()` hands the policy
   /// what arrived on its inputs, and is called only when a decision needs them.
@@ -107,12 +124,14 @@ class FrontBufferPolicy {
       if (now % cycle) return d;
       state_ = State::Deciding;
       d.kind = Decision::Primary;
-      d.primary = pop_primary(now, d.cycles);
+      d.primary = pop_primary(now, d.cycles, d.wait);
       d.from = kFromHost;
       return d;
     }
     if (finished_ || overflowed()) return d;
+    const size_t before = queue_.size();
     drain();
+    spill_arrivals(before, now);
     if (queue_.size() > capacity()) {
       // The ray trees outgrew local memory: the machine stops the frame (machine/machine.cpp).
       pe_.counters.spill_overflow = queue_.size();
@@ -123,7 +142,7 @@ class FrontBufferPolicy {
       case Next::Queued: {
         bool spilled = false;
         d.kind = Decision::Queued;
-        d.queued = pop_queued(d.cycles, spilled);
+        d.queued = pop_queued(now, d.cycles, spilled, d.wait);
         d.from = spilled ? kFromSpill : kFromQueue;
         return d;
       }
@@ -185,11 +204,23 @@ class FrontBufferPolicy {
   size_t primaries_known() const { return primaries_; }
 
  private:
-  uint64_t dispatch_cycles(bool spilled, bool primary) const {
+  uint64_t dispatch_cycles(bool primary) const {
     const MachineConfig& c = pe_.config;
     const bool generate = primary && c.ray_generation == MachineConfig::RayGeneration::Pe;
-    return uint64_t(c.fb_dispatch_cycles) + (spilled ? uint64_t(c.spill_cycles) : 0) +
-           (generate ? uint64_t(c.pe_ray_cycles) : 0);
+    return uint64_t(c.fb_dispatch_cycles) + (generate ? uint64_t(c.pe_ray_cycles) : 0);
+  }
+  /// The spill area as a ring of kSpillRecordBytes places: the k-th ray written or read.
+  uint64_t spill_place(uint64_t k) const {
+    return pe_.spill_rays == 0 || pe_.spill_rays == UINT64_MAX ? k : k % pe_.spill_rays;
+  }
+  /// Rays that arrived beyond the on-chip capacity (the queue held `before`) are written to the
+  /// spill area at `now`; nothing waits for a write.
+  void spill_arrivals(size_t before, uint64_t now) {
+    PeMemory* m = pe_.memory.get();
+    const size_t on_chip = size_t(pe_.config.front_buffer_capacity);
+    if (!m || queue_.size() <= std::max(before, on_chip)) return;
+    for (size_t n = queue_.size() - std::max(before, on_chip); n > 0; --n)
+      m->post(m->front(), m->addresses().spilled_ray(spill_place(spill_writes_++)), kSpillRecordBytes, now / pe_.cycle);
   }
 
   PeState& pe_;
@@ -202,6 +233,7 @@ class FrontBufferPolicy {
   enum class State { Deciding, Waiting, Aligning } state_ = State::Deciding;
   bool stalled_ = false;
   uint64_t waiting_since_ = 0;
+  uint64_t spill_writes_ = 0, spill_reads_ = 0;
 };
 
 

@@ -15,12 +15,14 @@ struct Output {
   enum class What : uint8_t { Item, End } what = What::End;
 };
 
-/// A unit's work on one item: its cycles and where its result goes. Every unit's take() gets the
-/// time it is taken at only for the event log (PeContext::log_time: 0 when there is none).
+/// A unit's work on one item: its cycles, where its result goes, and what it asked of local
+/// memory. Every unit's take() gets the time it is taken at (ticks) for the event log and for
+/// its memory requests.
 struct Work {
   uint64_t cycles = 0;    ///< latency: from taking the item to its result
   uint64_t interval = 0;  ///< until the unit can take its next item (units/pipeline.h)
   Output out;
+  MemoryWait wait;  ///< its local-memory requests (units/pe_memory.h): the scheduler hands them to its pipeline
 };
 
 /// A unit's interval for an item of `latency` cycles that passes its first stage `beats` times:

@@ -1,5 +1,5 @@
 // What the units of one PE share, apart from any scheduler: the configuration, the scene image
-// in local memory, the counters they fill in, ray numbering, and the event log.
+// in local memory and the memory's timing, the counters they fill in, ray numbering, and the event log.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +10,7 @@
 #include "render/reference.h"
 #include "render/shade.h"
 #include "units/event_log.h"
+#include "units/pe_memory.h"
 #include "units/pipeline.h"
 #include "units/scene_image.h"
 
@@ -79,6 +80,9 @@ struct PeState {
   /// a reflected and a transmitted ray), which new primary rays must leave room for.
   uint64_t spill_rays = UINT64_MAX;
   uint64_t spawn_fanout = 0;
+  /// Its local memory's timing, records, coefficient RAMs and voxel cache (units/pe_memory.h), made
+  /// with the machine; null where a unit is tested without one (its accesses then cost nothing).
+  std::shared_ptr<PeMemory> memory;
 
   uint64_t cycles(uint64_t ticks) const { return ticks / cycle; }
 };

@@ -20,6 +20,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "units/pe_memory.h"
+
 namespace rtm {
 
 /// One unit's statistics, or the sum over replicated units.
@@ -47,6 +49,7 @@ class Pipeline {
     Item item;
     uint64_t due;
     uint64_t accepted;
+    MemoryWait wait;  ///< its local-memory requests whose data may come late (units/pe_memory.h)
   };
 
   /// `cycle`: one cycle in the time unit the caller uses; `stats`: where to count (may be null).
@@ -62,14 +65,14 @@ class Pipeline {
   bool can_accept(uint64_t now) const { return now >= ready_ && !stalled(now); }
 
   /// Accepts `item` at `now` (can_accept(now)); returns when its result is due.
-  uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval) {
+  uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval, MemoryWait&& wait = {}) {
     uint64_t due = now + latency;
     if (count_ == 0)
       busy_since_ = now;
     else
       due = std::max(due, at(count_ - 1).due + cycle_);
     if (count_ == ring_.size()) grow();
-    at(count_++) = {item, due, now};
+    at(count_++) = {item, due, now, std::move(wait)};
     ready_ = now + interval;
     ++stats_->items;
     stats_->issue_cycles += interval / cycle_;

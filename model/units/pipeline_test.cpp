@@ -116,7 +116,7 @@ struct Harness {
       if (!woken && now > 0) continue;
       wakeups.fired(now);
       waiting = false;
-      step_unit(pipe, now, 1, *this);
+      step_unit(pipe, now, 1, nullptr, *this);
     }
   }
 };

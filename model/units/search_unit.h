@@ -11,8 +11,8 @@ class SearchUnit {
  public:
   SearchUnit(PeState& pe, int index) : pe_(pe), index_(index) {}
 
-  /// A pass (or passes, with search_walk = until_occupied) over `r`; `now` is the time the event
-  /// log records (only the log reads it).
+  /// A pass (or passes, with search_walk = until_occupied) over `r`, taken at `now` (ticks): each
+  /// examined voxel's entry is read from local memory (units/pe_memory.h).
   Work take(MachineRay& r, uint64_t now);
   int index() const { return index_; }
 

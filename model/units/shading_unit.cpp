@@ -1,5 +1,6 @@
 #include "units/shading_unit.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace rtm {
@@ -37,8 +38,16 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
   for (const Ray& child : out.rays)
     if (!pe_.units.generates(child.kind))
       throw std::logic_error("a left-out ray generator was needed: the scene analysis is wrong");
+  Work w{cycles, pipeline_interval(c.shade_interval, cycles), output(0), {}};
+  if (PeMemory* m = pe_.memory.get()) {
+    // The pixel's brightness is read, added to and written back within the unit's cycles.
+    const uint64_t at = m->addresses().frame_entry(r.slot), cycle = now / pe_.cycle;
+    w.wait.latency = cycles;
+    m->request(m->shading(), at, kBrightnessBytes, cycle, std::max(cycles, m->unloaded(kBrightnessBytes)), w.wait);
+    m->post(m->shading(), at, kBrightnessBytes, cycle);
+  }
   if (pe_.log) pe_.log->take(now, UnitKind::Shading, 0, r.id, cycles);
-  return {cycles, pipeline_interval(c.shade_interval, cycles), output(0)};
+  return w;
 }
 
 MachineRay ShadingUnit::spawn(const MachineRay& parent, size_t k) {

@@ -1,5 +1,5 @@
-// One wake-up of a unit, the same under both schedulers: write the results that are due, take the
-// next item if the unit can, then say what to wake it for. Each scheduler supplies the operations
+// One wake-up of a unit, the same under both schedulers: write the results that are due (once their
+// data from local memory is there), take the next item if the unit can, then say what to wake it for. Each scheduler supplies the operations
 // on its own FIFOs and clock:
 //   bool write_head(now)  writes the head item's results; false when a FIFO is full
 //   void retired(item)    the head item has left the unit
@@ -15,10 +15,14 @@
 namespace rtm {
 
 template <class Item, class Ops>
-void step_unit(Pipeline<Item>& pipe, uint64_t now, uint64_t cycle, Ops& ops) {
+void step_unit(Pipeline<Item>& pipe, uint64_t now, uint64_t cycle, PeMemory* memory, Ops& ops) {
   pipe.woke(now);
   for (;;) {
     while (!pipe.empty() && pipe.head().due <= now) {
+      // Data from local memory that comes after the result is due stalls the pipeline until it
+      // is there, as a full FIFO does (units/pe_memory.h).
+      if (auto& h = pipe.head(); memory && !h.wait.empty())
+        if (const uint64_t at = memory->ready(h.wait, h.accepted, h.due, now, cycle); at > now) return ops.want(at);
       // A full FIFO stalls the pipeline: try again next cycle, as a hardware handshake would.
       if (!ops.write_head(now)) return ops.want(now + cycle);
       ops.retired(pipe.retire(now));

@@ -1,0 +1,168 @@
+#include "units/pe_memory.h"
+
+#include <algorithm>
+
+#include "units/scene_image.h"
+
+namespace rtm {
+namespace {
+
+std::vector<std::string> requester_names(const MachineConfig& c) {
+  std::vector<std::string> names;
+  for (int k = 0; k < c.search_units; ++k) names.push_back("search" + std::to_string(k));
+  for (int k = 0; k < c.intersection_units; ++k) names.push_back("lane" + std::to_string(k));
+  for (const char* n : {"front_buffer", "shading", "host"}) names.push_back(n);
+  return names;
+}
+
+/// Of an access of `cycles`, what its item's plan does not hide: a read within a unit's constant
+/// (needed after the item's latency) hides that much of its time.
+uint64_t visible(uint64_t cycles, uint64_t need, uint64_t latency) {
+  const uint64_t hidden = need > latency ? need - latency : 0;
+  return cycles > hidden ? cycles - hidden : 0;
+}
+
+}  // namespace
+
+PeMemory::PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pixels)
+    : search_units_(c.search_units),
+      lanes_(c.intersection_units),
+      latency_(uint64_t(c.memory_latency)),
+      width_(uint64_t(c.memory_bytes_per_cycle)),
+      addresses_(image, pixels, c),
+      coef_rams_(size_t(c.intersection_units), CoefficientRam(uint32_t(c.mac_ram_primitives))) {
+  const std::vector<std::string> names = requester_names(c);
+  for (const std::string& n : names) counted_.push_back({n});
+  wait_cycles_.assign(names.size(), 0);
+  access_cycles_.assign(names.size(), 0);
+  if (c.memory_ports != 0 || c.memory_banks != 0) {
+    LocalMemoryTiming::Config t = LocalMemoryTiming::Config::from(c);
+    // Which of two units acting in one cycle asks first is no fact of the machine (the two
+    // schedulers may call them in either order), so under fcfs the requests of one cycle go in
+    // requester order: first come, first served from one cycle to the next.
+    if (t.arbitration == MemoryArbitration::Fcfs) t.arbitration = MemoryArbitration::FixedPriority;
+    timing_ = std::make_unique<LocalMemoryTiming>(t, names);
+  }
+  if (c.voxel_cache_bytes > 0) cache_ = VoxelCache::from(c);
+  const bool sparse = c.mac_schedule == MachineConfig::MacSchedule::Sparse;
+  image.visit([&](const auto& mem) {
+    for (const auto& ram : mem.rams) coef_bytes_.push_back(coef_record_bytes(c.precision, coef_record_words(ram, sparse)));
+  });
+}
+
+void PeMemory::request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
+  beats_ += (bytes + width_ - 1) / width_;
+  if (!timing_) {
+    // Unloaded, the data is there need - unloaded(bytes) >= 0 cycles before the plan needs it.
+    count(who, bytes);
+    if (need > 0) access_cycles_[size_t(who)] += visible(unloaded(bytes), need, w.latency);
+    return;
+  }
+  w.who = who;
+  w.pending.push_back({timing_->request(who, address, bytes, cycle), need});
+}
+
+PeMemory::VoxelRead PeMemory::voxel_read(uint64_t address, uint64_t bytes) {
+  if (!cache_) return {unloaded(bytes), address, bytes};
+  const uint64_t lines = cache_->access(address, bytes);
+  if (lines == 0) return {1, address, 0};
+  // The lines it lacks, as one burst from the first line of the access.
+  const uint64_t line = cache_->line_bytes(), fill = lines * line;
+  return {unloaded(fill), address / line * line, fill};
+}
+
+void PeMemory::post(int who, uint64_t address, uint64_t bytes, uint64_t cycle) {
+  MemoryWait w;
+  request(who, address, bytes, cycle, 0, w);
+  for (const MemoryWait::Pending& p : w.pending) posted_.push_back(p.ticket);
+}
+
+void PeMemory::count(int who, uint64_t bytes) {
+  Stats& s = counted_[size_t(who)];
+  ++s.requests;
+  s.bytes += bytes;
+}
+
+void PeMemory::collect_posted() {
+  posted_.erase(std::remove_if(posted_.begin(), posted_.end(),
+                               [&](LocalMemoryTiming::Ticket t) { return timing_->resolved(t) && (timing_->collect(t), true); }),
+                posted_.end());
+}
+
+uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_t now, uint64_t cycle) {
+  const uint64_t now_cycle = now / cycle;
+  bool unknown = false;
+  if (!w.pending.empty()) {
+    if (now_cycle > 0) timing_->resolve(now_cycle - 1);
+    collect_posted();
+    size_t kept = 0;
+    for (const MemoryWait::Pending& p : w.pending) {
+      if (!timing_->resolved(p.ticket)) {
+        w.pending[kept++] = p;
+        unknown = true;
+        continue;
+      }
+      const LocalMemoryTiming::Grant g = timing_->collect(p.ticket);
+      w.ready = std::max(w.ready, int64_t(g.completion - g.issue) + int64_t(w.latency) - int64_t(p.need));
+      access_cycles_[size_t(w.who)] += visible(g.completion - g.issue, p.need, w.latency);
+    }
+    w.pending.resize(kept);
+  }
+  uint64_t at = due;
+  if (w.ready != INT64_MIN && w.ready > 0) at = std::max(at, accepted + uint64_t(w.ready) * cycle);
+  if (unknown) return std::max(at, (now_cycle + 1) * cycle);
+  if (!w.counted) {
+    w.counted = true;
+    wait_cycles_[size_t(w.who)] += (at - due) / cycle;
+  }
+  return at;
+}
+
+std::vector<PeMemory::Stats> PeMemory::requesters() const {
+  std::vector<Stats> s = timing_ ? timing_->requesters() : counted_;
+  s[size_t(host())] = counted_[size_t(host())];
+  return s;
+}
+
+}  // namespace rtm
+
+namespace rtm {
+
+uint64_t MemoryUse::wait_cycles() const {
+  uint64_t n = 0;
+  for (const Requester& r : requesters) n += r.wait_cycles;
+  return n;
+}
+
+uint64_t MemoryUse::access_cycles() const {
+  uint64_t n = 0;
+  for (const Requester& r : requesters) n += r.access_cycles;
+  return n;
+}
+
+MemoryUse PeMemory::use() const {
+  MemoryUse u;
+  u.ideal = ideal();
+  const std::vector<Stats> s = requesters();
+  for (size_t i = 0; i < s.size(); ++i)
+    u.requesters.push_back({s[i].name, s[i].requests, s[i].bytes, s[i].stall_cycles, wait_cycles_[i], access_cycles_[i]});
+  if (timing_) {
+    for (const auto& p : timing_->ports()) u.port_busy_cycles.push_back(p.busy_cycles);
+    for (const auto& b : timing_->banks()) u.bank_conflicts += b.conflicts;
+  }
+  u.beats = beats_;
+  for (const CoefficientRam& r : coef_rams_) {
+    u.coef_hits += r.hits();
+    u.coef_misses += r.misses();
+    u.coef_evictions += r.evictions();
+  }
+  if (cache_) {
+    u.voxel_cache = true;
+    u.cache_hits = cache_->hits();
+    u.cache_misses = cache_->misses();
+    u.cache_line_fills = cache_->line_fills();
+  }
+  return u;
+}
+
+}  // namespace rtm

@@ -1,0 +1,137 @@
+// One PE's local memory as its units use it (docs/memory.md, "How the units use it"): the timing
+// (memory/local_memory_timing.h), the record addresses (memory/records.h), the MACs' coefficient
+// RAMs and the optional voxel cache, with the requesters numbered in one order both schedulers
+// share: the search units, the intersection lanes, the front buffer, shading, the host.
+//
+// The timing rule. A unit requests what an item reads or writes when it takes the item, at that
+// PE cycle, and says when its plan needs the data: the item's latency already counts the request's
+// unloaded time (or hides it within a constant of the unit). The requests travel with the item
+// (MemoryWait); when its result is due, step_unit (units/unit_step.h) asks when the data really
+// came, and a result whose data came late waits for it exactly as for a full output FIFO.
+//
+// The fast path. With an ideal memory (memory_ports = 0 and memory_banks = 0) every request takes
+// its unloaded time, so no plan is ever late: requests are only counted, and no reservation table
+// is kept.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "memory/coefficient_ram.h"
+#include "memory/local_memory_timing.h"
+#include "memory/records.h"
+#include "memory/voxel_cache.h"
+
+namespace rtm {
+
+/// The requests an item waits for, and the plan they were made for.
+struct MemoryWait {
+  struct Pending {
+    LocalMemoryTiming::Ticket ticket;
+    uint64_t need;  ///< cycles after the item was taken that its plan needs the data at
+  };
+  std::vector<Pending> pending;
+  uint64_t latency = 0;       ///< the item's latency in the plan (Work::cycles)
+  int64_t ready = INT64_MIN;  ///< cycles after acceptance the result can leave at, by the grants collected
+  int who = 0;                ///< the requester (one per item)
+  bool counted = false;       ///< its wait is in the requester's wait cycles
+
+  bool empty() const { return pending.empty() && ready == INT64_MIN; }
+};
+
+/// What one PE's local memory did in a frame, for the statistics.
+struct MemoryUse {
+  struct Requester {
+    std::string name;
+    uint64_t requests = 0, bytes = 0;
+    uint64_t stall_cycles = 0;  ///< what contention added to its requests' latencies (the grants' stalls)
+    uint64_t wait_cycles = 0;   ///< what its results waited past their due time for data (the pipeline stalled)
+    uint64_t access_cycles = 0; ///< its reads' times, issue to data (posted writes: none), however they overlap
+  };
+  bool ideal = true;                ///< memory_ports = 0 and memory_banks = 0: every request unloaded
+  std::vector<Requester> requesters;
+  std::vector<uint64_t> port_busy_cycles;  ///< empty with the ideal memory (no ports kept)
+  uint64_t beats = 0;                       ///< what the ports carried in all
+  uint64_t bank_conflicts = 0;
+  uint64_t coef_hits = 0, coef_misses = 0, coef_evictions = 0;  ///< the lanes' coefficient RAMs, summed
+  bool voxel_cache = false;
+  uint64_t cache_hits = 0, cache_misses = 0, cache_line_fills = 0;
+
+  uint64_t wait_cycles() const;
+  uint64_t access_cycles() const;
+};
+
+class PeMemory {
+ public:
+  using Stats = LocalMemoryTiming::RequesterStats;
+
+  PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pixels);
+
+  // Requester numbers.
+  int search(int k) const { return k; }
+  int lane(int k) const { return search_units_ + k; }
+  int front() const { return search_units_ + lanes_; }
+  int shading() const { return front() + 1; }
+  int host() const { return front() + 2; }
+
+  bool ideal() const { return !timing_; }
+  uint64_t unloaded(uint64_t bytes) const { return latency_ + (bytes + width_ - 1) / width_ - 1; }
+
+  /// A request made at PE cycle `cycle` for an item whose plan needs its data `need` cycles after it
+  /// was taken (need >= unloaded(bytes): on time when unloaded). The unit sets w.latency.
+  void request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w);
+  /// A read of voxel data (a search unit's entry, a lane's list) through the voxel cache if there
+  /// is one: the cycles the plan gives it (its unloaded time; a cache hit 1, a miss its lines'
+  /// fill) and what to request of the memory (bytes 0: a hit, nothing).
+  struct VoxelRead {
+    uint64_t cycles, address, bytes;
+  };
+  VoxelRead voxel_read(uint64_t address, uint64_t bytes);
+  /// A write nobody waits for (a posted write).
+  void post(int who, uint64_t address, uint64_t bytes, uint64_t cycle);
+  /// Traffic that is counted but not timed (the host's transfers: docs/memory.md).
+  void count(int who, uint64_t bytes);
+
+  /// When an item accepted at `accepted` (ticks) and due at `due` may leave, checked at `now`
+  /// (ticks, >= due; `cycle`: ticks a PE cycle): max(due, each request's completion plus what the
+  /// plan had after it, latency - need); a request whose grant is not known yet keeps it at
+  /// least a cycle past now.
+  uint64_t ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_t now, uint64_t cycle);
+
+  const MemoryAddresses& addresses() const { return addresses_; }
+  /// Primitive p's coefficient record, in bytes (sparse schedules: its non-zero words and a mask).
+  uint64_t coef_bytes(uint32_t p) const { return coef_bytes_[p]; }
+  CoefficientRam& coef_ram(int lane) { return coef_rams_[size_t(lane)]; }
+  const std::vector<CoefficientRam>& coef_rams() const { return coef_rams_; }
+  /// voxel_cache_bytes = 0: none.
+  VoxelCache* voxel_cache() { return cache_ ? &*cache_ : nullptr; }
+  const VoxelCache* voxel_cache() const { return cache_ ? &*cache_ : nullptr; }
+
+  /// Per requester (named), its requests, bytes and stall cycles; the host's counted, not timed.
+  std::vector<Stats> requesters() const;
+  /// The timing's ports and banks; null with the ideal memory (none kept).
+  const LocalMemoryTiming* timing() const { return timing_.get(); }
+  /// Beats moved in all (what the ports carried, however many there were).
+  uint64_t beats() const { return beats_; }
+  MemoryUse use() const;
+
+ private:
+  void collect_posted();
+
+  const int search_units_, lanes_;
+  const uint64_t latency_, width_;
+  std::unique_ptr<LocalMemoryTiming> timing_;  ///< null: the ideal memory's fast path
+  std::vector<Stats> counted_;                 ///< the fast path's statistics, and the host's
+  std::vector<LocalMemoryTiming::Ticket> posted_;  ///< posted writes whose grants are to be dropped
+  MemoryAddresses addresses_;
+  std::vector<uint64_t> coef_bytes_;
+  std::vector<CoefficientRam> coef_rams_;
+  std::optional<VoxelCache> cache_;
+  uint64_t beats_ = 0;
+  std::vector<uint64_t> wait_cycles_, access_cycles_;  ///< per requester
+};
+
+}  // namespace rtm
