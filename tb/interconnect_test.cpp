@@ -174,3 +174,25 @@ TEST(InterconnectRender, TheSummarySaysWhatTheLinksCarried) {
 }
 
 }  // namespace
+
+// Streamed rays interleave the host's work and the link's: the phases tell them apart, so a link
+// too slow to feed the PEs is named, and so is a host too slow to make the rays.
+TEST(InterconnectRender, StreamedRaysNameTheSlowLinkOrTheSlowHost) {
+  Tmp tmp;
+  const std::string args = kScene + " --size 16x16 --pes 2 --set ray_block=8 --set host_voxel_cycles=0";
+  const json link = render(tmp, "link", args + " --set host_ray_cycles=1 --set link_bandwidth_mb_s=0.5");
+  const json host = render(tmp, "host", args + " --set host_ray_cycles=60000 --set link_bandwidth_mb_s=1000");
+  ASSERT_FALSE(link.is_null() || host.is_null());
+  EXPECT_EQ(link["bottleneck"], "interconnect") << link["bottleneck_reason"];
+  EXPECT_EQ(host["bottleneck"], "host_preprocessing") << host["bottleneck_reason"];
+  for (const json* j : {&link, &host}) {
+    EXPECT_NEAR((*j)["host"]["work_cycles"].get<double>(), (*j)["phases"]["host_preprocess_cycles"].get<double>(), 1.0);
+    const json& p = (*j)["phases"];
+    EXPECT_NEAR(p["host_preprocess_cycles"].get<double>() + p["transfer_cycles"].get<double>() + p["pe_cycles"].get<double>() +
+                    p["gather_cycles"].get<double>(),
+                (*j)["cycles"].get<double>(), 1.0)
+        << "the four phases add up to the frame";
+  }
+  EXPECT_LT(link["phases"]["host_preprocess_cycles"].get<double>(), link["phases"]["transfer_cycles"].get<double>());
+  EXPECT_GT(host["phases"]["host_preprocess_cycles"].get<double>(), host["phases"]["transfer_cycles"].get<double>());
+}

@@ -120,5 +120,27 @@ TEST(LocalMemory, TheConstantsItNowTimesAreRefusedNamingTheirReplacement) {
   }
 }
 
+// The host's writes go through the PE's memory in bursts as they arrive (units/pe_memory.h): rays
+// streaming in while the units work contend with them for one port; the gather is one counted read.
+TEST(LocalMemory, TheHostsWritesComeInBurstsAndContendWithTheUnits) {
+  Tmp tmp;
+  constexpr uint64_t kBurst = 64, kRay = 28, kPixel = 16, kBlock = 8, kPixels = 16 * 16;
+  const std::string args = kScenes + "balls-1.nff --size 16x16 --set ray_block=8 --set link_bandwidth_mb_s=10000" + kNoHostWork;
+  const json ideal = render(tmp, "ideal", args);
+  const json one = render(tmp, "one", args + " --set memory_ports=1 --set memory_bytes_per_cycle=1");
+  ASSERT_FALSE(ideal.is_null() || one.is_null());
+  const uint64_t scene = one["host"]["scene_bytes"].get<uint64_t>();
+  const uint64_t bursts = (scene + kBurst - 1) / kBurst + kPixels / kBlock * ((kBlock * kRay + kBurst - 1) / kBurst);
+  for (const json* j : {&ideal, &one}) {
+    const json& host = (*j)["memory"]["requesters"]["host"];
+    EXPECT_EQ(host["requests"].get<uint64_t>(), bursts + 1) << "every burst, and the gather's read";
+    EXPECT_EQ(host["bytes"].get<uint64_t>(), scene + kPixels * (kRay + kPixel));
+  }
+  EXPECT_EQ(ideal["memory"]["requesters"]["host"]["stall_cycles"], 0);
+  EXPECT_GT(one["memory"]["requesters"]["host"]["stall_cycles"].get<uint64_t>(), 0u) << "a burst waited for the units' reads";
+  EXPECT_EQ(one["memory"]["ports"][0]["busy_cycles"], one["memory"]["beats"]) << "the port carried the host's bursts too";
+  EXPECT_EQ(read_image(tmp / "one.exr").rgb, read_image(tmp / "ideal.exr").rgb);
+}
+
 }  // namespace
 }  // namespace rtm::test

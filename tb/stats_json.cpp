@@ -206,6 +206,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
           {"host",
            {{"voxels_done_cycle", cyc(m.host.voxels)},
             {"rays_done_cycle", cyc(m.host.rays)},
+            {"work_cycles", cyc(m.host.work)},
             {"transfer_done_cycle", cyc(m.host.transfer)},
             {"pes_done_cycle", cyc(m.host.pes_done)},
             {"gathered_cycle", cyc(m.host.gathered)},

@@ -26,7 +26,7 @@ Bottleneck bottleneck(const FrameProfile& p) {
   if (p.memory_access >= 0.5 || p.memory_wait >= 0.5)
     return {"memory", "reads of local memory " + percent(p.memory_access) + " of the units' item-cycles, results waiting for it " +
                           percent(p.memory_wait) + " of the PEs' working windows (summed over the units); the busiest port busy " +
-                          percent(p.memory_port)};
+                          percent(p.memory_port) + " of the frame"};
 
   const UnitShares& u = p.issue;
   const std::vector<std::pair<double, const char*>> units = {

@@ -94,7 +94,7 @@ TEST(Bottleneck, LocalMemoryWhenReadsOrWaitsDominate) {
   p.memory_port = 0.25;
   EXPECT_EQ(bottleneck(p).name, "memory");
   EXPECT_EQ(bottleneck(p).reason, "reads of local memory 60.0% of the units' item-cycles, results waiting for it 0.0% of the "
-                                  "PEs' working windows (summed over the units); the busiest port busy 25.0%");
+                                  "PEs' working windows (summed over the units); the busiest port busy 25.0% of the frame");
   p.memory_access = 0.1;
   p.memory_wait = 0.8;
   EXPECT_EQ(bottleneck(p).name, "memory");

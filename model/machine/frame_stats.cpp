@@ -45,8 +45,10 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
   FrameProfile f;
   f.total = double(m.cycles);
-  f.host_preprocess = m.host.rays / period;
-  f.transfer = (m.host.transfer - m.host.rays) / period;
+  // Streamed rays overlap the host's work and the link's: what is not the host's work before the
+  // transfer is done is waiting for the link.
+  f.host_preprocess = m.host.work / period;
+  f.transfer = (m.host.transfer - m.host.work) / period;
   f.pe = (m.host.pes_done - m.host.transfer) / period;
   f.gather = (m.host.gathered - m.host.pes_done) / period;
   double window = 0, longest = 0, stall = 0, memory_wait = 0, memory_access = 0, held = 0;
@@ -61,8 +63,9 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
     if (i >= m.memory_use.size()) continue;
     memory_wait += double(m.memory_use[i].wait_cycles());
     memory_access += double(m.memory_use[i].access_cycles());
+    // Of the frame, not the working window: the port also carries the host's writes before it.
     for (uint64_t busy : m.memory_use[i].port_busy_cycles)
-      if (w > 0) f.memory_port = std::max(f.memory_port, double(busy) / w);
+      if (m.cycles > 0) f.memory_port = std::max(f.memory_port, double(busy) / double(m.cycles));
   }
   f.busy = divided(sum(m, c, &UnitStats::busy_cycles), window);
   f.issue = divided(sum(m, c, &UnitStats::issue_cycles), window);

@@ -34,6 +34,7 @@ struct TwoPes {
     m.cycles = 1200;
     m.mac_products = 2000;
     m.host.rays = at(100);
+    m.host.work = at(100);
     m.host.transfer = at(150);
     m.host.pes_done = at(1150);
     m.host.gathered = at(1200);
@@ -93,6 +94,27 @@ TEST(FrameStats, ProfileOverTheWorkingWindows) {
   EXPECT_DOUBLE_EQ(f.starved.search, 300.0 / 1500);
   EXPECT_DOUBLE_EQ(f.credit_stall, 150.0 / 1500);
   EXPECT_DOUBLE_EQ(f.imbalance, 1000.0 / 750);
+}
+
+// Streamed rays: the host's last ray is made late, but it worked only 60 of the 150 cycles before
+// the transfer was done; the rest it waited for the link.
+TEST(FrameStats, StreamedRaysSplitTheHostsWorkFromItsWaitForTheLink) {
+  TwoPes t;
+  t.result.host.rays = sc_core::sc_time(10 * 140, sc_core::SC_NS);
+  t.result.host.work = sc_core::sc_time(10 * 60, sc_core::SC_NS);
+  const FrameProfile f = frame_stats(t.result, t.config).profile;
+  EXPECT_DOUBLE_EQ(f.host_preprocess, 60);
+  EXPECT_DOUBLE_EQ(f.transfer, 90);
+  EXPECT_DOUBLE_EQ(f.host_preprocess + f.transfer + f.pe + f.gather, f.total);
+}
+
+// The busiest port, over the frame: it carries the host's writes outside the working windows too.
+TEST(FrameStats, TheBusiestMemoryPortOverTheFrame) {
+  TwoPes t;
+  t.result.memory_use.resize(2);
+  t.result.memory_use[0].port_busy_cycles = {300, 600};
+  t.result.memory_use[1].port_busy_cycles = {900};
+  EXPECT_DOUBLE_EQ(frame_stats(t.result, t.config).profile.memory_port, 900.0 / 1200);
 }
 
 TEST(FrameStats, EachSearchUnitOverItsPesWorkingWindow) {

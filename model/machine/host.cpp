@@ -84,7 +84,10 @@ void Host::host_sleep_until(uint64_t t) {
 
 void Host::wait_for_a_port() { host_sleep_until(net_.host_free()); }
 
-void Host::host_wait(sc_time t) { host_sleep_until(now() + t.value()); }
+void Host::host_work(sc_time t) {
+  times.work += t;
+  host_sleep_until(now() + t.value());
+}
 
 void Host::run() {
   const sc_time host_cycle(config_.host_clock_ns, sc_core::SC_NS);
@@ -92,7 +95,7 @@ void Host::run() {
 
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
   // host is charged per primitive reference it registers).
-  host_wait(checked_periods(host_cycle, double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+  host_work(checked_periods(host_cycle, double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
                             "the host's voxel-data generation"));
   times.voxels = sc_core::sc_time_stamp();
 
@@ -147,7 +150,7 @@ void Host::run() {
   if (config_.ray_block == 0 || pe_rays) {
     // The paper's flow: all pre-processing first, then every PE's data in turn.
     if (!pe_rays)
-      host_wait(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * pixels),
+      host_work(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * pixels),
                                 "the host's primary-ray generation"));
     times.rays = sc_core::sc_time_stamp();
     if (config_.broadcast) send_scene_to_all();
@@ -164,7 +167,7 @@ void Host::run() {
         std::vector<Ray> rays = rays_of(pe, from, size_t(config_.ray_block));
         if (rays.empty()) continue;
         any = true;
-        host_wait(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * rays.size()),
+        host_work(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * rays.size()),
                                   "the host's primary-ray generation"));
         send_rays(pe, std::move(rays));
       }

@@ -23,6 +23,9 @@ namespace rtm {
 struct HostTimes {
   sc_core::sc_time voxels, rays, transfer, pes_done, gathered;
   sc_core::sc_time link_busy = sc_core::SC_ZERO_TIME;  ///< summed over the links
+  /// The host's own work (voxel and primary-ray generation) before `transfer`; the rest of that
+  /// time it waited for the link. The two differ from `rays` when the rays stream (ray_block > 0).
+  sc_core::sc_time work = sc_core::SC_ZERO_TIME;
 };
 
 class Host : public sc_core::sc_module {
@@ -54,7 +57,8 @@ class Host : public sc_core::sc_module {
   void host_sleep_until(uint64_t t);
   /// After asking the interconnect for a transfer: on until one of the host's ports is free.
   void wait_for_a_port();
-  void host_wait(sc_core::sc_time t);
+  /// The host's own work for `t`, counted in times.work.
+  void host_work(sc_core::sc_time t);
   void run();
 
   MachineConfig config_;

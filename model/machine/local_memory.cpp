@@ -9,16 +9,19 @@ LocalMemory::LocalMemory(sc_core::sc_module_name name, PeContext& ctx, size_t pi
   socket.register_b_transport(this, &LocalMemory::b_transport);
 }
 
-void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time&) {
+void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time& delay) {
   const uint64_t addr = t.get_address();
   const size_t len = t.get_data_length();
   t.set_response_status(tlm::TLM_OK_RESPONSE);
+  // A write arrives over the transfer's last hop, from now until `delay` later: in PE cycles.
+  const uint64_t period = ctx_.period.value(), now = sc_core::sc_time_stamp().value();
+  const uint64_t from = (now + period - 1) / period, to = (now + delay.value() + period - 1) / period;
   if (t.is_write() && addr == kSceneBase) {
     SceneImageExtension* ext = nullptr;
     t.get_extension(ext);
     if (!ext || !ext->image) return t.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
     ctx_.image = ext->image;
-    ctx_.memory->count(ctx_.memory->host(), ext->image->bytes);
+    ctx_.memory->host_write(0, ext->image->bytes, from, to);
   } else if (t.is_write() && addr == kRayBase && len % sizeof(Ray) == 0) {
     const size_t n = len / sizeof(Ray);
     const size_t old = rays.size();
@@ -26,7 +29,8 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time&) {
     if (n > 0) std::memcpy(static_cast<void*>(rays.data() + old), t.get_data_ptr(), len);
     rays_arrived.notify(sc_core::SC_ZERO_TIME);
     const bool camera = ctx_.config.ray_generation == MachineConfig::RayGeneration::Pe;
-    if (n > 0) ctx_.memory->count(ctx_.memory->host(), camera ? kCameraRecordBytes : n * kRayRecordBytes);
+    const MemoryAddresses& at = ctx_.memory->addresses();
+    if (n > 0) ctx_.memory->host_write(camera ? at.rays : at.primary_ray(old), camera ? kCameraRecordBytes : n * kRayRecordBytes, from, to);
   } else if (t.is_read() && addr == kFrameBase && len == frame.size() * sizeof(PixelSum)) {
     if (len > 0) std::memcpy(t.get_data_ptr(), frame.data(), len);  // a PE without pixels has no frame buffer
     // The ids travel in the frame entries' bytes: one read of the frame buffer.

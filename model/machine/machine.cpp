@@ -506,6 +506,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     r.mac_issue_cycles += k.mac.issue_cycles;
     r.spills += k.spills;
     r.per_pe.push_back(k);
+    pe->ctx.memory->end_of_frame();
     r.memory_use.push_back(pe->ctx.memory->use());
   }
   r.fifos = summarise_fifos(top.pes, r.end);

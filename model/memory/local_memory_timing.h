@@ -110,6 +110,8 @@ class LocalMemoryTiming {
   /// or was collected.
   Grant collect(Ticket t);
 
+  /// The earliest cycle a request may still be made for.
+  uint64_t open_from() const { return open_from_; }
   const Config& config() const { return config_; }
   const std::vector<RequesterStats>& requesters() const { return requesters_; }
   /// With ports = 0: as many as were ever needed at once.

@@ -61,6 +61,12 @@ constexpr uint64_t kMaterialRecordWords = 8;
 /// the RGB, without the primitive id.
 constexpr uint64_t kBrightnessBytes = kPixelRecordBytes - kPrimitiveIdBytes;
 
+// ---- The host's transfers ----
+
+/// What the PE's network interface writes into local memory at once of a transfer coming in: a
+/// burst of 16 beats at the default port width (units/pe_memory.h, "The host's traffic").
+constexpr uint64_t kHostBurstBytes = 64;
+
 // ---- Where each record starts ----
 
 /// The addresses of a PE's local memory, from 0 in the order of memory_layout's sections:

@@ -52,6 +52,7 @@ PeMemory::PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pix
 
 void PeMemory::request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
   beats_ += (bytes + width_ - 1) / width_;
+  if (timing_ && who != host()) post_host_bursts(cycle);
   if (!timing_) {
     // Unloaded, the data is there need - unloaded(bytes) >= 0 cycles before the plan needs it.
     count(who, bytes);
@@ -77,6 +78,38 @@ void PeMemory::post(int who, uint64_t address, uint64_t bytes, uint64_t cycle) {
   for (const MemoryWait::Pending& p : w.pending) posted_.push_back(p.ticket);
 }
 
+void PeMemory::host_write(uint64_t address, uint64_t bytes, uint64_t from, uint64_t to) {
+  const uint64_t bursts = (bytes + kHostBurstBytes - 1) / kHostBurstBytes, span = to - from;
+  for (uint64_t k = 0; k < bursts; ++k) {
+    const uint64_t offset = k * kHostBurstBytes;
+    const Burst b{from + uint64_t((unsigned __int128)span * (k + 1) / bursts), address + offset,
+                  std::min(kHostBurstBytes, bytes - offset)};
+    if (!timing_) {
+      beats_ += (b.bytes + width_ - 1) / width_;
+      count(host(), b.bytes);
+      continue;
+    }
+    // A PE's transfers come one after another over its last link, so this is nearly always the end.
+    host_bursts_.insert(std::upper_bound(host_bursts_.begin(), host_bursts_.end(), b,
+                                         [](const Burst& x, const Burst& y) { return x.cycle < y.cycle; }),
+                        b);
+  }
+}
+
+void PeMemory::post_host_bursts(uint64_t cycle) {
+  while (!host_bursts_.empty() && host_bursts_.front().cycle <= cycle) {
+    const Burst b = host_bursts_.front();
+    host_bursts_.pop_front();
+    // Delivered when its transfer arrives, so never for a cycle the units have closed; the
+    // maximum keeps the timing's order should a transfer's first burst fall in the cycle at hand.
+    post(host(), b.address, b.bytes, std::max(b.cycle, timing_->open_from()));
+  }
+}
+
+void PeMemory::end_of_frame() {
+  if (timing_) post_host_bursts(UINT64_MAX);
+}
+
 void PeMemory::count(int who, uint64_t bytes) {
   Stats& s = counted_[size_t(who)];
   ++s.requests;
@@ -93,7 +126,10 @@ uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_
   const uint64_t now_cycle = now / cycle;
   bool unknown = false;
   if (!w.pending.empty()) {
-    if (now_cycle > 0) timing_->resolve(now_cycle - 1);
+    if (now_cycle > 0) {
+      post_host_bursts(now_cycle - 1);
+      timing_->resolve(now_cycle - 1);
+    }
     collect_posted();
     size_t kept = 0;
     for (const MemoryWait::Pending& p : w.pending) {
@@ -119,8 +155,11 @@ uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_
 }
 
 std::vector<PeMemory::Stats> PeMemory::requesters() const {
-  std::vector<Stats> s = timing_ ? timing_->requesters() : counted_;
-  s[size_t(host())] = counted_[size_t(host())];
+  if (!timing_) return counted_;
+  std::vector<Stats> s = timing_->requesters();
+  // The gather's read is counted beside the host's timed writes.
+  s[size_t(host())].requests += counted_[size_t(host())].requests;
+  s[size_t(host())].bytes += counted_[size_t(host())].bytes;
   return s;
 }
 

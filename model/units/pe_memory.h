@@ -9,12 +9,20 @@
 // (MemoryWait); when its result is due, step_unit (units/unit_step.h) asks when the data really
 // came, and a result whose data came late waits for it exactly as for a full output FIFO.
 //
+// The host's traffic. The PE's network interface writes what a transfer brings into local memory
+// in bursts of kHostBurstBytes as it comes in, spread evenly over the transfer's last hop (so a
+// scene copy or a block of rays streaming in while the units work contends with their requests);
+// the bursts are requested from the timing, before any unit's request of their cycle or a later
+// one. The gather's read comes after the PE has finished, when nothing else uses the memory: it
+// is counted, not timed.
+//
 // The fast path. With an ideal memory (memory_ports = 0 and memory_banks = 0) every request takes
 // its unloaded time, so no plan is ever late: requests are only counted, and no reservation table
 // is kept.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -92,8 +100,13 @@ class PeMemory {
   VoxelRead voxel_read(uint64_t address, uint64_t bytes);
   /// A write nobody waits for (a posted write).
   void post(int who, uint64_t address, uint64_t bytes, uint64_t cycle);
-  /// Traffic that is counted but not timed (the host's transfers: docs/memory.md).
+  /// Traffic that is counted but not timed (the host's gather: docs/memory.md).
   void count(int who, uint64_t bytes);
+  /// A host transfer of `bytes` to `address` arriving over PE cycles [from, to]: its bursts, the
+  /// last at `to`, are posted as the cycles come (see the top).
+  void host_write(uint64_t address, uint64_t bytes, uint64_t from, uint64_t to);
+  /// The frame is over: the host's bursts still to come are posted (they meet no other request).
+  void end_of_frame();
 
   /// When an item accepted at `accepted` (ticks) and due at `due` may leave, checked at `now`
   /// (ticks, >= due; `cycle`: ticks a PE cycle): max(due, each request's completion plus what the
@@ -120,12 +133,18 @@ class PeMemory {
 
  private:
   void collect_posted();
+  /// Posts the host's bursts due up to `cycle`.
+  void post_host_bursts(uint64_t cycle);
 
   const int search_units_, lanes_;
   const uint64_t latency_, width_;
   std::unique_ptr<LocalMemoryTiming> timing_;  ///< null: the ideal memory's fast path
   std::vector<Stats> counted_;                 ///< the fast path's statistics, and the host's
   std::vector<LocalMemoryTiming::Ticket> posted_;  ///< posted writes whose grants are to be dropped
+  struct Burst {
+    uint64_t cycle, address, bytes;
+  };
+  std::deque<Burst> host_bursts_;  ///< by cycle: the host's writes still to come
   MemoryAddresses addresses_;
   std::vector<uint64_t> coef_bytes_;
   std::vector<CoefficientRam> coef_rams_;
