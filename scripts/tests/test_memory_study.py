@@ -1,5 +1,7 @@
 """scripts/memory-study on tiny cases: the layout's sections add up and only the frame's depend on
-the PE count; the interconnect's rows keep the relations docs/machine.md's formulas give."""
+the PE count; the interconnect's rows keep the relations docs/machine.md's formulas give; the
+ports study measures each machine against its own unlimited ports; the RAM study's accesses do not
+depend on the capacity, its misses and costs do."""
 
 import csv
 import os
@@ -14,14 +16,6 @@ STUDY = os.path.join(SCRIPTS, "memory-study")
 SCENES = os.path.join(ROOT, "scenes", "spd")
 SECTIONS = ["primitives_bytes", "voxel_data_bytes", "lights_and_materials_bytes", "primary_rays_bytes",
             "frame_buffer_bytes"]
-
-
-@pytest.fixture
-def rtm():
-    path = os.environ.get("RTM_BINARY", "")
-    if not os.access(path, os.X_OK):
-        pytest.skip("RTM_BINARY names no rtm executable (ctest sets it)")
-    return path
 
 
 def study(tmp_path, *args, rtm):
@@ -117,3 +111,51 @@ def test_the_topologies_keep_the_relations_of_their_formulas(tmp_path, rtm):
     assert (tmp_path / "out" / "interconnect-phases.png").stat().st_size > 10000
     assert (tmp_path / "out" / "interconnect-efficiency.png").stat().st_size > 10000
     assert "| star-2 |" in (tmp_path / "out" / "interconnect.md").read_text()
+
+
+def run_spec(tmp_path, name, spec, rtm):
+    (tmp_path / (name + ".yaml")).write_text(yaml.safe_dump(spec))
+    r = study(tmp_path, name, "--spec", str(tmp_path / (name + ".yaml")), rtm=rtm)
+    assert r.returncode == 0, r.stdout + r.stderr
+    return rows(tmp_path / "out" / (name + ".csv"))
+
+
+def test_the_ports_study_compares_each_machine_with_its_own_unlimited_ports(tmp_path, rtm):
+    spec = {"name": "ports", "scene_dir": SCENES, "scenes": ["balls-1.nff"], "sizes": ["16x16"], "pes": [1],
+            "search_units": [1, 4], "set": {"memory_ports": [0, 1], "memory_banks": [0], "memory_latency": [16]}, "images": False,
+            "variants": {"default": {"preset": "default"}, "paper": {"preset": "paper"}}}
+    got = run_spec(tmp_path, "ports", spec, rtm)
+    assert len(got) == 8 and all(x["status"] == "ok" for x in got)
+    at = {(x["variant"], int(x["search_units"]), int(x["memory_ports"])): x for x in got}
+    for (variant, units, ports), x in at.items():
+        unlimited = at[variant, units, 0]
+        assert float(x["slowdown"]) == pytest.approx(int(x["cycles"]) / int(unlimited["cycles"]))
+        if ports == 0:
+            # No port limit and no banks: the ideal memory, which keeps no ports.
+            assert float(x["busiest_port_utilisation"]) == 0 and int(x["search_stall_cycles"]) == 0
+        else:
+            # One slow port shared by the search units, the lanes and the rest: they wait for it.
+            assert 0 < float(x["busiest_port_utilisation"]) <= 1
+            assert int(x["search_stall_cycles"]) > 0 and float(x["slowdown"]) > 1
+    table = (tmp_path / "out" / "ports.md").read_text()
+    assert "balls-1, 16x16, 1 PEs, paper preset" in table and "| memory ports | search units 1 | search units 4 |" in table
+    assert (tmp_path / "out" / "ports.png").stat().st_size > 10000
+
+
+def test_the_ram_study_counts_one_access_per_primitive_tested_whatever_its_capacity(tmp_path, rtm):
+    spec = {"name": "ram", "scene_dir": SCENES, "scenes": ["balls-1.nff"], "sizes": ["16x16"], "pes": [1],
+            "set": {"mac_ram_primitives": [0, 1, 4]}, "images": False,
+            "variants": {"default": {"preset": "default"}, "paper": {"preset": "paper"}}}
+    got = run_spec(tmp_path, "ram", spec, rtm)
+    assert len(got) == 6 and all(x["status"] == "ok" for x in got)
+    at = {(x["variant"], int(x["mac_ram_primitives"])): x for x in got}
+    for variant in ("default", "paper"):
+        every, one, four = (at[variant, c] for c in (0, 1, 4))
+        assert int(every["misses"]) == 0 and float(every["hit_rate"]) == 1 and float(every["slowdown"]) == 1
+        assert {int(x["hits"]) + int(x["misses"]) for x in (every, one, four)} == {int(every["hits"])}
+        # A smaller RAM misses more, loads more coefficient bytes and takes longer.
+        assert int(one["misses"]) >= int(four["misses"]) > 0
+        assert int(one["lane_bytes"]) >= int(four["lane_bytes"]) > int(every["lane_bytes"])
+        assert float(one["slowdown"]) >= float(four["slowdown"]) > 1
+    assert "| 4 |" in (tmp_path / "out" / "ram.md").read_text()
+    assert (tmp_path / "out" / "ram.png").stat().st_size > 10000

@@ -7,7 +7,6 @@ import os
 import re
 import subprocess
 
-import pytest
 
 SCRIPTS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 STRESS = os.path.join(SCRIPTS, "stress-deadlock")
@@ -24,14 +23,6 @@ def load_script():
 def stress(*args, env=None):
     return subprocess.run([STRESS, *map(str, args)], capture_output=True, text=True, stdin=subprocess.DEVNULL,
                           timeout=300, env=dict(os.environ, **(env or {})))
-
-
-@pytest.fixture
-def rtm():
-    path = os.environ.get("RTM_BINARY", "")
-    if not os.access(path, os.X_OK):
-        pytest.skip("RTM_BINARY names no rtm executable (ctest sets it)")
-    return path
 
 
 def test_random_configurations_finish_and_each_seed_gives_the_same_machine(rtm):
