@@ -77,19 +77,19 @@ void LocalMemoryTiming::admit(const Request& r) {
   // Conflicts: the banks its unloaded schedule would find booked.
   std::vector<int> conflicting;
   for (const Use& u : uses)
-    if (bank_booked_[size_t(u.bank)].count(r.cycle + u.beat)) conflicting.push_back(u.bank);
+    if (bank_booked_[size_t(u.bank)].booked(r.cycle + u.beat)) conflicting.push_back(u.bank);
   std::sort(conflicting.begin(), conflicting.end());
   conflicting.erase(std::unique(conflicting.begin(), conflicting.end()), conflicting.end());
   for (int b : conflicting) ++bank_stats_[size_t(b)].conflicts;
 
   uint64_t start = r.cycle;
   int port = -1;
-  while (!banks_free(uses, start) || (port = free_port(start, n)) < 0) ++start;
+  while (!banks_free(uses, start) || (port = free_port(start, n)) < 0) start = next_start(start);
 
-  for (uint64_t k = 0; k < n; ++k) port_booked_[size_t(port)].insert(start + k);
+  for (uint64_t k = 0; k < n; ++k) port_booked_[size_t(port)].book(start + k);
   port_stats_[size_t(port)].busy_cycles += n;
   for (const Use& u : uses) {
-    bank_booked_[size_t(u.bank)].insert(start + u.beat);
+    bank_booked_[size_t(u.bank)].book(start + u.beat);
     ++bank_stats_[size_t(u.bank)].busy_cycles;
   }
   RequesterStats& s = requesters_[size_t(r.requester)];
@@ -115,7 +115,7 @@ std::vector<LocalMemoryTiming::Use> LocalMemoryTiming::bank_uses(uint64_t addres
 
 bool LocalMemoryTiming::banks_free(const std::vector<Use>& uses, uint64_t start) const {
   for (const Use& u : uses)
-    if (bank_booked_[size_t(u.bank)].count(start + u.beat)) return false;
+    if (bank_booked_[size_t(u.bank)].booked(start + u.beat)) return false;
   return true;
 }
 
@@ -123,8 +123,8 @@ bool LocalMemoryTiming::banks_free(const std::vector<Use>& uses, uint64_t start)
 /// port when none is.
 int LocalMemoryTiming::free_port(uint64_t start, uint64_t beats) {
   for (size_t p = 0; p < port_booked_.size(); ++p) {
-    const auto next = port_booked_[p].lower_bound(start);
-    if (next == port_booked_[p].end() || *next >= start + beats) return int(p);
+    const uint64_t next = port_booked_[p].next_booked(start);
+    if (next == BookedCycles::kNone || next >= start + beats) return int(p);
   }
   if (config_.ports > 0) return -1;
   port_booked_.emplace_back();
@@ -137,7 +137,15 @@ void LocalMemoryTiming::forget_before(uint64_t cycle) {
   if (cycle <= forgotten_before_) return;
   forgotten_before_ = cycle;
   for (auto* booked : {&port_booked_, &bank_booked_})
-    for (std::set<uint64_t>& s : *booked) s.erase(s.begin(), s.lower_bound(cycle));
+    for (BookedCycles& b : *booked) b.forget_before(cycle);
+}
+
+/// A start needs a port free in its first cycle: while every port is booked, none can start.
+uint64_t LocalMemoryTiming::next_start(uint64_t start) const {
+  if (config_.ports == 0) return start + 1;
+  uint64_t next = BookedCycles::kNone;
+  for (const BookedCycles& p : port_booked_) next = std::min(next, p.next_free(start));
+  return std::max(next, start + 1);
 }
 
 }  // namespace rtm

@@ -45,12 +45,12 @@
 #pragma once
 
 #include <cstdint>
-#include <set>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "machine/config.h"
+#include "memory/booked_cycles.h"
 
 namespace rtm {
 
@@ -134,13 +134,15 @@ class LocalMemoryTiming {
   std::vector<Use> bank_uses(uint64_t address, uint64_t bytes) const;
   bool banks_free(const std::vector<Use>& uses, uint64_t start) const;
   int free_port(uint64_t start, uint64_t beats);
+  /// The next start worth trying after `start` fails.
+  uint64_t next_start(uint64_t start) const;
   void forget_before(uint64_t cycle);
 
   Config config_;
   std::vector<RequesterStats> requesters_;
   std::vector<PortStats> port_stats_;
   std::vector<BankStats> bank_stats_;
-  std::vector<std::set<uint64_t>> port_booked_, bank_booked_;  ///< booked cycles, none before the oldest open request
+  std::vector<BookedCycles> port_booked_, bank_booked_;  ///< none before the oldest open request
   std::vector<Request> waiting_;  ///< the requests of one cycle, not yet admitted
   std::unordered_map<Ticket, Grant> grants_;
   Ticket next_ticket_ = 0;
