@@ -123,7 +123,7 @@ class PeMemory {
   VoxelCache* voxel_cache() { return cache_ ? &*cache_ : nullptr; }
   const VoxelCache* voxel_cache() const { return cache_ ? &*cache_ : nullptr; }
 
-  /// Per requester (named), its requests, bytes and stall cycles; the host's counted, not timed.
+  /// Per requester (named), its requests, bytes and stall cycles; the host's gather counted, not timed.
   std::vector<Stats> requesters() const;
   /// The timing's ports and banks; null with the ideal memory (none kept).
   const LocalMemoryTiming* timing() const { return timing_.get(); }
