@@ -52,6 +52,7 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
     places_.emplace_back(cycle_, &pe.counters.unit(k, int(u - first)), k, int(u - first));
   }
   due_at_.assign(places_.size(), kNever);
+  due_now_.assign(places_.size(), 0);
   for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
   for (size_t lane = 0; lane < lanes_; ++lane) {
     macs_.emplace_back(pe, int(lane));
@@ -64,17 +65,18 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
 
 uint64_t PeEngine::next_instant() {
   uint64_t next = pending_step_;
-  due_now_.clear();
+  size_t n = 0;  // due_now_ holds a place for every unit: no bounds to check
   const uint64_t* due = due_at_.data();
-  for (size_t u = 0, n = due_at_.size(); u < n; ++u) {
+  for (size_t u = 0, units = due_at_.size(); u < units; ++u) {
     const uint64_t at = due[u];
     if (at > next) continue;
     if (at < next) {
       next = at;
-      due_now_.clear();
+      n = 0;
     }
-    if (at != kNever) due_now_.push_back(u);
+    due_now_[n++] = u;
   }
+  due_count_ = next == kNever ? 0 : n;
   return next;
 }
 
@@ -115,25 +117,29 @@ void PeEngine::refresh(size_t unit) {
 void PeEngine::step(uint64_t now) {
   if (pending_step_ == now) pending_step_ = kNever;
   // The units due now (found by next_instant), in rank order.
-  for (size_t i = 1; i < due_now_.size(); ++i)  // a few at most: insertion sort
+  for (size_t i = 1; i < due_count_; ++i)  // a few at most: insertion sort
     for (size_t j = i; j > 0 && places_[due_now_[j]].order < places_[due_now_[j - 1]].order; --j)
       std::swap(due_now_[j], due_now_[j - 1]);
-  for (size_t u : due_now_) {
+  for (size_t k = 0; k < due_count_; ++k) {
+    const size_t u = due_now_[k];
     places_[u].wakeups.fired(now);
     refresh(u);
     wake(u, now);
   }
   // What they wrote becomes visible. The front buffer is poked by a write to any of its inputs.
-  bool poked = front_poked_;
+  bool poked = front_poked_, written = false;
   front_poked_ = false;
   for (Fifo* f : touched_) {
     poked = poked || (f->written && f->feeds_front);
+    written = written || f->written;
     f->visible = f->count;
     f->written = false;
     f->reads_now = 0;
   }
   // Units waiting for input take it, and the front buffer, if it was waiting, drains its inputs.
-  take_inputs(now);
+  // A unit waits only after finding its input empty, and what is visible grows only here, by what
+  // was written: with nothing written in the instant no waiting unit has an input to take.
+  if (written) take_inputs(now);
   if (front_.waiting_for_input() && poked) wake(kFront, now);
   // Places freed by reads are there for the next instant's writers.
   for (Fifo* f : touched_) {
@@ -285,24 +291,26 @@ struct PeEngine::Ops {
 };
 
 void PeEngine::wake(size_t unit, uint64_t now) {
-  // Whatever woke it, a unit decides again whether it waits for input.
+  // Whatever woke it, a unit decides again whether it waits for input; then one instance of the
+  // step per kind of unit: its operations inline, no switch per call.
   Place& place = places_[unit];
+  auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, pe_.memory.get(), ops); };
   switch (place.kind) {
     case UnitKind::FrontBuffer:
       front_.woke(now);
-      break;
-    case UnitKind::Search: waiting_search_.busy(place.index); break;
-    case UnitKind::Mac: waiting_macs_.busy(place.index); break;
-    default: place.waiting = false;
-  }
-  // One instance of the step per kind of unit: its operations inline, no switch per call.
-  auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, pe_.memory.get(), ops); };
-  switch (place.kind) {
-    case UnitKind::FrontBuffer: return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
-    case UnitKind::Search: return step(Ops<UnitKind::Search>{*this, unit, now, place});
-    case UnitKind::Mac: return step(Ops<UnitKind::Mac>{*this, unit, now, place});
-    case UnitKind::Root: return step(Ops<UnitKind::Root>{*this, unit, now, place});
-    case UnitKind::Shading: return step(Ops<UnitKind::Shading>{*this, unit, now, place});
+      return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
+    case UnitKind::Search:
+      waiting_search_.busy(place.index);
+      return step(Ops<UnitKind::Search>{*this, unit, now, place});
+    case UnitKind::Mac:
+      waiting_macs_.busy(place.index);
+      return step(Ops<UnitKind::Mac>{*this, unit, now, place});
+    case UnitKind::Root:
+      place.waiting = false;
+      return step(Ops<UnitKind::Root>{*this, unit, now, place});
+    case UnitKind::Shading:
+      place.waiting = false;
+      return step(Ops<UnitKind::Shading>{*this, unit, now, place});
   }
 }
 

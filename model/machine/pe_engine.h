@@ -85,7 +85,8 @@ class PeEngine {
       touched = true;
     }
     void write(uint32_t v, uint64_t now) {
-      ring[(head + count++) % ring.size()] = v;
+      const size_t at = head + count++;
+      ring[at < ring.size() ? at : at - ring.size()] = v;
       written = true;
       touch();
       meter.change(+1, now);
@@ -132,7 +133,7 @@ class PeEngine {
          : place == kFront ? UnitKind::FrontBuffer : UnitKind::Shading;
   }
 
-  /// The next instant, with the units due then in due_now_.
+  /// The next instant, with the units due then in due_now_ (due_count_ of them).
   uint64_t next_instant();
   void step(uint64_t now);
   void want(size_t unit, uint64_t at);
@@ -174,7 +175,8 @@ class PeEngine {
 
   std::vector<Place> places_;
   std::vector<uint64_t> due_at_;  ///< each place's earliest wake-up (kNever: none), packed: scanned every instant
-  std::vector<size_t> due_now_;
+  std::vector<size_t> due_now_;  ///< the first due_count_ are the units due at the next instant
+  size_t due_count_ = 0;
   uint64_t seq_ = 0;
   uint64_t pending_step_ = kNever;  ///< an instant with no unit due but rays arriving
   bool front_poked_ = false;        ///< an input of the front buffer was written in this instant

@@ -14,10 +14,10 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <deque>
 
 #include "units/output.h"
 #include "units/pe_state.h"
+#include "units/ring_queue.h"
 
 namespace rtm {
 
@@ -226,7 +226,7 @@ class FrontBufferPolicy {
   PeState& pe_;
   const int credits_;
   const size_t rays_expected_;
-  std::deque<Item> queue_;
+  RingQueue<Item> queue_;
   size_t next_primary_ = 0, primaries_ = 0;
   int in_flight_ = 0;
   bool finished_ = false;

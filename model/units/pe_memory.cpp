@@ -15,13 +15,6 @@ std::vector<std::string> requester_names(const MachineConfig& c) {
   return names;
 }
 
-/// Of an access of `cycles`, what its item's plan does not hide: a read within a unit's constant
-/// (needed after the item's latency) hides that much of its time.
-uint64_t visible(uint64_t cycles, uint64_t need, uint64_t latency) {
-  const uint64_t hidden = need > latency ? need - latency : 0;
-  return cycles > hidden ? cycles - hidden : 0;
-}
-
 }  // namespace
 
 PeMemory::PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pixels)
@@ -50,15 +43,9 @@ PeMemory::PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pix
   });
 }
 
-void PeMemory::request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
+void PeMemory::request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
   beats_ += (bytes + width_ - 1) / width_;
-  if (timing_ && who != host()) post_host_bursts(cycle);
-  if (!timing_) {
-    // Unloaded, the data is there need - unloaded(bytes) >= 0 cycles before the plan needs it.
-    count(who, bytes);
-    if (need > 0) access_cycles_[size_t(who)] += visible(unloaded(bytes), need, w.latency);
-    return;
-  }
+  if (who != host()) post_host_bursts(cycle);
   w.who = who;
   w.pending.push_back({timing_->request(who, address, bytes, cycle), need});
 }
@@ -108,12 +95,6 @@ void PeMemory::post_host_bursts(uint64_t cycle) {
 
 void PeMemory::end_of_frame() {
   if (timing_) post_host_bursts(UINT64_MAX);
-}
-
-void PeMemory::count(int who, uint64_t bytes) {
-  Stats& s = counted_[size_t(who)];
-  ++s.requests;
-  s.bytes += bytes;
 }
 
 void PeMemory::collect_posted() {

@@ -90,7 +90,14 @@ class PeMemory {
 
   /// A request made at PE cycle `cycle` for an item whose plan needs its data `need` cycles after it
   /// was taken (need >= unloaded(bytes): on time when unloaded). The unit sets w.latency.
-  void request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w);
+  void request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
+    if (timing_) return request_timed(who, address, bytes, cycle, need, w);
+    // The fast path, inline: every unit asks this on nearly every item. Unloaded, the data is
+    // there need - unloaded(bytes) >= 0 cycles before the plan needs it.
+    beats_ += (bytes + width_ - 1) / width_;
+    count(who, bytes);
+    if (need > 0) access_cycles_[size_t(who)] += visible(unloaded(bytes), need, w.latency);
+  }
   /// A read of voxel data (a search unit's entry, a lane's list) through the voxel cache if there
   /// is one: the cycles the plan gives it (its unloaded time; a cache hit 1, a miss its lines'
   /// fill) and what to request of the memory (bytes 0: a hit, nothing).
@@ -101,7 +108,11 @@ class PeMemory {
   /// A write nobody waits for (a posted write).
   void post(int who, uint64_t address, uint64_t bytes, uint64_t cycle);
   /// Traffic that is counted but not timed (the host's gather: docs/memory.md).
-  void count(int who, uint64_t bytes);
+  void count(int who, uint64_t bytes) {
+    Stats& s = counted_[size_t(who)];
+    ++s.requests;
+    s.bytes += bytes;
+  }
   /// A host transfer of `bytes` to `address` arriving over PE cycles [from, to]: its bursts, the
   /// last at `to`, are posted as the cycles come (see the top).
   void host_write(uint64_t address, uint64_t bytes, uint64_t from, uint64_t to);
@@ -132,6 +143,13 @@ class PeMemory {
   MemoryUse use() const;
 
  private:
+  void request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w);
+  /// Of an access of `cycles`, what its item's plan does not hide: a read within a unit's constant
+  /// (needed after the item's latency) hides that much of its time.
+  static uint64_t visible(uint64_t cycles, uint64_t need, uint64_t latency) {
+    const uint64_t hidden = need > latency ? need - latency : 0;
+    return cycles > hidden ? cycles - hidden : 0;
+  }
   void collect_posted();
   /// Posts the host's bursts due up to `cycle`.
   void post_host_bursts(uint64_t cycle);

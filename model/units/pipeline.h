@@ -72,7 +72,11 @@ class Pipeline {
     else
       due = std::max(due, at(count_ - 1).due + cycle_);
     if (count_ == ring_.size()) grow();
-    at(count_++) = {item, due, now, std::move(wait)};
+    Slot& s = at(count_++);
+    s.item = item;
+    s.due = due;
+    s.accepted = now;
+    s.wait = std::move(wait);
     ready_ = now + interval;
     ++stats_->items;
     stats_->issue_cycles += interval / cycle_;
