@@ -343,13 +343,13 @@ TEST(DdaWalk, RandomRaysAgainstReference) {
     Vec3 o;
     switch (i % 3) {
       case 0:  // inside
-        o = g.box.lo + Vec3(uniform(rng, 0, 1), uniform(rng, 0, 1), uniform(rng, 0, 1)) * e;
+        o = g.box.lo + uniform_zyx(rng, 0, 1) * e;
         break;
       case 1:  // outside, near
-        o = g.box.lo + Vec3(uniform(rng, -1, 2), uniform(rng, -1, 2), uniform(rng, -1, 2)) * e;
+        o = g.box.lo + uniform_zyx(rng, -1, 2) * e;
         break;
       default: {  // on a face
-        o = g.box.lo + Vec3(uniform(rng, 0, 1), uniform(rng, 0, 1), uniform(rng, 0, 1)) * e;
+        o = g.box.lo + uniform_zyx(rng, 0, 1) * e;
         const int a = int(rng() % 3);
         o[a] = rng() % 2 ? g.box.lo[a] : g.box.hi[a];
       }
@@ -642,8 +642,7 @@ TEST(DdaSkipBox, LandsExactlyWhereTheStepsDoOnRandomRays) {
     const Vec3 cell{test::log_uniform(rng, -2, 2), test::log_uniform(rng, -2, 2), test::log_uniform(rng, -2, 2)};
     const Grid g = make_grid({test::uniform(rng, -50, 50), test::uniform(rng, -50, 50), test::uniform(rng, -50, 50)},
                              cell, n);
-    const Vec3 o = g.box.lo + Vec3(test::uniform(rng, -0.2, 1.2), test::uniform(rng, -0.2, 1.2),
-                                   test::uniform(rng, -0.2, 1.2)) * g.box.extent();
+    const Vec3 o = g.box.lo + test::uniform_zyx(rng, -0.2, 1.2) * g.box.extent();
     Vec3 d = test::random_unit(rng);
     if (i % 5 == 0) d[rng() % 3] = (rng() & 1) ? 0.0 : -0.0;  // zero components never step
     const double t_max = i % 3 == 0 ? test::uniform(rng, 0, length(g.box.extent())) : kInf;
@@ -657,10 +656,9 @@ TEST(DdaAdvanceAhead, VisitsTheSameStatesAsAdvance) {
   int visits = 0;
   for (int i = 0; i < 300; ++i) {
     const std::array<int, 3> n{1 + int(rng() % 30), 1 + int(rng() % 30), 1 + int(rng() % 30)};
-    const Grid g = make_grid({test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)},
-                             {test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1)}, n);
-    const Vec3 o = g.box.lo + Vec3(test::uniform(rng, -0.2, 1.2), test::uniform(rng, -0.2, 1.2),
-                                   test::uniform(rng, -0.2, 1.2)) * g.box.extent();
+    const Vec3 cell{test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1)};
+    const Grid g = make_grid({test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)}, cell, n);
+    const Vec3 o = g.box.lo + test::uniform_zyx(rng, -0.2, 1.2) * g.box.extent();
     Vec3 d = i % 7 == 0 ? Vec3(1, 1, i % 2) : test::random_unit(rng);  // some through edges and corners
     if (i % 5 == 0) d[rng() % 3] = 0.0;
     const double t_max = i % 3 == 0 ? test::uniform(rng, 0, length(g.box.extent())) : kInf;

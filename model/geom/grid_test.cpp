@@ -38,14 +38,21 @@ Primitive random_primitive(std::mt19937& rng, const Vec3& centre, double size) {
   const Frame f = random_frame(rng, centre);
   switch (rng() % 9) {
     case 0: return make_sphere(centre, size * uniform(rng, 0.2, 0.6));
-    case 1: return make_ellipsoid(f, Vec3(uniform(rng, 0.1, 0.6), uniform(rng, 0.1, 0.6), uniform(rng, 0.1, 0.6)) * size);
+    case 1: return make_ellipsoid(f, uniform_zyx(rng, 0.1, 0.6) * size);
     case 2: {
       const Vec3 axis = rng() % 3 ? random_unit(rng) : Vec3{0, 0, 1};  // some axis-aligned
       const double r = size * uniform(rng, 0.05, 0.4);
       return make_cone(centre - 0.5 * size * axis, r, centre + 0.5 * size * axis, rng() % 2 ? r : 0.3 * r);
     }
-    case 3: return make_paraboloid(f, size * uniform(rng, 0.2, 1), size * uniform(rng, 0.2, 0.8));
-    case 4: return make_hyperboloid1(f, size * uniform(rng, 0.1, 0.3), size * uniform(rng, 0.1, 0.5), size * 0.4);
+    // Cases 3 and 4 draw their second argument first (test_random.h says why).
+    case 3: {
+      const double height = size * uniform(rng, 0.2, 0.8);
+      return make_paraboloid(f, size * uniform(rng, 0.2, 1), height);
+    }
+    case 4: {
+      const double c = size * uniform(rng, 0.1, 0.5);
+      return make_hyperboloid1(f, size * uniform(rng, 0.1, 0.3), c, size * 0.4);
+    }
     case 5: {
       const double c = size * uniform(rng, 0.05, 0.2);
       return make_hyperboloid2(f, size * uniform(rng, 0.1, 0.3), c, c + size * 0.3);
@@ -75,8 +82,11 @@ Primitive random_primitive(std::mt19937& rng, const Vec3& centre, double size) {
 
 std::vector<Primitive> random_scene(std::mt19937& rng, int count, double extent, const Vec3& offset = {0, 0, 0}) {
   std::vector<Primitive> prims;
-  for (int i = 0; i < count; ++i)
-    prims.push_back(random_primitive(rng, offset + random_point(rng, extent), extent * uniform(rng, 0.1, 0.5)));
+  for (int i = 0; i < count; ++i) {
+    // The size drawn before the centre (test_random.h says why).
+    const double size = extent * uniform(rng, 0.1, 0.5);
+    prims.push_back(random_primitive(rng, offset + random_point(rng, extent), size));
+  }
   return prims;
 }
 
@@ -129,8 +139,7 @@ TEST(GridBuild, ConservativeForRandomRays) {
       // Aim at a random primitive's box, so that most rays hit something; some start inside.
       Vec3 o = offset + random_point(rng, 1.5 * extent);
       const Primitive& aim = prims[rng() % prims.size()];
-      const Vec3 target = aim.bounds.lo + Vec3(uniform(rng, 0, 1), uniform(rng, 0, 1), uniform(rng, 0, 1)) *
-                                               aim.bounds.extent();
+      const Vec3 target = aim.bounds.lo + uniform_zyx(rng, 0, 1) * aim.bounds.extent();
       Vec3 d = length(target - o) > 0 ? normalize(target - o) : random_unit(rng);
       if (ray % 7 == 0) {  // axis-parallel, through the target
         const int axis = int(rng() % 3);
@@ -336,7 +345,7 @@ TEST(GridInterval, QuadricMayVanish) {
   for (int i = 0; i < 3000; ++i) {
     Quadric q;
     for (double& x : q.c) x = uniform(rng, -1, 1);
-    const Vec3 lo = random_point(rng, 3), hi = lo + Vec3(uniform(rng, 0, 1), uniform(rng, 0, 1), uniform(rng, 0, 1));
+    const Vec3 lo = random_point(rng, 3), hi = lo + uniform_zyx(rng, 0, 1);
     bool pos = false, neg = false;
     for (int k = 0; k < 27; ++k) {
       const Vec3 p{k % 3 == 0 ? lo.x : (k % 3 == 1 ? hi.x : (lo.x + hi.x) / 2),

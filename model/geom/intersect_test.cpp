@@ -22,10 +22,23 @@ Vec3 random_point(std::mt19937& rng, double scale) {
   return Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} * scale;
 }
 
+/// ±m·2^e, m with `bits` significant bits (the top one set), e in [e_lo, e_lo + e_count): exact
+/// in few bits. Drawn sign, e, then m (test_random.h says why).
+double random_exact(std::mt19937& rng, int bits, int e_lo, int e_count) {
+  const double sign = random_sign(rng);
+  const int e = int(rng() % unsigned(e_count)) + e_lo;
+  if (bits == 1) return sign * std::ldexp(1.0, e);
+  const unsigned top = 1u << (bits - 1);
+  return sign * std::ldexp(double(top + rng() % top), e);
+}
+
 Quadric random_quadric(std::mt19937& rng) {
   Quadric q;
   const double scale = log_uniform(rng, -2, 2);
-  for (double& c : q.c) c = uniform(rng, -1, 1) * scale * (rng() % 5 == 0 ? 0.0 : 1.0);  // some exact zeros
+  for (double& c : q.c) {
+    const double x = uniform(rng, -1, 1) * scale;
+    c = x * (rng() % 5 == 0 ? 0.0 : 1.0);  // some exact zeros
+  }
   return q;
 }
 
@@ -127,7 +140,12 @@ TEST(MacSchedule, ExactOnSmallIntegers) {
   for (int i = 0; i < 3000; ++i) {
     Quadric q;
     for (double& c : q.c) c = small(rng);
-    const Vec3 u(small(rng), small(rng), small(rng)), v(small(rng), small(rng), small(rng));
+    // z drawn first, then y, then x (test_random.h says why).
+    const auto small_zyx = [&] {
+      const double z = small(rng), y = small(rng);
+      return Vec3{double(small(rng)), y, z};
+    };
+    const Vec3 u = small_zyx(), v = small_zyx();
     const Abg<double> abg = form_abg(load_latches<double>(u, v), load_ram<double>(q));
     const AbgRef ref = abg_reference(q, u, v);
     ASSERT_EQ(abg.a, double(ref.a));
@@ -149,10 +167,10 @@ void expect_unrolled_forms_match(uint32_t seed) {
   std::mt19937 rng(seed);
   for (int i = 0; i < 4000; ++i) {
     Quadric q;
-    for (double& c : q.c) c = (rng() % 3 == 0) ? 0.0 : random_sign(rng) * log_uniform(rng, -3, 3);
+    for (double& c : q.c) c = (rng() % 3 == 0) ? 0.0 : signed_log_uniform(rng, -3, 3);
     if (i % 2) q.c[3] = q.c[4] = q.c[5] = 0;  // no cross terms: the reference's short form
-    const Latches<Real> l = load_latches<Real>(random_unit(rng), Vec3(uniform(rng, -50, 50), uniform(rng, -50, 50),
-                                                                      uniform(rng, -50, 50)));
+    const Vec3 origin = uniform_zyx(rng, -50, 50);  // before the direction (test_random.h says why)
+    const Latches<Real> l = load_latches<Real>(random_unit(rng), origin);
     const CoefRam<Real> ram = load_ram<Real>(q);
     const Abg<Real> full = form_abg(l, ram), sparse = form_abg(l, ram, sparse_ops(ram));
     for (const Abg<Real>& got : {form_abg(l, ram, kAllProducts), form_abg_fast(l, ram)}) {
@@ -172,7 +190,8 @@ TEST(IntersectAbg, DoubleMatchesSubstitution) {
   std::mt19937 rng(22);
   for (int i = 0; i < 5000; ++i) {
     const Quadric q = random_quadric(rng);
-    const Vec3 u = random_unit(rng) * log_uniform(rng, -1, 1);
+    const double size = log_uniform(rng, -1, 1);  // before the direction (test_random.h says why)
+    const Vec3 u = random_unit(rng) * size;
     const Vec3 v = random_point(rng, log_uniform(rng, -1, 3));
     const Latches<double> l = load_latches<double>(u, v);
     const CoefRam<double> ram = load_ram<double>(q);
@@ -239,9 +258,9 @@ TEST(Roots, CancellationExactSmallRoot) {
 TEST(Roots, CancellationRandom) {
   std::mt19937 rng(24);
   for (int i = 0; i < 5000; ++i) {
-    const double rs = random_sign(rng) * log_uniform(rng, -9, -4);
-    const double rb = random_sign(rng) * log_uniform(rng, 4, 8);
-    const double a = random_sign(rng) * log_uniform(rng, -1, 1);
+    const double rs = signed_log_uniform(rng, -9, -4);
+    const double rb = signed_log_uniform(rng, 4, 8);
+    const double a = signed_log_uniform(rng, -1, 1);
     const double b = -a * (rs + rb), c = a * rs * rb;
     // Exact roots of the rounded coefficients, in long double; the small one is −c/b to first order.
     const long double la = a, lb = b, lc = c;
@@ -277,8 +296,8 @@ TEST(Roots, TangentIsAnExactDoubleRoot) {
   // Random exact tangents a (t − r)²: a with 8 significant bits, r with 16, so b², 4ac exact.
   std::mt19937 rng(25);
   for (int i = 0; i < 3000; ++i) {
-    const double a = random_sign(rng) * std::ldexp(double(128 + rng() % 128), int(rng() % 20) - 17);
-    const double root = random_sign(rng) * std::ldexp(double(32768 + rng() % 32768), int(rng() % 30) - 25);
+    const double a = random_exact(rng, 8, -17, 20);
+    const double root = random_exact(rng, 16, -25, 30);
     const double bb = -2 * a * root, cc = a * root * root;
     ASSERT_EQ(bb * bb - 4 * a * cc, 0.0);
     const Roots<double> rr = solve_quadratic(a, bb, cc);
@@ -288,8 +307,8 @@ TEST(Roots, TangentIsAnExactDoubleRoot) {
   }
   // float: a with 4 significant bits, r with 6, so b² and 4ac are exact in float.
   for (int i = 0; i < 3000; ++i) {
-    const float a = float(random_sign(rng) * std::ldexp(double(8 + rng() % 8), int(rng() % 12) - 9));
-    const float root = float(random_sign(rng) * std::ldexp(double(32 + rng() % 32), int(rng() % 12) - 8));
+    const float a = float(random_exact(rng, 4, -9, 12));
+    const float root = float(random_exact(rng, 6, -8, 12));
     const float bb = -2 * a * root, cc = a * root * root;
     ASSERT_EQ(bb * bb - 4 * a * cc, 0.0f);
     const Roots<float> rf = solve_quadratic(a, bb, cc);
@@ -329,11 +348,11 @@ TEST(Roots, NearTangentBothSides) {
   std::mt19937 rng(26);
   for (int i = 0; i < 3000; ++i) {
     SCOPED_TRACE(i);
-    const double a = random_sign(rng) * std::ldexp(1.0, int(rng() % 20) - 10);
-    const double root = random_sign(rng) * std::ldexp(double((1 << 19) + rng() % (1 << 19)), int(rng() % 30) - 30);
+    const double a = random_exact(rng, 1, -10, 20);
+    const double root = random_exact(rng, 20, -30, 30);
     near_tangent_case<double>(a, root, 1 + int(rng() % 7), rng);
-    const float af = float(random_sign(rng) * std::ldexp(1.0, int(rng() % 10) - 5));
-    const float rootf = float(random_sign(rng) * std::ldexp(double(512 + rng() % 512), int(rng() % 16) - 12));
+    const float af = float(random_exact(rng, 1, -5, 10));
+    const float rootf = float(random_exact(rng, 10, -12, 16));
     near_tangent_case<float>(af, rootf, 1 + int(rng() % 7), rng);
   }
 }
@@ -423,8 +442,11 @@ TEST(Roots, RandomResidualsAndOrder) {
   std::mt19937 rng(28);
   int two = 0;
   for (int i = 0; i < 5000; ++i) {
-    const double a = uniform(rng, -1, 1) * log_uniform(rng, -3, 3), b = uniform(rng, -1, 1) * log_uniform(rng, -3, 3),
-                 c = uniform(rng, -1, 1) * log_uniform(rng, -3, 3);
+    const auto draw = [&] {
+      const double x = uniform(rng, -1, 1);
+      return x * log_uniform(rng, -3, 3);
+    };
+    const double a = draw(), b = draw(), c = draw();
     const Roots<double> r = solve_quadratic(a, b, c);
     ASSERT_TRUE(no_nan(r));
     const bool real = b * b - 4 * a * c >= 0;
@@ -476,12 +498,17 @@ TEST(Roots, FloatNeverNaNForFiniteInputs) {
       if (std::isfinite(f)) return f;
     }
   };
-  for (int i = 0; i < 20000; ++i) check(random_finite(), random_finite(), random_finite());
+  for (int i = 0; i < 20000; ++i) {
+    const float c = random_finite(), b = random_finite();  // c first (test_random.h says why)
+    check(random_finite(), b, c);
+  }
   // Double too.
   for (int i = 0; i < 5000; ++i) {
-    const double a = std::ldexp(uniform(rng, -1, 1), int(rng() % 2000) - 1000);
-    const double b = std::ldexp(uniform(rng, -1, 1), int(rng() % 2000) - 1000);
-    const double c = std::ldexp(uniform(rng, -1, 1), int(rng() % 2000) - 1000);
+    const auto draw = [&] {
+      const int e = int(rng() % 2000) - 1000;  // before the significand (test_random.h says why)
+      return std::ldexp(uniform(rng, -1, 1), e);
+    };
+    const double a = draw(), b = draw(), c = draw();
     const Roots<double> r = solve_quadratic(a, b, c);
     ASSERT_TRUE(no_nan(r));
     if (r.n == 2) {
@@ -611,8 +638,12 @@ TEST(IntersectWindow, NearestKeptRootOnClippedShapes) {
   std::mt19937 rng(31);
   int hits = 0;
   for (int i = 0; i < 3000; ++i) {
-    const Vec3 base = random_point(rng, 2), apex = base + random_unit(rng) * uniform(rng, 0.5, 3);
-    const Primitive p = i % 2 ? make_cone(base, uniform(rng, 0.2, 1), apex, uniform(rng, 0, 1))
+    // Each length before its direction, the apex radius before the base's (test_random.h says why).
+    const Vec3 base = random_point(rng, 2);
+    const double height = uniform(rng, 0.5, 3);
+    const Vec3 apex = base + random_unit(rng) * height;
+    const double apex_radius = i % 2 ? uniform(rng, 0, 1) : 0;
+    const Primitive p = i % 2 ? make_cone(base, uniform(rng, 0.2, 1), apex, apex_radius)
                               : make_polygon({base, apex, base + random_point(rng, 2)});
     const Vec3 o = random_point(rng, 5), d = normalize((base + apex) / 2.0 + random_point(rng, 1) - o);
     const Latches<double> l = load_latches<double>(d, o);

@@ -310,7 +310,8 @@ void check_caps(const Primitive& p, const Vec3& o, const Vec3& a, const Vec3& u,
                 double size, std::mt19937& rng) {
   int at0 = -1, at1 = -1;
   for (int k = 0; k < 20; ++k) {
-    const Vec3 off = uniform(rng, -2, 2) * size * u + uniform(rng, -2, 2) * size * v;
+    const double along_v = uniform(rng, -2, 2);  // before along u (test_random.h says why)
+    const Vec3 off = uniform(rng, -2, 2) * size * u + along_v * size * v;
     const Vec3 c0 = o + z0 * a + off, c1 = o + z1 * a + off;
     const int k0 = vanishing_clip(p, c0, size), k1 = vanishing_clip(p, c1, size);
     ASSERT_GE(k0, 0) << "no clip vanishes on the z0 cap plane";
@@ -333,7 +334,10 @@ void check_caps(const Primitive& p, const Vec3& o, const Vec3& a, const Vec3& u,
 std::vector<Vec3> test_axes(std::mt19937& rng) {
   std::vector<Vec3> axes = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
                             {1, 1, 1}, {-1, -1, -1}, {1, -1, 0}, {0, 1, 1}, {1, 0, -1}, {0.6, 0.6, 0.53}};
-  for (int i = 0; i < 60; ++i) axes.push_back(random_unit(rng) * log_uniform(rng, -1, 1));
+  for (int i = 0; i < 60; ++i) {
+    const double size = log_uniform(rng, -1, 1);  // before the direction (test_random.h says why)
+    axes.push_back(random_unit(rng) * size);
+  }
   return axes;
 }
 
@@ -588,7 +592,8 @@ TEST(QuadricHyperboloid, RejectsBadArguments) {
 TEST(QuadricPlane, NormalisedImplicitFormClippedToTheBox) {
   std::mt19937 rng(8);
   for (int i = 0; i < 500; ++i) {
-    const Vec3 n = random_unit(rng) * log_uniform(rng, -3, 3);
+    const double size = log_uniform(rng, -3, 3);  // before the direction (test_random.h says why)
+    const Vec3 n = random_unit(rng) * size;
     const Vec3 nh = normalize(n);
     const double ext = log_uniform(rng, -1, 1);
     const Vec3 centre = random_point(rng, log_uniform(rng, -1, 2));
@@ -603,7 +608,8 @@ TEST(QuadricPlane, NormalisedImplicitFormClippedToTheBox) {
     Vec3 u, v;
     perpendicular_pair(nh, u, v);
     for (int k = 0; k < 10; ++k) {
-      const Vec3 q = centre + uniform(rng, -0.49, 0.49) * ext * u + uniform(rng, -0.49, 0.49) * ext * v;
+      const double along_v = uniform(rng, -0.49, 0.49);  // before along u (test_random.h says why)
+      const Vec3 q = centre + uniform(rng, -0.49, 0.49) * ext * u + along_v * ext * v;
       ASSERT_TRUE(SurfacePoint(p, q, nh, ext)) << "case " << i;
       // Far out in the plane, beyond the box: on the surface but clipped.
       const Vec3 far = centre + 5 * ext * (uniform(rng, 0, 1) < 0.5 ? u : v);
@@ -771,7 +777,7 @@ TEST(QuadricRaw, KeepsCoefficientsBoxAndClips) {
     std::array<double, 10> c;
     for (double& x : c) x = uniform(rng, -3, 3);
     const Vec3 lo = random_point(rng, 5);
-    const Aabb box{lo, lo + Vec3(uniform(rng, 0.1, 3), uniform(rng, 0.1, 3), uniform(rng, 0.1, 3))};
+    const Aabb box{lo, lo + uniform_zyx(rng, 0.1, 3)};
     const HalfSpace extra{random_unit(rng), uniform(rng, -1, 1)};
     const Primitive p = make_raw_quadric(c, box, {extra});
     EXPECT_EQ(p.kind, ShapeKind::Raw);

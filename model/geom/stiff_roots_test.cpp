@@ -55,8 +55,8 @@ template <class Real>
 void near_double_roots(Discriminant mode, Tally& disc_err, Tally& sign, Tally& root_err, int seed) {
   std::mt19937 rng(seed);
   for (int i = 0; i < 20000; ++i) {
-    const Real a = Real(random_sign(rng) * log_uniform(rng, -2, 2));
-    const Real b = Real(random_sign(rng) * log_uniform(rng, -2, 2));
+    const Real a = Real(signed_log_uniform(rng, -2, 2));
+    const Real b = Real(signed_log_uniform(rng, -2, 2));
     const Real c0 = Real(LD(b) * LD(b) / (4 * LD(a)));
     Real c = c0;
     const int k = int(rng() % 9) - 4;  // −4 … 4 ulps: both signs of Δ, and Δ == 0
@@ -138,8 +138,8 @@ Tally small_root_when_beta_dominates(int seed, bool naive) {
   for (int i = 0; i < 20000; ++i) {
     // Roots rs (tiny) and rb (huge): β² ≫ 4αγ; coefficients rounded to Real, roots of the rounded
     // coefficients in long double.
-    const double rs = random_sign(rng) * log_uniform(rng, -6, -2), rb = random_sign(rng) * log_uniform(rng, 2, 6);
-    const double a0 = random_sign(rng) * log_uniform(rng, -1, 1);
+    const double rs = signed_log_uniform(rng, -6, -2), rb = signed_log_uniform(rng, 2, 6);
+    const double a0 = signed_log_uniform(rng, -1, 1);
     const Real a = Real(a0), b = Real(-a0 * (rs + rb)), c = Real(a0 * rs * rb);
     const LD sq = std::sqrt(LD(b) * LD(b) - 4 * LD(a) * LD(c));
     const LD q = -(LD(b) + (b < 0 ? -sq : sq)) / 2;
@@ -181,7 +181,8 @@ TEST(StiffExactZeros, BetaZeroFromTheSphereCentre) {
   std::mt19937 rng(110);
   for (int i = 0; i < 3000; ++i) {
     const double r = log_uniform(rng, -3, 3);
-    const Vec3 u = random_unit(rng) * log_uniform(rng, -2, 2);
+    const double size = log_uniform(rng, -2, 2);  // before the direction (test_random.h says why)
+    const Vec3 u = random_unit(rng) * size;
     Quadric q;
     q.c = {1, 1, 1, 0, 0, 0, 0, 0, 0, -r * r};
     const auto check = [&](auto zero) {
@@ -207,7 +208,9 @@ TEST(StiffExactZeros, AlphaZeroPlanesAndRaysAlongACylinderAxis) {
   std::mt19937 rng(111);
   // A plane: α = 0 exactly for every ray, the linear root −γ/β.
   for (int i = 0; i < 3000; ++i) {
-    const Vec3 n = random_unit(rng), u = random_unit(rng) * log_uniform(rng, -2, 2), v = 10.0 * random_unit(rng);
+    const Vec3 n = random_unit(rng);
+    const double size = log_uniform(rng, -2, 2);  // before the direction (test_random.h says why)
+    const Vec3 u = random_unit(rng) * size, v = 10.0 * random_unit(rng);
     const double d = uniform(rng, -5, 5);
     Quadric q;
     q.c = {0, 0, 0, 0, 0, 0, n.x, n.y, n.z, d};
@@ -247,7 +250,7 @@ TEST(StiffExactZeros, AlphaTinyNonZeroKeepsTheNearRoot) {
   std::mt19937 rng(112);
   Tally f32, f64;
   for (int i = 0; i < 5000; ++i) {
-    const double e = random_sign(rng) * log_uniform(rng, -30, -1);
+    const double e = signed_log_uniform(rng, -30, -1);
     Quadric q;
     q.c = {e, 0, 0, 0, 0, 0, 0, 0, 1, 0};
     const Vec3 u = normalize(Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), -1});
@@ -489,7 +492,10 @@ TEST(StiffCoefficients, Pow2ScalingIsExactAndLeavesOrdinaryQuadricsBitForBit) {
   for (int i = 0; i < 5000; ++i) {
     Quadric q;
     const double s = log_uniform(rng, -3, 3);
-    for (double& c : q.c) c = uniform(rng, -1, 1) * s * (rng() % 4 == 0 ? 0.0 : 1.0);
+    for (double& c : q.c) {
+      const double x = uniform(rng, -1, 1) * s;
+      c = x * (rng() % 4 == 0 ? 0.0 : 1.0);
+    }
     q.c[kA] = s;  // not identically zero
     const int k = pow2_scale_exponent(q);
     const Quadric p = scaled_pow2(q);

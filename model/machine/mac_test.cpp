@@ -53,7 +53,10 @@ class Driver : public sc_core::sc_module {
         std::vector<int> counts;
         for (int p = 0; p < n; ++p) {
           Latches<double> l{};
-          for (int i = 0; i < 6; ++i) l[size_t(i)] = round_to(c.precision, u(rng) * std::pow(10.0, u(rng)));
+          for (int i = 0; i < 6; ++i) {
+            const double x = u(rng);  // one draw a statement (geom/test_random.h says why)
+            l[size_t(i)] = round_to(c.precision, x * std::pow(10.0, u(rng)));
+          }
           l[kOne] = 1;
           CoefRam<double> ram{};
           for (int w = 0; w < 10; ++w) ram[size_t(w)] = (sparse && rng() % 2) ? 0.0 : round_to(c.precision, u(rng));

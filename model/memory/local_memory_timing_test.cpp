@@ -305,7 +305,10 @@ TEST(LocalMemoryTiming, RandomRequestsNeverDoubleBookAndTheirGrantsObeyTheFormul
   std::mt19937 rng(7);
   for (int run = 0; run < 60; ++run) {
     const int ports = int(rng() % 3), banks = int(rng() % 5), requesters = 1 + int(rng() % 4);
-    const Config c = memory(ports, banks, 1 + rng() % 8, 1 + rng() % 4, 1 + rng() % 8, MemoryArbitration(rng() % 3));
+    // The last argument drawn first (geom/test_random.h says why).
+    const MemoryArbitration arbitration = MemoryArbitration(rng() % 3);
+    const uint64_t width = 1 + rng() % 8, latency = 1 + rng() % 4;
+    const Config c = memory(ports, banks, 1 + rng() % 8, latency, width, arbitration);
     struct Req {
       int r;
       uint64_t a, b, cycle;
