@@ -37,6 +37,11 @@ def random_config(rng, scenes):
     sets.update({"memory_ports": rng.choice([0, 1, 1, 2, 3]), "memory_banks": rng.choice([0, 1, 2, 4, 8]),
                  "memory_arbitration": rng.choice(["round_robin", "fixed_priority", "fcfs"]),
                  "mac_ram_primitives": rng.choice([0, 1, 2, 4, 16]), "voxel_cache_bytes": rng.choice([0, 0, 64, 1024])})
+    # Each unit's arithmetic and the hit refinement (docs/numerics.md), drawn after the memory.
+    sets.update({"intersection_precision": rng.choice(["precision", "fp32", "fp64"]),
+                 "dda_precision": rng.choice(["precision", "fp32", "fp64"]),
+                 "shading_precision": rng.choice(["precision", "fp32", "fp64"]),
+                 "hit_refine": rng.choice(["none", "newton"]), "refine_cycles": rng.randint(0, 10)})
     if sets["link_topology"] == "star" and sets["broadcast"] == "true":
         sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():

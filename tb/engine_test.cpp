@@ -121,7 +121,11 @@ INSTANTIATE_TEST_SUITE_P(
              "balls-2.nff --size 24x24 --pes 5 --set link_topology=tree --set broadcast=true --set ray_block=20"
              " --set gather=as_finished"},
         Case{"SlowLinkNoLeaveOut",
-             "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false --set clock_ns=7"}),
+             "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false --set clock_ns=7"},
+        // Each unit in its own precision, and the refinement's cycles moving shading's results.
+        Case{"MixedPrecisionsSlowRefinement",
+             "rings-1.nff --size 24x24 --pes 2 --set dda_precision=fp64 --set intersection_precision=fp32"
+             " --set shading_precision=fp64 --set refine_cycles=40"}),
     [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
 
 TEST(EngineMatchesModules, OnRandomSmallConfigurations) {

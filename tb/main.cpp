@@ -109,7 +109,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--pes", r.pes, "Processing elements");
   render->add_option("--timing", r.timing,
                      "fast (default: the MAC by formula, the PEs on the PE engine) or clocked (the MAC on a clock, every unit a SystemC process); the same cycles either way");
-  render->add_option("--precision", r.precision, "MAC arithmetic: fp32 (default) or fp64");
+  render->add_option("--precision", r.precision, "Every PE unit's arithmetic: fp32 (default) or fp64 (the keys intersection_precision, dda_precision, shading_precision set one unit's)");
   render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks, strips or pixels");
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
   render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");

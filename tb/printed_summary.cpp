@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace rtm {
@@ -27,17 +29,28 @@ void print_units(const char* over, const UnitShares& u) {
               100 * u.front_buffer, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shading);
 }
 
+/// The PE's arithmetic: `precision`, and each unit whose own key says otherwise.
+std::string precision_text(const MachineConfig& c) {
+  std::string s = to_string(c.precision);
+  for (auto [name, p] : {std::pair{"intersection", c.intersection_precision_in_force()},
+                         {"dda", c.dda_precision_in_force()}, {"shading", c.shading_precision_in_force()}})
+    if (p != c.precision) s += std::string(", ") + name + " " + to_string(p);
+  return s;
+}
+
 /// A warning line when the machine did other work than the reference (reference.counts_match
 /// false): each count that differs, both values.
-void print_count_differences(const TraceCounts& machine, const TraceCounts& reference, Precision p) {
+void print_count_differences(const TraceCounts& machine, const TraceCounts& reference, const MachineConfig& c) {
   const std::vector<CountDifference> d = count_differences(machine, reference);
   if (d.empty()) return;
+  const bool fp64 = c.intersection_precision_in_force() == Precision::Fp64 &&
+                    c.dda_precision_in_force() == Precision::Fp64 && c.shading_precision_in_force() == Precision::Fp64;
   std::printf("warning: counts differ from the reference (machine vs reference):");
   for (size_t i = 0; i < d.size(); ++i)
     std::printf("%s %s %llu vs %llu", i ? "," : "", d[i].what.c_str(), (unsigned long long)d[i].a,
                 (unsigned long long)d[i].b);
   std::printf("; %s (docs/machine.md, \"Statistics\")\n",
-              p == Precision::Fp32 ? "at fp32 a hit flipped by rounding can do that" : "at fp64 they should be equal");
+              fp64 ? "at fp64 they should be equal" : "at fp32 a hit flipped by rounding can do that");
 }
 
 /// Each PE's working window in PE cycles, the first of a frame's PEs, and the range over all of
@@ -125,7 +138,7 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   const FrameStats& st = m.stats;
   std::printf("%s: %dx%d, %zu primitives, grid %dx%dx%d, %d PE%s (%s, %s, %s timing)\n", s.name.c_str(),
               s.camera.width, s.camera.height, s.primitives.size(), g.n[0], g.n[1], g.n[2], c.pes,
-              c.pes == 1 ? "" : "s", to_string(c.partition), to_string(c.precision), to_string(c.timing));
+              c.pes == 1 ? "" : "s", to_string(c.partition), precision_text(c).c_str(), to_string(c.timing));
   std::printf("cycles: %llu (%.3f ms simulated at %.4g ns)\n", (unsigned long long)m.cycles, m.end.to_seconds() * 1e3,
               c.clock_ns);
   print_rays(m.counts);
@@ -142,9 +155,10 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   print_memory_traffic(m, c);
   std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
   std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
-  std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255\n", err.rmse,
-              err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255);
-  print_count_differences(m.counts, ref.counts, c.precision);
+  std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255, %llu primary hits differ\n",
+              err.rmse, err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255,
+              (unsigned long long)err.primary_ids_differing);
+  print_count_differences(m.counts, ref.counts, c);
   std::printf("wall time: %.3f s model (%s), %.3f s reference%s; grid build %.3f s (%zu references)\n",
               m.wall_seconds,
               m.engine_unsupported.empty() ? "PEs on the PE engine" : ("PEs as modules: " + m.engine_unsupported).c_str(),

@@ -90,7 +90,7 @@ TEST(Cli, MachineStatsHaveEveryDocumentedKey) {
                         "timing", "precision", "cycles", "sim_time_ns", "mac", "per_pe", "fifo", "error", "utilisation",
                         "preset", "config"})
     EXPECT_TRUE(j.contains(k)) << k;
-  for (const char* k : {"rmse", "psnr_db", "max_abs", "pixels_over_1_255"}) EXPECT_TRUE(j["error"].contains(k)) << k;
+  for (const char* k : {"rmse", "psnr_db", "max_abs", "pixels_over_1_255", "primary_ids_differing"}) EXPECT_TRUE(j["error"].contains(k)) << k;
   EXPECT_EQ(j["per_pe"].size(), 2u);
   for (const json& pe : j["per_pe"]) {
     EXPECT_GT(pe["cycles"].get<uint64_t>(), 0u);
@@ -395,6 +395,19 @@ INSTANTIATE_TEST_SUITE_P(Spd, MachineVsReference,
                              if (ch == '-') ch = '_';
                            return s + "_" + std::to_string(info.param.pes) + "pe";
                          });
+
+// In double precision the hit refinement is a step of rounding size: without it the machine is
+// still the reference to 1e-6, doing the same work.
+TEST(Machine, Fp64WithoutTheHitRefinementStillEqualsTheReference) {
+  Tmp tmp;
+  for (const char* scene : {"balls-1.nff", "rings-1.nff", "shells-1.nff"}) {
+    const json j = render(tmp, "m", kScenes + scene + " --size 32x32 --precision fp64 --set hit_refine=none");
+    ASSERT_FALSE(j.is_null()) << scene;
+    EXPECT_LE(j["error"]["max_abs"].get<double>(), 1e-6) << scene;
+    EXPECT_EQ(j["error"]["primary_ids_differing"].get<int>(), 0) << scene;
+    EXPECT_TRUE(j["reference"]["counts_match"].get<bool>()) << scene;
+  }
+}
 
 TEST(Machine, ImageAndRayCountsDoNotDependOnPesOrSearchUnits) {
   Tmp tmp;

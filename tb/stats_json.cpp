@@ -51,7 +51,8 @@ nlohmann::json error_json(const ImageError& e) {
   return {{"rmse", e.rmse},
           {"psnr_db", std::isfinite(e.psnr_db) ? nlohmann::json(e.psnr_db) : nlohmann::json("inf")},
           {"max_abs", e.max_abs},
-          {"pixels_over_1_255", e.pixels_over_1_255}};
+          {"pixels_over_1_255", e.pixels_over_1_255},
+          {"primary_ids_differing", e.primary_ids_differing}};
 }
 
 /// A configuration value as its key's type: an integer or a number, a flag as a boolean, a choice

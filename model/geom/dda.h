@@ -1,9 +1,15 @@
 // 3DDDA (Amanatides & Woo; the paper cites Snyder & Barr): walk a ray through the grid one voxel
 // at a time. The whole walk state fits in a ray's payload, so the machine's search units can
 // advance a ray one voxel per pass and feed it back.
+//
+// Templated on the search unit's arithmetic (`dda_precision`, docs/numerics.md): every crossing,
+// plane position and comparison is in Real, from the ray and the grid rounded to Real; the state
+// holds the results as doubles, which hold a float exactly. Dda is the double-precision walk the
+// reference renderer takes.
 #pragma once
 
 #include <array>
+#include <limits>
 
 #include "geom/grid.h"
 
@@ -17,8 +23,11 @@ struct DdaState {
   bool done = true;                                ///< no current voxel: the ray has left the grid
 };
 
-class Dda {
+template <class Real>
+class BasicDda {
  public:
+  using V = glm::vec<3, Real>;
+
   /// A walk over o + t d for t in [t_min, t_max]. Zero direction components (either sign) never
   /// step; a ray starting inside, outside or on the boundary starts at its first voxel.
   static DdaState start(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max);
@@ -47,17 +56,24 @@ class Dda {
                       const std::array<int, 3>& lo, const std::array<int, 3>& hi);
 
  private:
-  static double crossing(const Grid& g, const Vec3& o, const Vec3& d, int axis, int cell);
+  static constexpr Real kInfR = std::numeric_limits<Real>::infinity();
+  /// A voxel plane from its index, in Real (no accumulated drift).
+  static Real plane(const Grid& g, int axis, int i) { return Real(g.box.lo[axis]) + Real(i) * Real(g.cell[axis]); }
+  static Real crossing(const Grid& g, const V& o, const V& d, int axis, int cell);
   static int exit_axis(const DdaState& s);
 };
 
-inline double Dda::crossing(const Grid& g, const Vec3& o, const Vec3& d, int axis, int cell) {
-  if (d[axis] == 0) return kInf;  // true for -0.0 too
+using Dda = BasicDda<double>;
+
+template <class Real>
+Real BasicDda<Real>::crossing(const Grid& g, const V& o, const V& d, int axis, int cell) {
+  if (d[axis] == 0) return kInfR;  // true for -0.0 too
   const int boundary = d[axis] > 0 ? cell + 1 : cell;
-  return (g.plane(axis, boundary) - o[axis]) / d[axis];
+  return (plane(g, axis, boundary) - o[axis]) / d[axis];
 }
 
-inline int Dda::exit_axis(const DdaState& s) {
+template <class Real>
+int BasicDda<Real>::exit_axis(const DdaState& s) {
   // Ties (edges and corners) step the lowest axis first; the others follow with zero-length voxels.
   int a = 0;
   if (s.t_next[1] < s.t_next[a]) a = 1;
@@ -65,35 +81,40 @@ inline int Dda::exit_axis(const DdaState& s) {
   return a;
 }
 
-inline DdaState Dda::start(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max) {
+template <class Real>
+DdaState BasicDda<Real>::start(const Grid& g, const Vec3& o_in, const Vec3& d_in, double t_min, double t_max) {
   DdaState s;
   // A non-finite origin or direction has no walk (std::max / std::min below would silently drop
-  // a NaN, and an infinite origin makes o + t d NaN).
-  if (!all_finite(o) || !all_finite(d)) return s;
-  double t0 = t_min, t1 = t_max;
+  // a NaN, and an infinite origin makes o + t d NaN); so has one beyond Real's range.
+  const V o(o_in), d(d_in);
+  auto finite = [](const V& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(o) || !finite(d)) return s;
+  Real t0 = Real(t_min), t1 = Real(t_max);
   for (int a = 0; a < 3; ++a) {
+    const Real lo = Real(g.box.lo[a]), hi = Real(g.box.hi[a]);
     if (d[a] == 0) {
-      if (o[a] < g.box.lo[a] || o[a] > g.box.hi[a]) return s;
+      if (o[a] < lo || o[a] > hi) return s;
       continue;
     }
-    double ta = (g.box.lo[a] - o[a]) / d[a], tb = (g.box.hi[a] - o[a]) / d[a];
+    Real ta = (lo - o[a]) / d[a], tb = (hi - o[a]) / d[a];
     if (ta > tb) std::swap(ta, tb);
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
   }
   if (!(t0 <= t1)) return s;  // misses the grid, or NaN input
   for (int a = 0; a < 3; ++a) {
-    const double p = d[a] == 0 ? o[a] : o[a] + t0 * d[a];
-    s.cell[a] = std::clamp(static_cast<int>(std::floor((p - g.box.lo[a]) / g.cell[a])), 0, g.n[a] - 1);
+    const Real p = d[a] == 0 ? o[a] : o[a] + t0 * d[a];
+    s.cell[a] = std::clamp(static_cast<int>(std::floor((p - Real(g.box.lo[a])) / Real(g.cell[a]))), 0, g.n[a] - 1);
   }
   for (int a = 0; a < 3; ++a) s.t_next[a] = crossing(g, o, d, a, s.cell[a]);
   s.t_enter = t0;
-  s.t_exit = std::max(t0, s.t_next[exit_axis(s)]);
+  s.t_exit = std::max(double(t0), s.t_next[exit_axis(s)]);
   s.done = false;
   return s;
 }
 
-inline void Dda::advance(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s) {
+template <class Real>
+void BasicDda<Real>::advance(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s) {
   const int a = exit_axis(s);
   if (s.t_next[a] == kInf) {
     s.done = true;
@@ -101,23 +122,25 @@ inline void Dda::advance(const Grid& g, const Vec3& o, const Vec3& d, double t_m
   }
   s.cell[a] += d[a] > 0 ? 1 : -1;
   s.t_enter = s.t_exit;
-  if (s.cell[a] < 0 || s.cell[a] >= g.n[a] || s.t_enter > t_max) {
+  if (s.cell[a] < 0 || s.cell[a] >= g.n[a] || s.t_enter > double(Real(t_max))) {
     s.done = true;
     return;
   }
-  s.t_next[a] = crossing(g, o, d, a, s.cell[a]);
+  s.t_next[a] = crossing(g, V(o), V(d), a, s.cell[a]);
   s.t_exit = std::max(s.t_enter, s.t_next[exit_axis(s)]);
 }
 
-inline std::array<double, 3> Dda::ahead(const Grid& g, const Vec3& o, const Vec3& d, const DdaState& s) {
+template <class Real>
+std::array<double, 3> BasicDda<Real>::ahead(const Grid& g, const Vec3& o, const Vec3& d, const DdaState& s) {
   std::array<double, 3> t{kInf, kInf, kInf};
   for (int a = 0; a < 3; ++a)
-    if (d[a] != 0) t[a] = crossing(g, o, d, a, s.cell[a] + (d[a] > 0 ? 1 : -1));
+    if (d[a] != 0) t[a] = crossing(g, V(o), V(d), a, s.cell[a] + (d[a] > 0 ? 1 : -1));
   return t;
 }
 
-inline void Dda::advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s,
-                               std::array<double, 3>& ahead) {
+template <class Real>
+void BasicDda<Real>::advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s,
+                                   std::array<double, 3>& ahead) {
   const int a = exit_axis(s);
   if (s.t_next[a] == kInf) {
     s.done = true;
@@ -126,18 +149,19 @@ inline void Dda::advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, doub
   const int dir = d[a] > 0 ? 1 : -1;
   s.cell[a] += dir;
   s.t_enter = s.t_exit;
-  if (s.cell[a] < 0 || s.cell[a] >= g.n[a] || s.t_enter > t_max) {
+  if (s.cell[a] < 0 || s.cell[a] >= g.n[a] || s.t_enter > double(Real(t_max))) {
     s.done = true;
     return;
   }
   s.t_next[a] = ahead[a];
-  ahead[a] = crossing(g, o, d, a, s.cell[a] + dir);
+  ahead[a] = crossing(g, V(o), V(d), a, s.cell[a] + dir);
   s.t_exit = std::max(s.t_enter, s.t_next[exit_axis(s)]);
 }
 
-inline bool Dda::is_last(const Grid& g, const Vec3& d, double t_max, const DdaState& s) {
+template <class Real>
+bool BasicDda<Real>::is_last(const Grid& g, const Vec3& d, double t_max, const DdaState& s) {
   const int a = exit_axis(s);
-  if (s.t_next[a] == kInf || s.t_exit > t_max) return true;
+  if (s.t_next[a] == kInf || s.t_exit > double(Real(t_max))) return true;
   const int next = s.cell[a] + (d[a] > 0 ? 1 : -1);
   return next < 0 || next >= g.n[a];
 }
@@ -148,8 +172,10 @@ inline bool Dda::is_last(const Grid& g, const Vec3& d, double t_max, const DdaSt
 // of the three "leave the box's last cell on this axis" crossings; every crossing ordered before
 // that one happens inside the box, and counting them per axis gives the cell where the walk
 // stands just before it leaves.
-inline int Dda::skip_box(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s,
-                         const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+template <class Real>
+int BasicDda<Real>::skip_box(const Grid& g, const Vec3& o_in, const Vec3& d_in, double t_max, DdaState& s,
+                             const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+  const V o(o_in), d(d_in);
   std::array<int, 3> last = s.cell;  // the box's last cell on each axis, in the walk's direction
   std::array<double, 3> t_last{kInf, kInf, kInf};
   double t_out = kInf;
@@ -163,7 +189,7 @@ inline int Dda::skip_box(const Grid& g, const Vec3& o, const Vec3& d, double t_m
       axis_out = a;
     }
   }
-  if (axis_out < 0 || !(t_out <= t_max)) return 0;
+  if (axis_out < 0 || !(t_out <= double(Real(t_max)))) return 0;
 
   DdaState n = s;
   int steps = 0;
@@ -172,7 +198,7 @@ inline int Dda::skip_box(const Grid& g, const Vec3& o, const Vec3& d, double t_m
     const int dir = d[a] > 0 ? 1 : -1;
     const int room = (last[a] - s.cell[a]) * dir;  // crossings of this axis inside the box
     // The k-th crossing of this axis: leaving cell + k·dir.
-    auto cross = [&](int k) { return k == room ? t_last[a] : crossing(g, o, d, a, s.cell[a] + k * dir); };
+    auto cross = [&](int k) { return k == room ? t_last[a] : double(crossing(g, o, d, a, s.cell[a] + k * dir)); };
     int k = room;  // on the way-out axis, every crossing before the last cell's is made
     double t_k = t_last[a], t_before = kInf;  // crossings k and k - 1
     if (a != axis_out) {
@@ -180,7 +206,7 @@ inline int Dda::skip_box(const Grid& g, const Vec3& o, const Vec3& d, double t_m
       // settle on the exact count by the crossings themselves (usually two divisions, whatever
       // the box's size). The box's last crossing on this axis is never before the way out.
       auto before = [&](double t) { return t < t_out || (t == t_out && a < axis_out); };
-      const double first = g.plane(a, d[a] > 0 ? s.cell[a] + 1 : s.cell[a]);
+      const double first = plane(g, a, d[a] > 0 ? s.cell[a] + 1 : s.cell[a]);
       const double est = ((o[a] + t_out * d[a]) - first) * dir / g.cell[a] + 1;
       k = !(est > 0) ? 0 : est >= room ? room : static_cast<int>(est);
       t_k = cross(k);

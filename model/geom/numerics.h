@@ -54,6 +54,12 @@ enum class OriginLatch : uint8_t {
             ///< unit adds t_enter back to the roots (rays far from their eye)
 };
 
+/// What the shading stage does with the intersection stage's t before it shades the hit.
+enum class HitRefine : uint8_t {
+  None,    ///< shades at the root unit's t (the paper)
+  Newton,  ///< one Newton step on the primitive's local quadric, in fp64, first (render/shade.h)
+};
+
 /// The numerical options of one machine (model/machine/config.h has the keys). The reference
 /// renderer uses the defaults, so a machine with defaults and fp64 arithmetic reproduces it bit
 /// for bit (in fp64 the machine and wide latches give the same bits). docs/numerics.md says why

@@ -41,6 +41,15 @@ struct EnumNames<Precision> {
   static constexpr std::pair<Precision, const char*> all[] = {{Precision::Fp32, "fp32"}, {Precision::Fp64, "fp64"}};
 };
 template <>
+struct EnumNames<M::UnitPrecision> {
+  static constexpr std::pair<M::UnitPrecision, const char*> all[] = {
+      {M::UnitPrecision::Precision, "precision"}, {M::UnitPrecision::Fp32, "fp32"}, {M::UnitPrecision::Fp64, "fp64"}};
+};
+template <>
+struct EnumNames<HitRefine> {
+  static constexpr std::pair<HitRefine, const char*> all[] = {{HitRefine::None, "none"}, {HitRefine::Newton, "newton"}};
+};
+template <>
 struct EnumNames<FlowControl> {
   static constexpr std::pair<FlowControl, const char*> all[] = {{FlowControl::Credits, "credits"},
                                                                 {FlowControl::None, "none"}};
@@ -229,6 +238,8 @@ const char* to_string(Discriminant d) { return name_of(d); }
 const char* to_string(CoefScaling s) { return name_of(s); }
 const char* to_string(OriginLatch o) { return name_of(o); }
 const char* to_string(MachineConfig::MacSchedule m) { return name_of(m); }
+const char* to_string(MachineConfig::UnitPrecision p) { return name_of(p); }
+const char* to_string(HitRefine r) { return name_of(r); }
 const char* to_string(MachineConfig::SearchWalk w) { return name_of(w); }
 const char* to_string(MachineConfig::RayGeneration g) { return name_of(g); }
 const char* to_string(MachineConfig::Gather g) { return name_of(g); }
@@ -314,7 +325,14 @@ const std::vector<ConfigKey>& config_keys() {
                &M::partition),
       int_key("tile", "block edge in pixels (partition = blocks)", &M::tile, from(1, kMaxImageSide)),
       enum_key("timing", "MAC model: fast (cycle-exact by formula) or clocked (a process on a clock)", &M::timing),
-      enum_key("precision", "MAC, root unit and clip arithmetic", &M::precision),
+      enum_key("precision", "arithmetic of every datapath unit of a PE (the 3DDDA, the MAC, root unit and clips, shading), unless the unit's own key says otherwise; the host computes in fp64 (docs/numerics.md)",
+               &M::precision),
+      enum_key("intersection_precision", "MAC, root unit and clip arithmetic: precision (as the precision key says), fp32 or fp64",
+               &M::intersection_precision),
+      enum_key("dda_precision", "search units' 3DDDA arithmetic (voxel planes, crossing times, window ends): precision (as the precision key says), fp32 or fp64",
+               &M::dda_precision),
+      enum_key("shading_precision", "shading arithmetic (hit point, normal, light, reflection and refraction directions, spawned origins, contributions): precision (as the precision key says), fp32 or fp64",
+               &M::shading_precision),
       enum_key("mac_schedule", "full (the paper's 6 + 12 + 10 products for every test) or sparse (each primitive's products with a zero coefficient word skipped: same sums, fewer cycles)",
                &M::mac_schedule),
       bool_key("leave_out", "leave out the units, FIFOs and paths the scene cannot use (they are not elaborated)", &M::leave_out),
@@ -326,6 +344,8 @@ const std::vector<ConfigKey>& config_keys() {
                &M::coef_scaling),
       enum_key("origin_latch", "ray origin into the V latches: machine (rounded to the MAC precision, then re-centred: the paper's latch), wide (re-centred in fp64, then rounded) or advance (wide, from the voxel's entry point; advance_cycles more latency)",
                &M::origin_latch),
+      enum_key("hit_refine", "shading's hit point: none (at the root unit's t, as in the paper) or newton (one Newton step on the primitive's quadric in fp64 first; refine_cycles more shading latency per hit; docs/numerics.md)",
+               &M::hit_refine),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
       int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, 256)),
       enum_key("search_walk", "per_voxel (a ray in an empty voxel goes back to the front buffer, as in the paper) or until_occupied (the search unit steps on until an occupied voxel or the walk's end)",
@@ -340,6 +360,8 @@ const std::vector<ConfigKey>& config_keys() {
               &M::fma_discriminant_cycles, from(0, kMaxOpCycles)),
       int_key("advance_cycles", "extra root unit latency with origin_latch = advance (adding t_enter to the roots)",
               &M::advance_cycles, from(0, kMaxOpCycles)),
+      int_key("refine_cycles", "extra shading latency per hit with hit_refine = newton (the hit point, Q and its gradient there, the slope and a division, in fp64)",
+              &M::refine_cycles, from(0, kMaxOpCycles)),
       int_key("clip_cycles", "cycles per clip half-space test (3 products and an add)", &M::clip_cycles, from(0, kMaxOpCycles)),
       int_key("sort_cycles", "cycles per primitive result merged into the nearest-hit register", &M::sort_cycles, from(0, kMaxOpCycles)),
       int_key("shade_cycles", "shading cycles per ray: normal, ambient term and frame-buffer update", &M::shade_cycles, from(0, kMaxOpCycles)),
@@ -425,6 +447,10 @@ const std::vector<Preset>& presets() {
        {
            {"partition", "scanlines", "silent (§2: pixel-parallel screen partitioning, no scheme named): rows dealt to the PEs in turn"},
            {"precision", "fp32", "silent (§5.2: floating-point multipliers and adder, no width given): single precision"},
+           {"intersection_precision", "precision", "silent: one floating-point width for the whole PE"},
+           {"dda_precision", "precision", "silent (§4: the 3DDDA's arithmetic is not described): the PE's one floating-point width"},
+           {"shading_precision", "precision", "silent (§6: the shading arithmetic is not described): the PE's one floating-point width"},
+           {"hit_refine", "none", "§6 shades the point the intersection stage found; no refinement is described"},
            {"mac_schedule", "full", "§5.2: the adder accumulates 6 products for α, 12 for β and 10 for γ, for every primitive"},
            {"leave_out", "false", "§3.1, §6: one machine for every scene: each PE has its shadow and branch-ray units whether the scene uses them or not"},
            {"recentre", "false", "§5.2: the RAM holds the quadric's coefficients and the latches the ray's V, both in world space"},

@@ -38,7 +38,13 @@ struct MachineConfig {
 
   // Fidelity
   Timing timing = Timing::Fast;
+  /// Every datapath unit's arithmetic, unless the unit's own key below says otherwise.
   Precision precision = Precision::Fp32;
+  /// A unit's own arithmetic: as `precision` says (the default), or fp32 or fp64 whatever it says.
+  enum class UnitPrecision { Precision, Fp32, Fp64 };
+  UnitPrecision intersection_precision = UnitPrecision::Precision;  ///< the MAC, root unit and clip tests
+  UnitPrecision dda_precision = UnitPrecision::Precision;           ///< the search units' 3DDDA
+  UnitPrecision shading_precision = UnitPrecision::Precision;       ///< the shading unit
   enum class MacSchedule { Full, Sparse };
   MacSchedule mac_schedule = MacSchedule::Sparse;
   bool leave_out = true;  ///< what is left out: render/scene_needs.h
@@ -47,6 +53,7 @@ struct MachineConfig {
   Discriminant discriminant = MacNumerics{}.discriminant;
   CoefScaling coef_scaling = MacNumerics{}.coef_scaling;
   OriginLatch origin_latch = MacNumerics{}.origin;
+  HitRefine hit_refine = HitRefine::Newton;
 
   // PE clock and units (cycles)
   double clock_ns = 10;
@@ -60,6 +67,7 @@ struct MachineConfig {
   int root_latency = 12;
   int fma_discriminant_cycles = 2;
   int advance_cycles = 1;
+  int refine_cycles = 8;
   int clip_cycles = 4;
   int sort_cycles = 1;
   int shade_cycles = 16;
@@ -128,6 +136,12 @@ struct MachineConfig {
     return root_latency + (discriminant == Discriminant::Fma ? fma_discriminant_cycles : 0) +
            (origin_latch == OriginLatch::Advance ? advance_cycles : 0);
   }
+  /// Each unit's arithmetic: its own key, or `precision`.
+  Precision intersection_precision_in_force() const { return in_force(intersection_precision); }
+  Precision dda_precision_in_force() const { return in_force(dda_precision); }
+  Precision shading_precision_in_force() const { return in_force(shading_precision); }
+  /// Shading latency of a hit beyond shade_cycles: the hit refinement's.
+  int refine_cycles_in_force() const { return hit_refine == HitRefine::Newton ? refine_cycles : 0; }
   /// The MAC and root unit's numerical options, as SceneMemory takes them.
   MacNumerics numerics() const { return {discriminant, coef_scaling, origin_latch}; }
   /// The safe number of loop credits: no FIFO past the front buffer can then ever be full.
@@ -139,6 +153,11 @@ struct MachineConfig {
   /// Each key's range, then the rules across keys; throws std::invalid_argument naming the
   /// offending key and why.
   void validate() const;
+
+ private:
+  Precision in_force(UnitPrecision u) const {
+    return u == UnitPrecision::Precision ? precision : u == UnitPrecision::Fp32 ? Precision::Fp32 : Precision::Fp64;
+  }
 };
 
 /// A configuration file problem: the message reads "file:line: key: what is wrong". Like a bad
@@ -222,6 +241,8 @@ const char* to_string(MachineConfig::Arbitration a);
 const char* to_string(MachineConfig::PeSimulation p);
 const char* to_string(MachineConfig::SearchWalk w);
 const char* to_string(MachineConfig::MacSchedule m);
+const char* to_string(MachineConfig::UnitPrecision p);
+const char* to_string(HitRefine r);
 const char* to_string(Discriminant d);
 const char* to_string(CoefScaling s);
 const char* to_string(OriginLatch o);

@@ -14,7 +14,7 @@ IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& 
       mac_pipe_(ctx.period.value(), &ctx.counters.mac),
       root_pipe_(ctx.period.value(), &ctx.counters.root) {
   if (clock) {
-    clocked_ = std::make_unique<ClockedMac>("mac_unit", mac_.timing(), ctx.config.precision, ctx.period);
+    clocked_ = std::make_unique<ClockedMac>("mac_unit", mac_.timing(), ctx.config.intersection_precision_in_force(), ctx.period);
     clocked_->clk(*clock);
   }
   SC_THREAD(mac_thread);

@@ -16,7 +16,7 @@ MemoryAddresses::MemoryAddresses(const SceneImage& image, uint64_t pixels, const
     at += s.bytes;
   }
   const bool sparse = c.mac_schedule == MachineConfig::MacSchedule::Sparse;
-  const uint64_t word = word_bytes(c.precision);
+  const uint64_t word = word_bytes(c.intersection_precision_in_force());
   image.visit([&](const auto& mem) {
     uint64_t record = start[0];
     for (size_t i = 0; i < mem.rams.size(); ++i) {

@@ -107,7 +107,8 @@ ImageError compare_images(const Image& img, const Image& ref) {
   if (img.width != ref.width || img.height != ref.height) throw std::invalid_argument("images differ in size");
   require_finite(img, "the image");
   require_finite(ref, "the reference image");
-  const ImageError e = library().compare_images(img, ref);
+  ImageError e = library().compare_images(img, ref);
+  for (size_t i = 0; i < img.ids.size() && i < ref.ids.size(); ++i) e.primary_ids_differing += img.ids[i] != ref.ids[i];
   // Finite values can still square past the largest double.
   if (!std::isfinite(e.rmse) || !std::isfinite(e.max_abs) || std::isnan(e.psnr_db))
     throw NonFiniteImage("the error figures overflow (rmse " + number(e.rmse) + ", max_abs " + number(e.max_abs) +

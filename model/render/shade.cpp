@@ -1,33 +1,60 @@
 #include "render/shade.h"
 
+#include <limits>
+#include <type_traits>
+
 namespace rtm {
+namespace {
 
-double rounding_scale(const Primitive& prim, const Vec3& p) {
-  const Vec3 c = 0.5 * (prim.bounds.lo + prim.bounds.hi);
-  const Quadric q = prim.about(c);
-  const Vec3 x = p - c;
-  const auto& k = q.c;
-  const double terms = std::abs(k[kA] * x.x * x.x) + std::abs(k[kB] * x.y * x.y) + std::abs(k[kC] * x.z * x.z) +
-                       std::abs(k[kD] * x.x * x.y) + std::abs(k[kE] * x.y * x.z) + std::abs(k[kF] * x.z * x.x) +
-                       std::abs(k[kG] * x.x) + std::abs(k[kH] * x.y) + std::abs(k[kI] * x.z) + std::abs(k[kJ]);
-  const double diag = length(prim.bounds.extent());
-  const double grad = length(q.gradient(x));
-  const double local = grad > 0 && std::isfinite(terms / grad) ? std::min(terms / grad, diag) : diag;
-  return max_abs(p) + local;
+/// ∇Q at a world point in Real: from the primitive's local form when it has one (its origin and
+/// coefficients rounded to Real), else from the world form. In double, Primitive::gradient_at.
+template <class Real>
+Vec3Of<Real> gradient_at(const Primitive& prim, const Vec3Of<Real>& p) {
+  const Quadric& q = prim.has_local ? prim.local : prim.q;
+  const Vec3Of<Real> x = prim.has_local ? p - Vec3Of<Real>(prim.origin) : p;
+  auto k = [&](Coef i) { return Real(q.c[i]); };
+  return {2 * k(kA) * x.x + k(kD) * x.y + k(kF) * x.z + k(kG), 2 * k(kB) * x.y + k(kD) * x.x + k(kE) * x.z + k(kH),
+          2 * k(kC) * x.z + k(kE) * x.y + k(kF) * x.x + k(kI)};
 }
 
-double spawn_offset(const Scene& s, const Primitive& prim, const Vec3& p) {
-  if (s.spawn_policy == SpawnPolicy::Bound) return s.spawn_offset * rounding_scale(prim, p);
-  return s.spawn_offset * std::max(1.0, max_abs(p));
+}  // namespace
+
+template <class Real>
+Real rounding_scale(const Primitive& prim, const Vec3Of<Real>& p) {
+  using V = Vec3Of<Real>;
+  const Vec3 mid = 0.5 * (prim.bounds.lo + prim.bounds.hi);
+  const Quadric q = prim.about(mid);  // the host's: each primitive's centred coefficients
+  const V c(mid);
+  const V x = p - c;
+  auto k = [&](Coef i) { return Real(q.c[i]); };
+  const Real terms = std::abs(k(kA) * x.x * x.x) + std::abs(k(kB) * x.y * x.y) + std::abs(k(kC) * x.z * x.z) +
+                     std::abs(k(kD) * x.x * x.y) + std::abs(k(kE) * x.y * x.z) + std::abs(k(kF) * x.z * x.x) +
+                     std::abs(k(kG) * x.x) + std::abs(k(kH) * x.y) + std::abs(k(kI) * x.z) + std::abs(k(kJ));
+  const Real diag = Real(length(prim.bounds.extent()));
+  const V g = {2 * k(kA) * x.x + k(kD) * x.y + k(kF) * x.z + k(kG), 2 * k(kB) * x.y + k(kD) * x.x + k(kE) * x.z + k(kH),
+               2 * k(kC) * x.z + k(kE) * x.y + k(kF) * x.x + k(kI)};
+  const Real grad = length(g);
+  const Real local = grad > 0 && std::isfinite(terms / grad) ? std::min(terms / grad, diag) : diag;
+  return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) + local;
 }
 
-Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* entering) {
-  Vec3 n = prim.gradient_at(p);
+template <class Real>
+Real spawn_offset(const Scene& s, const Primitive& prim, const Vec3Of<Real>& p) {
+  if (s.spawn_policy == SpawnPolicy::Bound) return Real(s.spawn_offset) * rounding_scale<Real>(prim, p);
+  return Real(s.spawn_offset) * std::max(Real(1), std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+}
+
+template <class Real>
+Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& d, bool* entering) {
+  Vec3Of<Real> n = gradient_at<Real>(prim, p);
   // Scaled first when tiny or huge, so |n|² can neither underflow nor overflow (near a cone's
   // apex the gradient goes to zero; a subnormal |n|² would give a normal that is not unit length).
-  const double m = max_abs(n);
-  if (m > 0 && std::isfinite(m) && (m < 1e-150 || m > 1e150)) n /= m;
-  const double len = length(n);
+  // The bounds are well inside Real's range either way: 1e±150 in double, 1e±18 in float.
+  constexpr Real kTiny = std::is_same_v<Real, double> ? Real(1e-150) : Real(1e-18);
+  constexpr Real kHuge = std::is_same_v<Real, double> ? Real(1e150) : Real(1e18);
+  const Real m = std::max({std::abs(n.x), std::abs(n.y), std::abs(n.z)});
+  if (m > 0 && std::isfinite(m) && (m < kTiny || m > kHuge)) n /= m;
+  const Real len = length(n);
   if (!(len > 0) || !std::isfinite(len)) {
     if (entering) *entering = true;
     return -normalize(d);
@@ -47,34 +74,40 @@ double refine_hit(const Primitive& prim, const Ray& ray, double t) {
   return std::isfinite(step) && std::abs(step) <= limit ? t - step : t;
 }
 
-void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out) {
+template <class Real>
+void shade_hit(const Scene& s, const Ray& ray, double t_hit, const Primitive& prim, HitRefine refine, ShadeOut& out) {
+  using V = Vec3Of<Real>;
   const Material& m = s.materials[size_t(prim.material)];
-  if (s.refine_hits) t = refine_hit(prim, ray, t);
-  const Vec3 p = ray.origin + t * ray.dir;
+  const Real t = Real(refine == HitRefine::Newton ? refine_hit(prim, ray, t_hit) : t_hit);
+  const V d(ray.dir);
+  const V p = V(ray.origin) + t * d;
   bool entering = true;
-  const Vec3 n = facing_normal(prim, p, ray.dir, &entering);
-  const double eps = spawn_offset(s, prim, p);
-  const Vec3 above = p + eps * n, below = p - eps * n;
+  const V n = facing_normal<Real>(prim, p, d, &entering);
+  const Real eps = spawn_offset<Real>(s, prim, p);
+  const V above = p + eps * n, below = p - eps * n;
+  const V color(m.color);
+  const Real contribution = Real(ray.contribution);
 
-  out.brightness = ray.contribution * m.ambient * s.ambient_light * m.color;
+  out.brightness = Vec3(contribution * Real(m.ambient) * V(s.ambient_light) * color);
   out.rays.clear();
 
   // Shadow rays: one per light the surface faces.
   if (m.diffuse > 0) {
     for (const Light& light : s.lights) {
-      const Vec3 to_light = light.position - above;
-      const double dist = length(to_light);
+      const V to_light = V(light.position) - above;
+      const Real dist = length(to_light);
       if (!(dist > 0)) continue;
-      const Vec3 l = to_light / dist;
-      const double ndl = dot(n, l);
+      const V l = to_light / dist;
+      const Real ndl = dot(n, l);
       if (ndl <= 0) continue;
       Ray r;
       r.kind = RayKind::Shadow;
-      r.origin = above;
-      r.dir = l;
+      r.origin = Vec3(above);
+      r.dir = Vec3(l);
       r.t_max = dist;
-      r.contribution = ray.contribution * m.diffuse;
-      r.brightness = r.contribution * ndl * light.color * m.color;
+      const Real c = contribution * Real(m.diffuse);
+      r.contribution = c;
+      r.brightness = Vec3(c * ndl * V(light.color) * color);
       r.pixel = ray.pixel;
       r.depth = ray.depth;
       out.rays.push_back(r);
@@ -83,12 +116,12 @@ void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, 
   if (ray.depth >= s.max_depth) return;
 
   // Reflected ray.
-  const double c_refl = ray.contribution * m.specular;
-  if (c_refl > s.threshold) {
+  const Real c_refl = contribution * Real(m.specular);
+  if (c_refl > Real(s.threshold)) {
     Ray r;
     r.kind = RayKind::Reflected;
-    r.origin = above;
-    r.dir = normalize(ray.dir - 2 * dot(ray.dir, n) * n);
+    r.origin = Vec3(above);
+    r.dir = Vec3(normalize(d - 2 * dot(d, n) * n));
     r.contribution = c_refl;
     r.pixel = ray.pixel;
     r.depth = uint8_t(ray.depth + 1);
@@ -96,16 +129,17 @@ void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, 
   }
 
   // Transmitted ray (Snell); none under total internal reflection.
-  const double c_trans = ray.contribution * m.transmission;
-  if (c_trans > s.threshold) {
-    const double eta = entering ? 1.0 / m.ior : m.ior;
-    const double cos_i = -dot(ray.dir, n);
-    const double k = 1 - eta * eta * (1 - cos_i * cos_i);
+  const Real c_trans = contribution * Real(m.transmission);
+  if (c_trans > Real(s.threshold)) {
+    const Real ior = Real(m.ior);
+    const Real eta = entering ? 1 / ior : ior;
+    const Real cos_i = -dot(d, n);
+    const Real k = 1 - eta * eta * (1 - cos_i * cos_i);
     if (k >= 0) {
       Ray r;
       r.kind = RayKind::Transmitted;
-      r.origin = below;
-      r.dir = normalize(eta * ray.dir + (eta * cos_i - std::sqrt(k)) * n);
+      r.origin = Vec3(below);
+      r.dir = Vec3(normalize(eta * d + (eta * cos_i - std::sqrt(k)) * n));
       r.contribution = c_trans;
       r.pixel = ray.pixel;
       r.depth = uint8_t(ray.depth + 1);
@@ -113,5 +147,15 @@ void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, 
     }
   }
 }
+
+// The two precisions of a shading unit (shading_precision).
+template float rounding_scale<float>(const Primitive&, const Vec3Of<float>&);
+template double rounding_scale<double>(const Primitive&, const Vec3Of<double>&);
+template float spawn_offset<float>(const Scene&, const Primitive&, const Vec3Of<float>&);
+template double spawn_offset<double>(const Scene&, const Primitive&, const Vec3Of<double>&);
+template Vec3Of<float> facing_normal<float>(const Primitive&, const Vec3Of<float>&, const Vec3Of<float>&, bool*);
+template Vec3Of<double> facing_normal<double>(const Primitive&, const Vec3Of<double>&, const Vec3Of<double>&, bool*);
+template void shade_hit<float>(const Scene&, const Ray&, double, const Primitive&, HitRefine, ShadeOut&);
+template void shade_hit<double>(const Scene&, const Ray&, double, const Primitive&, HitRefine, ShadeOut&);
 
 }  // namespace rtm

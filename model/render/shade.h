@@ -10,14 +10,23 @@
 //   one shadow ray per light in front of the surface (N·L > 0) when kd > 0, contribution × kd;
 //   the reflected ray, contribution × ks, and the transmitted ray, contribution × kt, each
 //   dropped when its contribution is at or below the threshold or the depth limit is reached.
+//
+// Templated on the shading unit's arithmetic (`shading_precision`, docs/numerics.md): the hit
+// point, the normal, the light and reflection/refraction directions, spawned origins and
+// contributions are all formed in Real, from the ray, the scene's lights, materials and quadric
+// coefficients rounded to Real. The reference renderer shades in double.
 #pragma once
 
 #include <vector>
 
+#include "geom/numerics.h"
 #include "render/ray.h"
 #include "scene/scene.h"
 
 namespace rtm {
+
+template <class Real>
+using Vec3Of = glm::vec<3, Real>;
 
 struct ShadeOut {
   Vec3 brightness{0, 0, 0};
@@ -28,28 +37,41 @@ struct ShadeOut {
 /// rounded: the machine's origin latches hold world coordinates) plus Σ|terms of Q| / |∇Q| in
 /// the primitive's centred frame (how far rounding of the quadric's value moves a root), the
 /// latter at most the primitive's box diagonal (a vanishing gradient, at a cone's apex).
-double rounding_scale(const Primitive& prim, const Vec3& p);
+template <class Real = double>
+Real rounding_scale(const Primitive& prim, const Vec3Of<Real>& p);
 
 /// Distance a spawned ray's origin is moved off the surface, so it does not find its own surface
 /// again through rounding in t: spawn_offset × max(1, |p|∞) (SpawnPolicy::Relative), or
 /// spawn_offset × rounding_scale(prim, p) (SpawnPolicy::Bound: no floor, so tiny objects and thin
 /// shells near the origin keep their spawned rays; spawn_offset is then k × the unit roundoff of
 /// the machine precision it must cover, 1e-5 ≈ 168 float32 ulps). docs/numerics.md.
-double spawn_offset(const Scene& s, const Primitive& prim, const Vec3& p);
+template <class Real = double>
+Real spawn_offset(const Scene& s, const Primitive& prim, const Vec3Of<Real>& p);
 
 /// The unit surface normal at p facing against the incoming direction d. Where the gradient
 /// vanishes (a cone's apex) or is not finite, falls back to −d.
-Vec3 facing_normal(const Primitive& prim, const Vec3& p, const Vec3& d, bool* entering);
+template <class Real = double>
+Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& d, bool* entering);
 
 /// One Newton step on Q(o + t d) = 0 from the intersection stage's t, in double precision on
 /// the primitive's local form (no cancellation far from the origin); the step is limited so a
-/// near-tangent ray cannot be thrown far along itself.
+/// near-tangent ray cannot be thrown far along itself. HitRefine::Newton (geom/numerics.h).
 double refine_hit(const Primitive& prim, const Ray& ray, double t);
 
-/// Everything the shading stage does for one ray that hit `prim` at parameter t.
-void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out);
+/// Everything the shading stage does for one ray that hit `prim` at parameter t, in Real, after
+/// `refine`.
+template <class Real>
+void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, HitRefine refine, ShadeOut& out);
+
+/// The reference renderer's shading: double precision, each hit refined by a Newton step.
+inline void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out) {
+  shade_hit<double>(s, ray, t, prim, HitRefine::Newton, out);
+}
 
 /// Brightness of a primary or branch ray that found nothing.
-inline Vec3 miss_brightness(const Scene& s, const Ray& ray) { return ray.contribution * s.background; }
+template <class Real = double>
+Vec3 miss_brightness(const Scene& s, const Ray& ray) {
+  return Vec3(Real(ray.contribution) * Vec3Of<Real>(s.background));
+}
 
 }  // namespace rtm

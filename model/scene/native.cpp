@@ -275,6 +275,10 @@ class NativeParser {
   }
 
   void render(const YAML::Node& n) {
+    // Refining hits is the machine's remedy for its own rounding (docs/numerics.md), not the scene's.
+    if (n.IsMap() && n["refine_hits"])
+      fail(n["refine_hits"], "render.refine_hits",
+           "not a scene setting: the machine key hit_refine (none or newton) chooses it, e.g. --set hit_refine=none");
     Map m(*this, n, "render", {"threshold", "max_depth", "grid", "spawn_offset", "spawn_policy"});
     if (auto v = m.get("threshold")) {
       scene_.threshold = number(*v, m.path("threshold"));

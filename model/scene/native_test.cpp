@@ -321,6 +321,9 @@ TEST(NativeErrors, LightsMaterialsRender) {
       {kCam + kPrims + "render: {grid: [0, 1, 1]}\n", 3, "render.grid[0]: must be >= 1"},
       {kCam + kPrims + "render: {grid: [1000, 1000, 1000]}\n", 3, "too many voxels"},
       {kCam + kPrims + "render: {depth: 3}\n", 3, "unknown key 'depth'"},
+      // The hit refinement is a machine key now.
+      {kCam + kPrims + "render: {refine_hits: false}\n", 3,
+       "render.refine_hits: not a scene setting: the machine key hit_refine (none or newton) chooses it"},
   };
   for (const BadCase& c : cases) expect_error(c);
 }

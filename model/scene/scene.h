@@ -83,9 +83,6 @@ struct Scene {
   /// relative) or to an error bound of the hit point (bound).
   double spawn_offset = 1e-5;
   SpawnPolicy spawn_policy = SpawnPolicy::Relative;
-  /// The shading stage refines the hit point with one Newton step on the double-precision
-  /// quadric before shading, so a float32 t does not leave the point inside its own surface.
-  bool refine_hits = true;
   GridOptions grid;
 };
 

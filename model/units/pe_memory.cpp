@@ -39,7 +39,7 @@ PeMemory::PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pix
   if (c.voxel_cache_bytes > 0) cache_ = VoxelCache::from(c);
   const bool sparse = c.mac_schedule == MachineConfig::MacSchedule::Sparse;
   image.visit([&](const auto& mem) {
-    for (const auto& ram : mem.rams) coef_bytes_.push_back(coef_record_bytes(c.precision, coef_record_words(ram, sparse)));
+    for (const auto& ram : mem.rams) coef_bytes_.push_back(coef_record_bytes(c.intersection_precision_in_force(), coef_record_words(ram, sparse)));
   });
 }
 

@@ -15,18 +15,22 @@ Route exit_route(const Scene& s, MachineRay& r) {
 }
 }  // namespace
 
+template <class Real>
 bool search_pass(const Grid& g, MachineRay& r) {
+  using Walk = BasicDda<Real>;
   const Ray& ray = r.ray;
   if (!r.started) {
-    r.walk = Dda::start(g, ray.origin, ray.dir, 0.0, ray.t_max);
+    r.walk = Walk::start(g, ray.origin, ray.dir, 0.0, ray.t_max);
     r.started = true;
   }
   if (r.walk.done) return false;
   r.examined = r.walk;
-  r.last = Dda::is_last(g, ray.dir, ray.t_max, r.walk);
-  Dda::advance(g, ray.origin, ray.dir, ray.t_max, r.walk);
+  r.last = Walk::is_last(g, ray.dir, ray.t_max, r.walk);
+  Walk::advance(g, ray.origin, ray.dir, ray.t_max, r.walk);
   return true;
 }
+template bool search_pass<float>(const Grid&, MachineRay&);
+template bool search_pass<double>(const Grid&, MachineRay&);
 
 Route search_route(const Scene& s, const Grid& g, MachineRay& r, bool examined) {
   if (!examined) return exit_route(s, r);

@@ -16,7 +16,9 @@ enum class Route {
 
 /// One search-unit pass: set the walk up on the ray's first pass, examine the current voxel,
 /// step to the next one, and route by the examined voxel's occupancy. Returns whether a voxel
-/// was examined (false: the ray misses the grid altogether).
+/// was examined (false: the ray misses the grid altogether). The walk's arithmetic is Real's
+/// (dda_precision).
+template <class Real = double>
 bool search_pass(const Grid& g, MachineRay& r);
 Route search_route(const Scene& s, const Grid& g, MachineRay& r, bool examined);
 

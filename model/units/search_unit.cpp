@@ -6,13 +6,14 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
   const MachineConfig& c = pe_.config;
   const Grid& g = *pe_.image->grid;
   const bool walk_on = c.search_walk == MachineConfig::SearchWalk::UntilOccupied;
+  const bool fp32 = c.dda_precision_in_force() == Precision::Fp32;
   Work w;
   Route route;
   uint64_t passes = 0;
   const uint64_t cycle = now / pe_.cycle;
   for (;;) {
     ++passes;
-    const bool examined = search_pass(g, r);
+    const bool examined = fp32 ? search_pass<float>(g, r) : search_pass<double>(g, r);
     route = search_route(*pe_.image->scene, g, r, examined);
     w.cycles += uint64_t(c.dda_step_cycles);
     // Reading the voxel entry only happens when there is a voxel to examine. A walk of several

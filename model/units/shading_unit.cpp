@@ -19,19 +19,23 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
   ShadeOut& out = outs_[taken_++ % outs_.size()];
   out.rays.clear();
   uint64_t cycles = 0;
+  const bool fp32 = c.shading_precision_in_force() == Precision::Fp32;
   switch (r.arrival) {
     case MachineRay::Arrival::Hit:
       if (r.ray.kind == RayKind::Primary) primary_id = int32_t(r.prim);
-      shade_hit(s, r.ray, r.t_hit, s.primitives[r.prim], out);
+      if (fp32)
+        shade_hit<float>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, out);
+      else
+        shade_hit<double>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, out);
       pixel.add(out.brightness);
-      cycles = uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles) * out.rays.size();
+      cycles = uint64_t(c.shade_cycles) + uint64_t(c.refine_cycles_in_force()) + uint64_t(c.spawn_cycles) * out.rays.size();
       break;
     case MachineRay::Arrival::LightReached:
       pixel.add(r.ray.brightness);
       cycles = uint64_t(c.accumulate_cycles);
       break;
     case MachineRay::Arrival::Missed:
-      pixel.add(miss_brightness(s, r.ray));
+      pixel.add(fp32 ? miss_brightness<float>(s, r.ray) : miss_brightness<double>(s, r.ray));
       cycles = uint64_t(c.accumulate_cycles);
       break;
   }

@@ -13,7 +13,7 @@ HEAD_COLUMNS = ["run_id", "status", "error"] + CONFIG_COLUMNS
 # they are.
 SUMMARY_COLUMNS = [
     "cycles", "wall_seconds",
-    "error_rmse", "error_psnr_db", "error_max_abs", "error_pixels_over_1_255",
+    "error_rmse", "error_psnr_db", "error_max_abs", "error_pixels_over_1_255", "error_primary_ids_differing",
     "rays_primary", "rays_shadow", "rays_reflected", "rays_transmitted",
     "util_front_buffer", "util_search", "util_mac", "util_root", "util_shading",
     "load_imbalance",

@@ -1,0 +1,108 @@
+// The shading arithmetic in both of a shading unit's precisions (shading_precision) and the hit
+// refinement (hit_refine), on hand-built hits.
+#include "render/shade.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace rtm {
+namespace {
+
+bool is_float(double x) { return double(float(x)) == x; }
+bool is_float(const Vec3& v) { return is_float(v.x) && is_float(v.y) && is_float(v.z); }
+
+/// A glass sphere of radius 1 at (10, 20, 30) under one light, and a ray hitting it off-centre.
+struct Hit {
+  Scene s;
+  Ray ray;
+  double t = 0;
+  Hit() {
+    Material m;
+    m.diffuse = 0.5;
+    m.specular = 0.3;
+    m.transmission = 0.6;
+    m.ior = 1.5;
+    s.materials.push_back(m);
+    s.lights.push_back({{0, 50, 0}, {1, 1, 1}});
+    s.primitives.push_back(make_sphere({10, 20, 30}, 1));
+    ray.origin = {10.3, 20.2, 25};
+    ray.dir = normalize(Vec3{0.01, -0.02, 1});
+    // The exact near root of |o + t d - c|² = 1 for a unit d.
+    const Vec3 oc = ray.origin - Vec3{10, 20, 30};
+    const double b = dot(oc, ray.dir), c = dot(oc, oc) - 1;
+    t = -b - std::sqrt(b * b - c);
+  }
+};
+
+TEST(ShadePrecision, Fp32FormsEveryShadingResultInFloat) {
+  const Hit h;
+  ShadeOut o32, o64;
+  shade_hit<float>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, o32);
+  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, o64);
+  ASSERT_EQ(o32.rays.size(), 3u);  // shadow, reflected, transmitted
+  ASSERT_EQ(o64.rays.size(), 3u);
+  EXPECT_TRUE(is_float(o32.brightness));
+  for (size_t i = 0; i < 3; ++i) {
+    const Ray &a = o32.rays[i], &b = o64.rays[i];
+    EXPECT_EQ(a.kind, b.kind);
+    // Origins, directions, contributions and a shadow ray's brightness and length are floats,
+    // each within float rounding of the double result, and (here) not all equal to it.
+    EXPECT_TRUE(is_float(a.origin) && is_float(a.dir) && is_float(a.contribution) && is_float(a.brightness)) << i;
+    EXPECT_TRUE(a.t_max == kInf || is_float(a.t_max)) << i;
+    EXPECT_LT(length(a.origin - b.origin), 1e-5 * 30) << i;
+    EXPECT_LT(length(a.dir - b.dir), 1e-5) << i;
+    EXPECT_NE(a.dir, b.dir) << i << ": the directions round differently";
+  }
+  // The double unit is the reference's shading, bit for bit.
+  ShadeOut ref;
+  shade_hit(h.s, h.ray, h.t, h.s.primitives[0], ref);
+  ShadeOut newton;
+  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::Newton, newton);
+  ASSERT_EQ(ref.rays.size(), newton.rays.size());
+  for (size_t i = 0; i < ref.rays.size(); ++i) {
+    EXPECT_EQ(ref.rays[i].origin, newton.rays[i].origin);
+    EXPECT_EQ(ref.rays[i].dir, newton.rays[i].dir);
+  }
+}
+
+TEST(ShadePrecision, TheNormalFallsBackInFloatToo) {
+  // A cone's apex: ∇Q = 0, the normal is −d in either precision; 1e-30 from it |∇Q|² underflows
+  // float, and the gradient is scaled before it is normalised.
+  const Primitive cone = make_cone({0, 0, 0}, 1, {0, 0, 2}, 0);
+  const Vec3Of<float> d = normalize(Vec3Of<float>{0.3f, -0.4f, -1});
+  for (const Vec3Of<float>& p : {Vec3Of<float>{0, 0, 2}, Vec3Of<float>{1e-30f, 0, 2 - 0.5e-30f}}) {
+    const Vec3Of<float> n = facing_normal<float>(cone, p, d, nullptr);
+    EXPECT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z));
+    EXPECT_NEAR(length(n), 1, 1e-6);
+    EXPECT_LE(dot(n, d), 0);
+  }
+}
+
+TEST(HitRefine, NewtonPutsAFloatTOnTheSurfaceAndNoneLeavesIt) {
+  // t as a float32 root unit gives it: off the surface by about an ulp of t times |d|.
+  const Hit h;
+  const double t32 = double(float(h.t) * (1 + 4e-7f));
+  const Primitive& p = h.s.primitives[0];
+  const double off = std::abs(p.value_at(h.ray.origin + t32 * h.ray.dir));
+  const double refined = refine_hit(p, h.ray, t32);
+  EXPECT_GT(off, 1e-7);
+  EXPECT_LT(std::abs(p.value_at(h.ray.origin + refined * h.ray.dir)), 1e-10);  // one step: about the error squared
+  EXPECT_NEAR(refined, h.t, 1e-10);
+  // Shading follows the choice: newton shades at the refined point, none at t32.
+  ShadeOut none, newton;
+  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::None, none);
+  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::Newton, newton);
+  ShadeOut at_refined, at_t32;
+  shade_hit<double>(h.s, h.ray, refined, p, HitRefine::None, at_refined);
+  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::None, at_t32);
+  ASSERT_EQ(newton.rays.size(), at_refined.rays.size());
+  for (size_t i = 0; i < newton.rays.size(); ++i) {
+    EXPECT_EQ(newton.rays[i].origin, at_refined.rays[i].origin);
+    EXPECT_EQ(none.rays[i].origin, at_t32.rays[i].origin);
+    EXPECT_NE(none.rays[i].origin, newton.rays[i].origin);
+  }
+}
+
+}  // namespace
+}  // namespace rtm

@@ -1,0 +1,167 @@
+// The precision keys on hand-built rays: precision sets every unit, and each unit's own key
+// (intersection_precision, dda_precision, shading_precision) changes that unit's arithmetic and
+// no other's; hit_refine changes where shading shades and costs refine_cycles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "units/intersection.h"
+#include "units/search_unit.h"
+#include "units/shading_unit.h"
+
+namespace rtm {
+namespace {
+
+/// A glass sphere of radius 1 at (10, 20, 30) under one light.
+Scene sphere_scene() {
+  Scene s;
+  Material m;
+  m.diffuse = 0.5;
+  m.specular = 0.3;
+  m.transmission = 0.6;
+  m.ior = 1.5;
+  s.materials.push_back(m);
+  s.lights.push_back({{0, 50, 0}, {1, 1, 1}});
+  s.primitives.push_back(make_sphere({10, 20, 30}, 1));
+  return s;
+}
+
+/// A grid of unit voxels from the origin, n[0] x n[1] x n[2], whose voxels list `items`.
+Grid unit_grid(std::array<int, 3> n, std::vector<uint32_t> items = {}) {
+  Grid g;
+  g.n = n;
+  g.box = {{0, 0, 0}, {double(n[0]), double(n[1]), double(n[2])}};
+  g.start.assign(size_t(n[0] * n[1] * n[2] + 1), 0);
+  for (size_t v = 1; v < g.start.size(); ++v) g.start[v] = uint32_t(items.size());
+  g.items = std::move(items);
+  return g;
+}
+
+struct Pe {
+  Scene scene = sphere_scene();
+  Grid grid;
+  PeState pe;
+  Pe(const Grid& g, const std::vector<std::string>& sets) : grid(g) {
+    pe.config.precision = Precision::Fp64;
+    for (const std::string& kv : sets) set_config_assignment(pe.config, kv);
+    pe.image = std::make_shared<SceneImage>(scene, grid, pe.config);
+  }
+};
+
+MachineRay machine_ray(const Vec3& origin, const Vec3& dir) {
+  MachineRay r;
+  r.ray.origin = origin;
+  r.ray.dir = normalize(dir);
+  return r;
+}
+
+// The walk of docs/numerics.md's corner case: aimed 1e-9 above the corner (1, 1), which float
+// cannot resolve (geom/dda_test.cpp, DdaPrecision).
+std::vector<std::array<int, 3>> search_walk(const std::vector<std::string>& sets) {
+  Pe p(unit_grid({4, 4, 1}), sets);
+  SearchUnit unit(p.pe, 0);
+  MachineRay r = machine_ray({0.1, 0.1, 0.5}, {0.9, 0.9 + 1e-9, 0});
+  std::vector<std::array<int, 3>> cells;
+  for (;;) {
+    const Work w = unit.take(r, 0);
+    cells.push_back(r.examined.cell);
+    if (w.out.fifo != FifoId::FeedbackSearch) return cells;
+  }
+}
+
+/// The hit t the intersection unit finds for a ray at the sphere, in a one-voxel grid round it.
+double intersection_t(const std::vector<std::string>& sets) {
+  Grid g = unit_grid({1, 1, 1}, {0});
+  g.box = {{9, 19, 29}, {11, 21, 31}};
+  g.cell = {2, 2, 2};
+  Pe p(g, sets);
+  MacUnit mac(p.pe, 0);
+  RootUnit root(p.pe, 0);
+  MacResult m;
+  m.r = machine_ray({10.3, 20.2, 25}, {0.01, -0.02, 1});
+  m.r.examined = Dda::start(p.grid, m.r.ray.origin, m.r.ray.dir, 0, kInf);
+  m.r.last = true;
+  mac.take(m, 0);
+  root.take(m, 0);
+  EXPECT_EQ(m.r.arrival, MachineRay::Arrival::Hit);
+  return m.r.t_hit;
+}
+
+struct Shaded {
+  std::vector<Ray> rays;
+  uint64_t cycles = 0;
+};
+/// What shading spawns from a hit on the sphere, t 1e-7 beyond the surface (as float rounding
+/// leaves it).
+Shaded shading(const std::vector<std::string>& sets) {
+  Pe p(unit_grid({1, 1, 1}), sets);
+  ShadingUnit unit(p.pe);
+  MachineRay r = machine_ray({10.3, 20.2, 25}, {0.01, -0.02, 1});
+  r.arrival = MachineRay::Arrival::Hit;
+  const Vec3 oc = r.ray.origin - Vec3{10, 20, 30};
+  const double b = dot(oc, r.ray.dir), c = dot(oc, oc) - 1;
+  r.t_hit = (-b - std::sqrt(b * b - c)) * (1 + 1e-7);
+  PixelSum pixel;
+  int32_t id = -1;
+  Shaded s;
+  s.cycles = unit.take(r, pixel, id, 0).cycles;
+  for (size_t k = 1; k < unit.outputs(); ++k) s.rays.push_back(unit.spawn(r, k).ray);
+  return s;
+}
+
+bool same(const std::vector<Ray>& a, const std::vector<Ray>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].origin != b[i].origin || a[i].dir != b[i].dir || a[i].contribution != b[i].contribution) return false;
+  return true;
+}
+
+TEST(PrecisionKeys, DdaPrecisionChangesTheWalkOnly) {
+  const auto fp64 = search_walk({});
+  EXPECT_EQ(fp64[1], (std::array<int, 3>{0, 1, 0}));
+  EXPECT_NE(search_walk({"dda_precision=fp32"}), fp64);
+  EXPECT_NE(search_walk({"precision=fp32"}), fp64);
+  EXPECT_EQ(search_walk({"precision=fp32", "dda_precision=fp64"}), fp64);
+  EXPECT_EQ(search_walk({"intersection_precision=fp32", "shading_precision=fp32"}), fp64);
+}
+
+TEST(PrecisionKeys, IntersectionPrecisionChangesTheRootsOnly) {
+  const double fp64 = intersection_t({});
+  const double fp32 = intersection_t({"intersection_precision=fp32"});
+  EXPECT_NE(fp32, fp64);
+  EXPECT_EQ(double(float(fp32)), fp32);  // the root unit's t is a float
+  EXPECT_NEAR(fp32, fp64, 1e-5);
+  EXPECT_EQ(intersection_t({"precision=fp32"}), fp32);
+  EXPECT_EQ(intersection_t({"precision=fp32", "intersection_precision=fp64"}), fp64);
+  EXPECT_EQ(intersection_t({"dda_precision=fp32", "shading_precision=fp32"}), fp64);
+}
+
+TEST(PrecisionKeys, ShadingPrecisionChangesTheSpawnedRaysOnly) {
+  const Shaded fp64 = shading({});
+  ASSERT_EQ(fp64.rays.size(), 3u);
+  const Shaded fp32 = shading({"shading_precision=fp32"});
+  ASSERT_EQ(fp32.rays.size(), 3u);
+  EXPECT_FALSE(same(fp32.rays, fp64.rays));
+  for (const Ray& r : fp32.rays) EXPECT_EQ(Vec3(glm::vec3(r.dir)), r.dir) << "a float direction";
+  EXPECT_TRUE(same(shading({"precision=fp32"}).rays, fp32.rays));
+  EXPECT_TRUE(same(shading({"precision=fp32", "shading_precision=fp64"}).rays, fp64.rays));
+  EXPECT_TRUE(same(shading({"dda_precision=fp32", "intersection_precision=fp32"}).rays, fp64.rays));
+}
+
+TEST(HitRefineKey, NewtonMovesTheHitPointAndCostsRefineCycles) {
+  const MachineConfig c;
+  const uint64_t plain = uint64_t(c.shade_cycles + 3 * c.spawn_cycles);  // three rays spawned
+  const Shaded newton = shading({}), none = shading({"hit_refine=none"});
+  EXPECT_EQ(c.hit_refine, HitRefine::Newton);
+  EXPECT_EQ(newton.cycles, plain + uint64_t(c.refine_cycles));
+  EXPECT_EQ(none.cycles, plain);
+  EXPECT_EQ(shading({"refine_cycles=30"}).cycles, plain + 30);
+  EXPECT_EQ(shading({"hit_refine=none", "refine_cycles=30"}).cycles, plain);
+  // t was 1e-7 off the surface: refined, the spawned rays start elsewhere.
+  EXPECT_FALSE(same(newton.rays, none.rays));
+}
+
+}  // namespace
+}  // namespace rtm
