@@ -54,6 +54,11 @@ def missing(reason):
     pytest.skip(reason)
 
 
+def sanitizer_options():
+    """This environment's sanitizer options, as more SetEnv assignments."""
+    return "".join(f" {k}={os.environ[k]}" for k in ("ASAN_OPTIONS", "UBSAN_OPTIONS", "TSAN_OPTIONS") if k in os.environ)
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -85,8 +90,9 @@ class Sshd:
                 # The test's folder is under /tmp, which StrictModes would refuse.
                 "StrictModes no\nPasswordAuthentication no\nKbdInteractiveAuthentication no\n"
                 "PermitRootLogin prohibit-password\n"
-                # A host's own environment: its reference cache, no SystemC banner.
-                f"SetEnv RTM_CACHE_DIR={folder}/cache SYSTEMC_DISABLE_COPYRIGHT_MESSAGE=1\n")
+                # A host's own environment: its reference cache, no SystemC banner, and in a
+                # sanitizer build the sanitizers' options (scripts/test --sanitize).
+                f"SetEnv RTM_CACHE_DIR={folder}/cache SYSTEMC_DISABLE_COPYRIGHT_MESSAGE=1{sanitizer_options()}\n")
             cmd = [SSHD, "-D", "-e", "-f", str(folder / "sshd_config")]
             if hidden is not None:
                 cmd = ["unshare", "--mount", "--propagation", "private", "--", "sh", "-c",
