@@ -77,6 +77,9 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--out", r.out, "Image file, .png (8-bit, clamped) or .exr (float); default out/<scene>.png");
   render->add_option("--stats", r.stats, "Statistics JSON file; default beside the image");
   render->add_option("--id-map", r.id_map, "One-channel EXR: primitive number seen by each primary ray, -1 background");
+  render->add_option("--error-map", r.error_map,
+                     "EXR of why each pixel differs from the reference (channels generation, kind, cause, primitive, "
+                     "reference_primitive), and a PNG of the causes in colour beside it (docs/numerics.md)");
   render->add_option("--grid", r.grid,
                       "Grid resolution: auto, machine (with --reference: the machine's automatic grid), N, or NxNyNz; "
                       "default the scene's own (auto)");

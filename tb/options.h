@@ -15,6 +15,7 @@ struct RenderOptions {
   std::string out;             ///< image path; empty: out/<scene>.png
   std::string stats;           ///< stats JSON path; empty: beside the image
   std::string id_map;          ///< optional ID map (.exr)
+  std::string error_map;       ///< optional error map (.exr, and a .png beside it)
   std::string grid;            ///< "auto", "N" or "NxNyNz"; empty: the scene's own
   std::optional<double> threshold;
   std::optional<int> max_depth;

@@ -19,6 +19,8 @@ void print_rays(const TraceCounts& c) {
 void print_files(const RenderFiles& files) {
   std::printf("image: %s\nstats: %s\n", files.image.c_str(), files.stats.c_str());
   if (!files.id_map.empty()) std::printf("id map: %s\n", files.id_map.c_str());
+  if (!files.error_map.empty())
+    std::printf("error map: %s (picture: %s)\n", files.error_map.c_str(), files.error_picture.c_str());
   if (!files.vcd.empty())
     std::printf("waveform: %s (GTKWave: gtkwave %s)\n", files.vcd.c_str(), files.gtkw.c_str());
 }
@@ -51,6 +53,24 @@ void print_count_differences(const TraceCounts& machine, const TraceCounts& refe
                 (unsigned long long)d[i].b);
   std::printf("; %s (docs/machine.md, \"Statistics\")\n",
               fp64 ? "at fp64 they should be equal" : "at fp32 a hit flipped by rounding can do that");
+}
+
+/// Why the pixels differ: each cause's pixels, and the generation and kind where most part.
+void print_causes(const ErrorCauses& e) {
+  if (e.differing == 0) return;
+  std::printf("why they differ (first ray to part from the reference):");
+  const char* sep = "";
+  for (int k = 1; k < kErrorCauses; ++k)
+    if (const uint64_t n = e.by_cause[size_t(k)]) {
+      const ErrorCause cause = ErrorCause(k);
+      const CauseCount* most = nullptr;
+      for (const CauseCount& c : e.counts)
+        if (c.cause == cause && (!most || c.pixels > most->pixels)) most = &c;
+      std::printf("%s %llu %s (most at generation %d, %s)", sep, (unsigned long long)n, error_cause_name(cause),
+                  most->generation, ray_kind_name(most->kind));
+      sep = ",";
+    }
+  std::printf("\n");
 }
 
 /// Each PE's working window in PE cycles, the first of a frame's PEs, and the range over all of
@@ -133,8 +153,8 @@ void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds,
 }
 
 void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, const MachineConfig& c, const MachineResult& m,
-                           const ImageError& err, const ReferenceResult& ref, bool ref_cached,
-                           const RenderFiles& files) {
+                           const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
+                           bool ref_cached, const RenderFiles& files) {
   const FrameStats& st = m.stats;
   std::printf("%s: %dx%d, %zu primitives, grid %dx%dx%d, %d PE%s (%s, %s, %s timing)\n", s.name.c_str(),
               s.camera.width, s.camera.height, s.primitives.size(), g.n[0], g.n[1], g.n[2], c.pes,
@@ -158,11 +178,12 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255, %llu primary hits differ\n",
               err.rmse, err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255,
               (unsigned long long)err.primary_ids_differing);
+  print_causes(causes);
   print_count_differences(m.counts, ref.counts, c);
-  std::printf("wall time: %.3f s model (%s), %.3f s reference%s; grid build %.3f s (%zu references)\n",
+  std::printf("wall time: %.3f s model (%s), %.3f s reference%s, %.3f s explaining the differing pixels; grid build %.3f s (%zu references)\n",
               m.wall_seconds,
               m.engine_unsupported.empty() ? "PEs on the PE engine" : ("PEs as modules: " + m.engine_unsupported).c_str(),
-              ref.wall_seconds, ref_cached ? " (cached)" : "", grid_seconds, g.items.size());
+              ref.wall_seconds, ref_cached ? " (cached)" : "", causes.seconds, grid_seconds, g.items.size());
   print_files(files);
 }
 

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "error/error_causes.h"
 #include "machine/machine.h"
 #include "render/image_io.h"
 #include "render/reference.h"
@@ -13,7 +14,7 @@ namespace rtm {
 
 /// The files a render wrote; empty: not written.
 struct RenderFiles {
-  std::string image, stats, id_map, vcd, gtkw;
+  std::string image, stats, id_map, error_map, error_picture, vcd, gtkw;
 };
 
 /// After a --reference render.
@@ -22,7 +23,7 @@ void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds,
 
 /// After a machine render, compared with the reference.
 void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, const MachineConfig& c, const MachineResult& m,
-                           const ImageError& err, const ReferenceResult& ref, bool ref_cached,
-                           const RenderFiles& files);
+                           const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
+                           bool ref_cached, const RenderFiles& files);
 
 }  // namespace rtm

@@ -11,6 +11,8 @@
 #include <unistd.h>
 
 #include "byte_size.h"
+#include "error/error_causes.h"
+#include "error/error_map.h"
 #include "machine/machine.h"
 #include "machine/partition.h"
 #include "memory_budget.h"
@@ -100,6 +102,13 @@ int run_render(const RenderOptions& opt) {
     files.stats =
         opt.stats.empty() ? (std::filesystem::path(files.image).replace_extension(".json")).string() : opt.stats;
     files.id_map = opt.id_map;
+    if (!opt.error_map.empty()) {
+      if (opt.reference) throw UsageError("--error-map: it explains the machine's image against the reference; not with --reference");
+      if (std::filesystem::path(opt.error_map).extension() != ".exr")
+        throw UsageError("--error-map: " + opt.error_map + ": must be an .exr file (its picture is written beside it as .png)");
+      files.error_map = opt.error_map;
+      files.error_picture = std::filesystem::path(opt.error_map).replace_extension(".png").string();
+    }
     if (!opt.reference && !opt.vcd.empty()) {
       files.vcd = vcd_file(opt.vcd);
       files.gtkw = mopt.gtkw;
@@ -107,11 +116,13 @@ int run_render(const RenderOptions& opt) {
     check_writable("--out", files.image);
     check_writable("--stats", files.stats);
     check_writable("--id-map", files.id_map);
+    check_writable("--error-map", files.error_map);
     check_writable("--vcd", files.vcd);
     check_writable("--vcd", files.gtkw);
     if (!opt.reference) check_writable("--event-log", opt.event_log);
     // The statistics are written last: an image without them is from a run that did not finish.
-    clear_outputs({files.image, files.stats, files.id_map, files.vcd, files.gtkw, opt.reference ? "" : opt.event_log});
+    clear_outputs({files.image, files.stats, files.id_map, files.error_map, files.error_picture, files.vcd, files.gtkw,
+                   opt.reference ? "" : opt.event_log});
 
     const auto t0 = std::chrono::steady_clock::now();
     // One thread: a thread started while the image library loads waits for the dynamic loader's
@@ -162,12 +173,19 @@ int run_render(const RenderOptions& opt) {
       return 1;
     }
 
+    // Only the differing pixels are traced again, through a PE's units and the reference.
+    const ErrorCauses causes = explain_errors(scene, grid, config, m.image, ref.image);
+
     write_image(files.image, m.image);
     if (!opt.id_map.empty()) write_id_map(opt.id_map, m.image);
-    stats.update(machine_render_json(m, config, err, ref, cache_hit));
+    if (!files.error_map.empty()) {
+      write_channels(files.error_map, error_map_channels(causes));
+      write_image(files.error_picture, error_map_picture(causes, m.image));
+    }
+    stats.update(machine_render_json(m, config, err, causes, ref, cache_hit));
     stats["grid_build_seconds"] = grid_seconds;  // beside the model's wall_seconds
     write_text_atomically(files.stats, stats.dump(2) + "\n");
-    if (!opt.quiet) print_machine_summary(scene, grid, grid_seconds, config, m, err, ref, cache_hit, files);
+    if (!opt.quiet) print_machine_summary(scene, grid, grid_seconds, config, m, err, causes, ref, cache_hit, files);
     return 0;
   });
 }

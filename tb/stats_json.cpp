@@ -55,6 +55,26 @@ nlohmann::json error_json(const ImageError& e) {
           {"primary_ids_differing", e.primary_ids_differing}};
 }
 
+/// Why the differing pixels differ (error/error_causes.h): pixels per cause (every cause, so a
+/// script can rely on the keys), per shape of the parting ray's primitive, and per generation,
+/// kind and cause of the ray where the machine's tree first parts from the reference's.
+nlohmann::json causes_json(const ErrorCauses& e) {
+  nlohmann::json by_cause = nlohmann::json::object(), by_shape = nlohmann::json::object(),
+                 partings = nlohmann::json::array();
+  for (int k = 1; k < kErrorCauses; ++k) by_cause[error_cause_name(ErrorCause(k))] = e.by_cause[size_t(k)];
+  for (int k = 0; k < kShapeKinds; ++k)
+    if (e.by_shape[size_t(k)]) by_shape[shape_name(ShapeKind(k))] = e.by_shape[size_t(k)];
+  for (const CauseCount& c : e.counts)
+    partings.push_back({{"generation", c.generation},
+                        {"kind", ray_kind_name(c.kind)},
+                        {"cause", error_cause_name(c.cause)},
+                        {"pixels", c.pixels}});
+  return {{"pixels", e.differing},
+          {"by_cause", by_cause},
+          {"by_shape", by_shape},
+          {"partings", partings}};
+}
+
 /// A configuration value as its key's type: an integer or a number, a flag as a boolean, a choice
 /// as its name. From the key's own text (ConfigKey::get), which reads back as the same value.
 nlohmann::json config_value(const ConfigKey& k, const MachineConfig& c) {
@@ -312,12 +332,13 @@ nlohmann::json reference_render_json(const ReferenceResult& r) {
 }
 
 nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const ImageError& err,
-                                   const ReferenceResult& ref, bool ref_cached) {
+                                   const ErrorCauses& causes, const ReferenceResult& ref, bool ref_cached) {
   nlohmann::json j = counts_json(m.counts);
   j["renderer"] = "machine";
   j["wall_seconds"] = m.wall_seconds;
   j.update(machine_json(m, c));
   j["error"] = error_json(err);
+  j["error"]["causes"] = causes_json(causes);
   j["summary"] = summary_json(m, c, err);
   // The same rays, walks and tests as the machine's: at fp64 always; at fp32 unless a hit flipped
   // (docs/machine.md, "Statistics").

@@ -23,11 +23,13 @@ std::string extension(const std::string& path) {
   return e;
 }
 
+/// names: the channels' names; empty, the format's own (R, G, B; Y).
 void write_pixels(const std::string& final_path, const std::string& tmp, int w, int h, int channels,
-                  OIIO::TypeDesc type, const void* data) {
+                  OIIO::TypeDesc type, const void* data, const std::vector<std::string>& names = {}) {
   auto out = OIIO::ImageOutput::create(final_path);
   if (!out) throw std::runtime_error(final_path + ": cannot write this image format: " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, channels, type);
+  if (!names.empty()) spec.channelnames = names;
   if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data) || !out->close())
     throw std::runtime_error(final_path + ": cannot write: " + out->geterror());
 }
@@ -52,6 +54,15 @@ void write_id_map(const std::string& path, const Image& img) {
   std::vector<float> px(img.ids.begin(), img.ids.end());
   commit_atomically(path, [&](const std::string& tmp) {
     write_pixels(path, tmp, img.width, img.height, 1, OIIO::TypeDesc::FLOAT, px.data());
+  });
+}
+
+void write_channels(const std::string& path, const Channels& c) {
+  if (extension(path) != ".exr") throw std::runtime_error(path + ": must be an .exr file");
+  if (c.values.size() != size_t(c.width) * size_t(c.height) * c.names.size())
+    throw std::invalid_argument(path + ": the channels' values do not fill the image");
+  commit_atomically(path, [&](const std::string& tmp) {
+    write_pixels(path, tmp, c.width, c.height, int(c.names.size()), OIIO::TypeDesc::FLOAT, c.values.data(), c.names);
   });
 }
 
@@ -83,6 +94,18 @@ Image read_id_map(const std::string& path) {
   return img;
 }
 
+Channels read_channels(const std::string& path) {
+  OIIO::ImageBuf buf = read_buf(path);
+  const OIIO::ImageSpec& spec = buf.spec();
+  Channels c;
+  c.width = spec.width;
+  c.height = spec.height;
+  c.names = spec.channelnames;
+  c.values.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, c.values.data());
+  return c;
+}
+
 ImageError compare_images(const Image& img, const Image& ref) {
   if (img.width != ref.width || img.height != ref.height) throw std::invalid_argument("images differ in size");
   auto to_buf = [](const Image& im) {
@@ -106,6 +129,7 @@ ImageError compare_images(const Image& img, const Image& ref) {
 
 extern "C" __attribute__((visibility("default"))) const rtm::ImageLibrary* rtm_image_library() {
   using namespace rtm::oiio;
-  static const rtm::ImageLibrary library{write_image, write_id_map, read_image, read_id_map, compare_images};
+  static const rtm::ImageLibrary library{write_image,    write_id_map,  read_image,   read_id_map,
+                                         compare_images, write_channels, read_channels};
   return &library;
 }

@@ -74,6 +74,11 @@ void write_id_map(const std::string& path, const Image& img) {
   const PartialFile tmp(temporary_beside(path));
   library().write_id_map(path, img);
 }
+void write_channels(const std::string& path, const Channels& c) {
+  const PartialFile tmp(temporary_beside(path));
+  library().write_channels(path, c);
+}
+Channels read_channels(const std::string& path) { return library().read_channels(path); }
 Image read_image(const std::string& path) { return library().read_image(path); }
 Image read_id_map(const std::string& path) { return library().read_id_map(path); }
 namespace {

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "render/reference.h"
 
@@ -15,6 +16,16 @@ namespace rtm {
 void write_image(const std::string& path, const Image& img);
 /// One-channel float EXR: per pixel the primitive number the primary ray hit, -1 for background.
 void write_id_map(const std::string& path, const Image& img);
+/// A float image of named channels, pixel by pixel (values[pixel * names.size() + channel]).
+struct Channels {
+  int width = 0, height = 0;
+  std::vector<std::string> names;
+  std::vector<float> values;
+};
+/// A float EXR with the channels' names, written as write_image writes.
+void write_channels(const std::string& path, const Channels& c);
+/// Reads any image as named float channels.
+Channels read_channels(const std::string& path);
 /// Reads an RGB image (any format OpenImageIO reads; alpha dropped, grey replicated).
 Image read_image(const std::string& path);
 /// Reads a one-channel ID map written by write_id_map.

@@ -17,6 +17,8 @@ struct ImageLibrary {
   Image (*read_image)(const std::string& path);
   Image (*read_id_map)(const std::string& path);
   ImageError (*compare_images)(const Image& img, const Image& ref);
+  void (*write_channels)(const std::string& path, const Channels& c);
+  Channels (*read_channels)(const std::string& path);
 };
 
 /// The one symbol the library exports (C linkage, so dlsym finds it by this name).

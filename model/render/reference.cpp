@@ -179,15 +179,39 @@ struct Scratch {
   std::vector<Ray> stack;
   Mailbox mailbox;
   ShadeOut shade;
+  RayResult result;
   uint64_t unreported = 0;  ///< rays traced since the last report to Shared
 };
 
+/// One ray, as the reference renderer traces it. `shade` is scratch.
+void trace_ray(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb, ShadeOut& shade, RayResult& out) {
+  const Scene& s = *d.mem.scene;
+  const VoxelHit h = walk(d, ray, c, mb);
+  out.added = PixelSum{};
+  out.spawned.clear();
+  out.prim = h.prim;
+  out.t = h.t;
+  if (ray.kind == RayKind::Shadow) {
+    out.end = h.hit ? RayResult::End::Blocked : RayResult::End::LightReached;
+    if (!h.hit) out.added.add(ray.brightness);
+    return;
+  }
+  if (!h.hit) {
+    out.end = RayResult::End::Missed;
+    out.added.add(miss_brightness(s, ray));
+    return;
+  }
+  out.end = RayResult::End::Hit;
+  shade_hit(s, ray, h.t, s.primitives[h.prim], shade);
+  out.added.add(shade.brightness);
+  out.spawned.swap(shade.rays);
+}
+
 /// False when the watch said stop before the tree was done (the pixel is left unfinished).
 bool trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts& c, Scratch& w, Shared& shared) {
-  const Scene& s = *d.mem.scene;
   PixelSum sum;
   std::vector<Ray>& stack = w.stack;
-  ShadeOut& out = w.shade;
+  RayResult& out = w.result;
   stack.clear();
   stack.push_back(primary);
   while (!stack.empty()) {
@@ -199,20 +223,11 @@ bool trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts
       w.unreported = 0;
       if (shared.stop.load(std::memory_order_relaxed)) return false;
     }
-    const VoxelHit h = walk(d, ray, c, w.mailbox);
-    if (ray.kind == RayKind::Shadow) {
-      if (!h.hit) sum.add(ray.brightness);
-      continue;
-    }
-    if (ray.kind == RayKind::Primary) img.ids[ray.pixel] = h.hit ? int32_t(h.prim) : -1;
-    if (!h.hit) {
-      sum.add(miss_brightness(s, ray));
-      continue;
-    }
-    shade_hit(s, ray, h.t, s.primitives[h.prim], out);
-    sum.add(out.brightness);
+    trace_ray(d, ray, c, w.mailbox, w.shade, out);
+    if (ray.kind == RayKind::Primary) img.ids[ray.pixel] = out.end == RayResult::End::Hit ? int32_t(out.prim) : -1;
+    sum.add(out.added);
     // Reverse so rays are traced in the order shading spawned them.
-    stack.insert(stack.end(), out.rays.rbegin(), out.rays.rend());
+    stack.insert(stack.end(), out.spawned.rbegin(), out.spawned.rend());
   }
   img.rgb[primary.pixel] = sum.value();
   shared.pixels.fetch_add(1, std::memory_order_relaxed);
@@ -321,6 +336,23 @@ ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, con
   for (const TraceCounts& c : counts) r.counts.add(c);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+struct ReferenceTracer::State {
+  State(const Scene& s, const Grid& g) : mem(s, g), occupied(g), data{mem, occupied}, mailbox(s.primitives.size()) {}
+  const SceneMemory<double> mem;
+  const Occupancy occupied;
+  const TraceData data;
+  Mailbox mailbox;
+  ShadeOut shade;
+  TraceCounts counts;
+};
+
+ReferenceTracer::ReferenceTracer(const Scene& s, const Grid& g) : state_(std::make_unique<State>(s, g)) {}
+ReferenceTracer::~ReferenceTracer() = default;
+
+void ReferenceTracer::trace(const Ray& ray, RayResult& out) {
+  trace_ray(state_->data, ray, state_->counts, state_->mailbox, state_->shade, out);
 }
 
 }  // namespace rtm

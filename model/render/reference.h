@@ -3,12 +3,14 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "geom/grid.h"
 #include "render/ray.h"
+#include "render/ray_result.h"
 #include "scene/scene.h"
 
 namespace rtm {
@@ -68,5 +70,19 @@ struct BudgetExceeded : std::runtime_error {
 /// Renders the whole frame. threads <= 0: all hardware threads. Throws BudgetExceeded when the
 /// watch's budget is passed.
 ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, const ReferenceWatch& watch = {});
+
+/// The reference renderer one ray at a time, for a caller that follows a pixel's tree itself (the
+/// error attribution re-traces only the pixels that differ): the same walk and shading as
+/// render_reference, so a tree traced through it sums to the reference image's pixel exactly.
+class ReferenceTracer : public RayTracer {
+ public:
+  ReferenceTracer(const Scene& s, const Grid& g);  ///< both must outlive the tracer
+  ~ReferenceTracer() override;
+  void trace(const Ray& ray, RayResult& out) override;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace rtm

@@ -41,7 +41,10 @@ Route search_route(const Scene& s, const Grid& g, MachineRay& r, bool examined) 
 
 Route intersection_route(const Scene& s, MachineRay& r, const VoxelHit& h) {
   if (h.hit) {
-    if (r.ray.kind == RayKind::Shadow) return Route::End;  // the light is blocked
+    if (r.ray.kind == RayKind::Shadow) {  // the light is blocked
+      r.prim = h.prim;  // for the error attribution (error/error_causes.h)
+      return Route::End;
+    }
     r.arrival = MachineRay::Arrival::Hit;
     r.t_hit = h.t;
     r.prim = h.prim;
