@@ -129,7 +129,7 @@ ImageError compare_images(const Image& img, const Image& ref) {
 
 extern "C" __attribute__((visibility("default"))) const rtm::ImageLibrary* rtm_image_library() {
   using namespace rtm::oiio;
-  static const rtm::ImageLibrary library{write_image,    write_id_map,  read_image,   read_id_map,
-                                         compare_images, write_channels, read_channels};
+  static const rtm::ImageLibrary library{rtm::kImageLibraryInterface, write_image, write_id_map, read_image,
+                                         read_id_map, compare_images, write_channels, read_channels};
   return &library;
 }

@@ -44,7 +44,12 @@ const ImageLibrary* load(const std::string& path) {
   using Entry = const ImageLibrary* (*)();
   const auto entry = reinterpret_cast<Entry>(dlsym(handle, kImageLibrarySymbol));
   if (!entry) throw std::runtime_error(path + ": not rtm's image library (it has no " + kImageLibrarySymbol + ")");
-  return entry();
+  const ImageLibrary* library = entry();
+  // An older library's first member is a function pointer, never a small number.
+  if (library->interface != kImageLibraryInterface)
+    throw std::runtime_error(path + ": an image library from another build of rtm: use the " + kImageLibraryFile +
+                             " built with this rtm (or name it with RTM_IMAGE_LIBRARY=FILE)");
+  return library;
 }
 
 std::once_flag load_started;

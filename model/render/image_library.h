@@ -5,13 +5,19 @@
 // read or write images pay it, and a render pays it on a second thread while it traces.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "render/image_io.h"
 
 namespace rtm {
 
+/// Raised whenever ImageLibrary changes: a library left from another build of rtm (beside a copied
+/// program, say) is refused by name instead of called through pointers it does not have.
+inline constexpr uint64_t kImageLibraryInterface = 2;
+
 struct ImageLibrary {
+  uint64_t interface;  ///< kImageLibraryInterface of the build that made the library
   void (*write_image)(const std::string& path, const Image& img);
   void (*write_id_map)(const std::string& path, const Image& img);
   Image (*read_image)(const std::string& path);
