@@ -49,8 +49,8 @@ TEST(StiffFrames, FarFromTheOriginPaperFailsRecentringAndTheWideLatchFix) {
   Tmp tmp;
   const json paper = render(tmp, "paper", "far-origin.yaml", kPaper);
   const json machine = render(tmp, "machine", "far-origin.yaml", "--set origin_latch=machine");
-  const json wide = render(tmp, "wide", "far-origin.yaml", "");  // the default latch
-  const json wide64 = render(tmp, "wide64", "far-origin.yaml", kWideShading);
+  const json wide = render(tmp, "wide", "far-origin.yaml", "--set origin_latch=wide");
+  const json wide64 = render(tmp, "wide64", "far-origin.yaml", "--set origin_latch=wide " + kWideShading);
   const json fp64 = render(tmp, "fp64", "far-origin.yaml", "--precision fp64");
   ASSERT_FALSE(paper.is_null() || machine.is_null() || wide.is_null() || wide64.is_null() || fp64.is_null());
   EXPECT_GT(over(paper), 1000);   // of 4096 pixels (measured 1505)
@@ -64,8 +64,8 @@ TEST(StiffFrames, FarFromTheOriginPaperFailsRecentringAndTheWideLatchFix) {
 TEST(StiffFrames, FarFromTheEyeNeedsTheAdvancedOriginLatch) {
   Tmp tmp;
   const json machine = render(tmp, "machine", "far-eye.yaml", "--set origin_latch=machine");
-  const json wide = render(tmp, "wide", "far-eye.yaml", "");
-  const json adv = render(tmp, "advance", "far-eye.yaml", "--set origin_latch=advance");
+  const json wide = render(tmp, "wide", "far-eye.yaml", "--set origin_latch=wide");
+  const json adv = render(tmp, "advance", "far-eye.yaml", "");  // the default latch
   const json adv64 = render(tmp, "advance64", "far-eye.yaml", "--set origin_latch=advance " + kWideShading);
   ASSERT_FALSE(machine.is_null() || wide.is_null() || adv.is_null() || adv64.is_null());
   EXPECT_GT(over(machine), 500);  // measured 1159
@@ -79,9 +79,9 @@ TEST(StiffFrames, HugeAndTinyNeedTheWideLatch) {
   Tmp tmp;
   const json paper = render(tmp, "paper", "huge-tiny.yaml", kPaper);
   const json machine = render(tmp, "machine", "huge-tiny.yaml", "--set origin_latch=machine");
-  const json wide = render(tmp, "wide", "huge-tiny.yaml", "");
+  const json wide = render(tmp, "wide", "huge-tiny.yaml", "--set origin_latch=wide");
   const json machine64 = render(tmp, "machine64", "huge-tiny.yaml", "--set origin_latch=machine " + kWideShading);
-  const json wide64 = render(tmp, "wide64", "huge-tiny.yaml", kWideShading);
+  const json wide64 = render(tmp, "wide64", "huge-tiny.yaml", "--set origin_latch=wide " + kWideShading);
   ASSERT_FALSE(paper.is_null() || machine.is_null() || wide.is_null() || machine64.is_null() || wide64.is_null());
   EXPECT_GT(over(paper), 500);    // measured 839
   EXPECT_GT(over(machine), 100);  // measured 144
@@ -103,12 +103,12 @@ TEST(StiffFrames, ScaledCoefficientsNeedPow2Scaling) {
 
 TEST(StiffFrames, StiffEllipsoidSeenToItsFarEdge) {
   Tmp tmp;
-  const json deflt = render(tmp, "default", "stiff-ellipsoid.yaml", "");
-  const json adv = render(tmp, "advance", "stiff-ellipsoid.yaml", "--set origin_latch=advance");
+  const json wide = render(tmp, "wide", "stiff-ellipsoid.yaml", "--set origin_latch=wide");
+  const json adv = render(tmp, "advance", "stiff-ellipsoid.yaml", "");  // the default latch
   const json fp64 = render(tmp, "fp64", "stiff-ellipsoid.yaml", "--precision fp64");
-  ASSERT_FALSE(deflt.is_null() || adv.is_null() || fp64.is_null());
-  EXPECT_GT(over(deflt), 50);  // measured 134: the disc's edge 1e3 away
-  EXPECT_LE(over(adv), 5);     // measured 2
+  ASSERT_FALSE(wide.is_null() || adv.is_null() || fp64.is_null());
+  EXPECT_GT(over(wide), 50);  // measured 134: the disc's edge 1e3 away
+  EXPECT_LE(over(adv), 5);    // measured 3
   EXPECT_EQ(rmse(fp64), 0);
 }
 
@@ -171,10 +171,10 @@ TEST(StiffFrames, RemediesKeepClockedEqualToFastAndFp64EqualToTheReference) {
 TEST(StiffFrames, FmaAndAdvanceCostRootUnitCycles) {
   // Same rays (fp64: no decision changes on this scene), longer root-unit latency.
   Tmp tmp;
-  const json plain = render(tmp, "plain", "scaled-coefficients.yaml", "--precision fp64");
-  const json fma = render(tmp, "fma", "scaled-coefficients.yaml", "--precision fp64 --set discriminant=fma");
+  const json plain = render(tmp, "plain", "scaled-coefficients.yaml", "--precision fp64 --set origin_latch=wide");
+  const json fma = render(tmp, "fma", "scaled-coefficients.yaml", "--precision fp64 --set origin_latch=wide --set discriminant=fma");
   const json adv = render(tmp, "adv", "scaled-coefficients.yaml", "--precision fp64 --set origin_latch=advance");
-  const json fma0 = render(tmp, "fma0", "scaled-coefficients.yaml", "--precision fp64 --set discriminant=fma --set fma_discriminant_cycles=0");
+  const json fma0 = render(tmp, "fma0", "scaled-coefficients.yaml", "--precision fp64 --set origin_latch=wide --set discriminant=fma --set fma_discriminant_cycles=0");
   ASSERT_FALSE(plain.is_null() || fma.is_null() || adv.is_null() || fma0.is_null());
   EXPECT_EQ(plain["rays"], fma["rays"]);
   EXPECT_EQ(plain["rays"], adv["rays"]);
@@ -199,7 +199,7 @@ TEST(StiffFrames, DefaultsAreTheDocumentedOnes) {
   ASSERT_EQ(WEXITSTATUS(status), 0);
   const std::string text = slurp(out);
   for (const char* line : {"precision: fp32", "recentre: true", "discriminant: plain", "coef_scaling: pow2",
-                           "origin_latch: wide", "fma_discriminant_cycles: 2", "advance_cycles: 1"})
+                           "origin_latch: advance", "fma_discriminant_cycles: 2", "advance_cycles: 1"})
     EXPECT_NE(text.find(std::string("\n") + line + " "), std::string::npos) << line;
 }
 

@@ -71,8 +71,10 @@ std::vector<std::array<int, 3>> search_walk(const std::vector<std::string>& sets
   }
 }
 
-/// The hit t the intersection unit finds for a ray at the sphere, in a one-voxel grid round it.
-double intersection_t(const std::vector<std::string>& sets) {
+/// The hit t the intersection unit finds for a ray at the sphere, in a one-voxel grid round it,
+/// with the wide origin latch (the advanced one adds the voxel's entry t to the root unit's).
+double intersection_t(std::vector<std::string> sets) {
+  sets.insert(sets.begin(), "origin_latch=wide");
   Grid g = unit_grid({1, 1, 1}, {0});
   g.box = {{9, 19, 29}, {11, 21, 31}};
   g.cell = {2, 2, 2};
