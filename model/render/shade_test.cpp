@@ -2,6 +2,8 @@
 // refinement (hit_refine), on hand-built hits.
 #include "render/shade.h"
 
+#include "render/glass_sphere_test_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,27 +14,11 @@ namespace {
 bool is_float(double x) { return double(float(x)) == x; }
 bool is_float(const Vec3& v) { return is_float(v.x) && is_float(v.y) && is_float(v.z); }
 
-/// A glass sphere of radius 1 at (10, 20, 30) under one light, and a ray hitting it off-centre.
+/// The glass sphere and a ray hitting it off-centre, at its exact t.
 struct Hit {
-  Scene s;
-  Ray ray;
-  double t = 0;
-  Hit() {
-    Material m;
-    m.diffuse = 0.5;
-    m.specular = 0.3;
-    m.transmission = 0.6;
-    m.ior = 1.5;
-    s.materials.push_back(m);
-    s.lights.push_back({{0, 50, 0}, {1, 1, 1}});
-    s.primitives.push_back(make_sphere({10, 20, 30}, 1));
-    ray.origin = {10.3, 20.2, 25};
-    ray.dir = normalize(Vec3{0.01, -0.02, 1});
-    // The exact near root of |o + t d - c|² = 1 for a unit d.
-    const Vec3 oc = ray.origin - Vec3{10, 20, 30};
-    const double b = dot(oc, ray.dir), c = dot(oc, oc) - 1;
-    t = -b - std::sqrt(b * b - c);
-  }
+  Scene s = test::glass_sphere_scene();
+  Ray ray = test::glass_sphere_ray();
+  double t = test::glass_sphere_t(ray);
 };
 
 TEST(ShadePrecision, Fp32FormsEveryShadingResultInFloat) {

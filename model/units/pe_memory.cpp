@@ -71,9 +71,8 @@ void PeMemory::host_write(uint64_t address, uint64_t bytes, uint64_t from, uint6
     const uint64_t offset = k * kHostBurstBytes;
     const Burst b{from + uint64_t((unsigned __int128)span * (k + 1) / bursts), address + offset,
                   std::min(kHostBurstBytes, bytes - offset)};
-    if (!timing_) {
-      beats_ += (b.bytes + width_ - 1) / width_;
-      count(host(), b.bytes);
+    if (!timing_) {  // the ideal memory: counted at once, nothing waits for it
+      post(host(), b.address, b.bytes, b.cycle);
       continue;
     }
     // A PE's transfers come one after another over its last link, so this is nearly always the end.

@@ -7,26 +7,13 @@
 #include <memory>
 #include <vector>
 
+#include "render/glass_sphere_test_scene.h"
 #include "units/intersection.h"
 #include "units/search_unit.h"
 #include "units/shading_unit.h"
 
 namespace rtm {
 namespace {
-
-/// A glass sphere of radius 1 at (10, 20, 30) under one light.
-Scene sphere_scene() {
-  Scene s;
-  Material m;
-  m.diffuse = 0.5;
-  m.specular = 0.3;
-  m.transmission = 0.6;
-  m.ior = 1.5;
-  s.materials.push_back(m);
-  s.lights.push_back({{0, 50, 0}, {1, 1, 1}});
-  s.primitives.push_back(make_sphere({10, 20, 30}, 1));
-  return s;
-}
 
 /// A grid of unit voxels from the origin, n[0] x n[1] x n[2], whose voxels list `items`.
 Grid unit_grid(std::array<int, 3> n, std::vector<uint32_t> items = {}) {
@@ -40,7 +27,7 @@ Grid unit_grid(std::array<int, 3> n, std::vector<uint32_t> items = {}) {
 }
 
 struct Pe {
-  Scene scene = sphere_scene();
+  Scene scene = test::glass_sphere_scene();
   Grid grid;
   PeState pe;
   Pe(const Grid& g, const std::vector<std::string>& sets) : grid(g) {
@@ -82,7 +69,7 @@ double intersection_t(std::vector<std::string> sets) {
   MacUnit mac(p.pe, 0);
   RootUnit root(p.pe, 0);
   MacResult m;
-  m.r = machine_ray({10.3, 20.2, 25}, {0.01, -0.02, 1});
+  m.r.ray = test::glass_sphere_ray();
   m.r.examined = Dda::start(p.grid, m.r.ray.origin, m.r.ray.dir, 0, kInf);
   m.r.last = true;
   mac.take(m, 0);
@@ -100,11 +87,10 @@ struct Shaded {
 Shaded shading(const std::vector<std::string>& sets) {
   Pe p(unit_grid({1, 1, 1}), sets);
   ShadingUnit unit(p.pe);
-  MachineRay r = machine_ray({10.3, 20.2, 25}, {0.01, -0.02, 1});
+  MachineRay r;
+  r.ray = test::glass_sphere_ray();
   r.arrival = MachineRay::Arrival::Hit;
-  const Vec3 oc = r.ray.origin - Vec3{10, 20, 30};
-  const double b = dot(oc, r.ray.dir), c = dot(oc, oc) - 1;
-  r.t_hit = (-b - std::sqrt(b * b - c)) * (1 + 1e-7);
+  r.t_hit = test::glass_sphere_t(r.ray) * (1 + 1e-7);
   PixelSum pixel;
   int32_t id = -1;
   Shaded s;
