@@ -20,6 +20,11 @@ struct VoxelHit {
   uint32_t clip_tests = 0;  ///< half-space evaluations
 };
 
+/// How far back, as a fraction of the voxel's window, a voxel entered with the advanced origin
+/// latch accepts a hit: float rounding of a root measured from the voxel's entry is about 1e-7 of
+/// the distances the latches hold, which a grid of up to ~1000 voxels a side keeps below this.
+constexpr double kAdvancedWindowReach = 1e-4;
+
 /// The window of the current voxel in which a hit counts: shadow rays also stop at their light.
 inline double window_end(const Ray& r, const DdaState& s) { return std::min(s.t_exit, r.t_max); }
 
@@ -46,12 +51,18 @@ VoxelHit resolve_voxel(const SceneMemory<Real>& mem, const Ray& ray, const DdaSt
   const Grid& g = *mem.grid;
   const double t_hi = window_end(ray, s);
   const double shift = mem.t_shift(s.t_enter);  // roots are measured from V + shift·U
+  // Measured from each voxel's own entry point, a hit on the boundary of two voxels is rounded
+  // differently in each, and can fall past the first's exit and before the second's entry: the
+  // window reaches back a little, which only finds what the voxel before rounded out (a primitive
+  // not listed there does not reach it). With one origin for all voxels the windows tile exactly.
+  const double reach_back = shift > 0 ? kAdvancedWindowReach * (t_hi - s.t_enter) : 0.0;
   const uint32_t* ids = g.begin(voxel);
   if (clips_per_prim) clips_per_prim->clear();
   for (uint32_t i = 0, n = g.count(voxel); i < n; ++i) {
     const Abg<Real>& c = abg[i];
     PrimitiveHit h = first_hit_in_window(mem.clips[ids[i]], solve_quadratic(c.a, c.b, c.g, mem.numerics.discriminant),
-                                         mem.latches(ray, ids[i], s.t_enter), -shift, s.t_enter - shift, t_hi - shift);
+                                         mem.latches(ray, ids[i], s.t_enter), -shift, s.t_enter - shift - reach_back,
+                                         t_hi - shift);
     if (h.hit) h.t += shift;
     ++best.tests;
     best.clip_tests += uint32_t(h.clip_tests);
