@@ -17,7 +17,7 @@ using namespace rtm::test;
 using nlohmann::json;
 
 const std::string kFarOrigin = std::string(RTM_SOURCE_DIR) + "/scenes/stiff/far-origin.yaml";
-const std::string kPaper = " --set recentre=false --set coef_scaling=none";
+const std::string kPaper = " --set recentre=false --set coef_scaling=none --set origin_latch=machine";
 
 /// The channel named `name` of an error map, per pixel.
 std::vector<float> channel(const rtm::Channels& c, const std::string& name) {

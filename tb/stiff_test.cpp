@@ -40,7 +40,9 @@ json render(const Tmp& tmp, const std::string& name, const std::string& scene, c
 int over(const json& j) { return j["error"]["pixels_over_1_255"].get<int>(); }
 double rmse(const json& j) { return j["error"]["rmse"].get<double>(); }
 
-const std::string kPaper = "--set recentre=false --set coef_scaling=none";
+// The paper's intersection arithmetic: world coefficients, unscaled, V as the machine holds it (the
+// advanced latch, the default, would start it at each voxel's entry even without re-centring).
+const std::string kPaper = "--set recentre=false --set coef_scaling=none --set origin_latch=machine";
 /// The shading unit in fp64: far from the eye or the origin, a float32 shading unit rounds the
 /// hit point (and so the spawned origins) by more than the spawn offset (docs/numerics.md, case 12).
 const std::string kWideShading = "--set shading_precision=fp64";
