@@ -73,6 +73,22 @@ TEST(ErrorMap, EveryDifferingPixelHasOneCauseAndTheMapAgreesWithTheStatistics) {
   EXPECT_EQ(picture.width, 64);
 }
 
+TEST(ErrorMap, TheSummarySaysWhyThePixelsDiffer) {
+  Tmp tmp;
+  const Proc r = run_rtm("render " + kFarOrigin + kPaper + " --out " + (tmp / "a.png"), tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const size_t at = r.out.find("\nwhy they differ (first ray to part from the reference): ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string line = r.out.substr(at + 1, r.out.find('\n', at + 1) - at - 1);
+  EXPECT_NE(line.find(" other_primitive (most at generation 1, primary)"), std::string::npos) << line;
+  EXPECT_NE(line.find(" shadow_blocked (most at generation 2, shadow)"), std::string::npos) << line;
+  EXPECT_NE(r.out.find(" s explaining the differing pixels"), std::string::npos) << r.out;
+  // A frame with nothing to explain has no such line.
+  const Proc exact = run_rtm("render " + kFarOrigin + kPaper + " --precision fp64 --out " + (tmp / "b.png"), tmp);
+  ASSERT_EQ(exact.exit_code, 0) << exact.err;
+  EXPECT_EQ(exact.out.find("why they differ"), std::string::npos) << exact.out;
+}
+
 TEST(ErrorMap, AnFp64MachineHasNothingToExplain) {
   Tmp tmp;
   const json j = render(tmp, "fp64", kFarOrigin + kPaper + " --precision fp64 --error-map " + (tmp / "why.exr"));
