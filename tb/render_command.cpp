@@ -80,6 +80,10 @@ int run_render(const RenderOptions& opt) {
     }
     // Its ~0.2 s of loading overlaps parsing and rendering instead of following them.
     preload_image_library();
+    // However the render ends (a bad option, a deadlock), the load is over before rtm exits.
+    struct LoadFinished {
+      ~LoadFinished() { finish_loading_image_library(); }
+    } load_finished;
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     const std::string scene_text = opt.scene.empty() ? std::string(kDefaultSceneYaml) : read_text(opt.scene);

@@ -53,7 +53,7 @@ const ImageLibrary* load(const std::string& path) {
 }
 
 std::once_flag load_started;
-std::shared_future<const ImageLibrary*> loaded;  // waited for at exit if still loading
+std::shared_future<const ImageLibrary*> loaded;
 
 /// Finding the library is immediate, so a missing one is reported before any work is done.
 void start_loading() {
@@ -68,6 +68,9 @@ const ImageLibrary& library() {
 }  // namespace
 
 void preload_image_library() { start_loading(); }
+void finish_loading_image_library() {
+  if (loaded.valid()) loaded.wait();
+}
 
 // The library writes through commit_atomically's temporary: registered here, where a signal
 // handler can see it (the library is a module of its own).

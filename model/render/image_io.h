@@ -52,6 +52,10 @@ ImageError compare_images(const Image& img, const Image& ref);
 /// not wait for it at the end; throws at once if the library is missing. Idempotent; the
 /// functions above wait for the load to finish.
 void preload_image_library();
+/// Waits for a load preload_image_library started to finish, if one did. A program must not exit
+/// while the library loads: exit() destroys the static objects of the libraries loaded so far
+/// while the loading thread still constructs and uses them.
+void finish_loading_image_library();
 
 /// Writes text to path through a temporary file and a rename.
 void write_text_atomically(const std::string& path, const std::string& text);

@@ -7,6 +7,15 @@ images: false) and its row file (.row: the header and its row) go to DIR/runs/ (
 --no-append: DIR/runs/RUN_ID.remote/, for GNU parallel to bring back from another host). A run
 whose row file exists is done: it is not run again.
 
+Two attempts at one run never overlap: each holds a lock on DIR/runs/RUN_ID.lock (flock; on NFS,
+Linux's client makes it a lock the server keeps, unless mounted with local_lock) while it runs,
+and one that had to wait takes the row the other left instead of running again. Otherwise,
+sharing the run's file names, each would delete the other's statistics and output, and one would
+record a finished-looking failed row ("no readable statistics"). It happens when a killed sweep
+is resumed at once: GNU parallel killed does not stop its jobs over SSH, whose ssh clients live
+on in process groups of their own, and a job whose connection was still being made has nothing
+yet that could be seen and waited for.
+
 Exit status: 0 when the run has its row (whatever rtm's exit code: a failed or deadlocked run
 is a result too), non-zero when it has none (interrupted), so that GNU parallel's
 --resume-failed runs it again. Signals that interrupt (TERM, INT, HUP, KILL) are not recorded;
@@ -15,6 +24,8 @@ a crash (SEGV, ABRT, ...) is recorded as failed.
 
 import argparse
 import ctypes
+import errno
+import fcntl
 import json
 import os
 import signal
@@ -128,6 +139,53 @@ def _remove(path):
         pass
 
 
+LOCK_SUFFIX = ".lock"
+
+
+def _lock_run(path, interrupted):
+    """Holds the run's lock file PATH: (its descriptor, whether another attempt held it first),
+    or (None, True) when a signal came while waiting; (-1, False) when the file system has no
+    locks, and the run goes on unguarded. Polls, so that a signal ends the wait."""
+    waited = False
+    while True:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                if not waited:
+                    print(f"sweep-run: {os.path.basename(path)[:-len(LOCK_SUFFIX)]}: another attempt at this "
+                          "run is going; waiting for it", file=sys.stderr, flush=True)
+                waited = True
+                if interrupted:
+                    os.close(fd)
+                    return None, True
+                time.sleep(0.05)
+            except OSError as e:
+                if e.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.EINVAL):
+                    raise
+                os.close(fd)
+                print(f"sweep-run: {path}: no file locks here ({e.strerror}); two attempts at this run "
+                      "could overlap", file=sys.stderr)
+                return -1, False
+        # The holder removes the file before it lets go: a lock on a removed file guards nothing.
+        try:
+            same = os.stat(path).st_ino == os.fstat(fd).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            return fd, waited
+        os.close(fd)
+        waited = True
+
+
+def _unlock_run(path, fd):
+    if fd >= 0:
+        _remove(path)
+        os.close(fd)
+
+
 def run(args):
     job = json.loads(args.job)
     run_id = job["id"]
@@ -162,6 +220,25 @@ def run(args):
         signal.signal(sig, on_signal)
     if os.getppid() != parent:  # the parent died before the death signal was armed
         return 128 + signal.SIGTERM
+
+    lock_path = os.path.join(results.runs_dir(args.dir), run_id + LOCK_SUFFIX)
+    lock, waited = _lock_run(lock_path, interrupted)
+    if lock is None:
+        return 128 + interrupted[0]
+    try:
+        return _run_locked(args, job, base, interrupted, child, waited)
+    finally:
+        _unlock_run(lock_path, lock)
+
+
+def _run_locked(args, job, base, interrupted, child, waited):
+    """The run, its lock held. WAITED: another attempt held the lock first; the row it left is
+    this run's (with --no-append a row that was there before is an earlier result, and the run
+    goes again)."""
+    run_id = job["id"]
+    if (waited or not args.no_append) and os.path.exists(base + results.ROW_SUFFIX):
+        print(f"skip {run_id} (already has its row)", flush=True)
+        return 0
 
     out_png, out_json, out_err, out_log = base + ".png", base + ".json", base + ".err", base + ".out"
     for p in (out_png, out_json, out_err, out_log, base + results.ROW_SUFFIX):

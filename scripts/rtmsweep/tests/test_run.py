@@ -1,8 +1,17 @@
-"""Unit tests of one run: the rtm command line, the error message, the outcome, the row."""
+"""Unit tests of one run: the rtm command line, the error message, the outcome, the row; and two
+attempts at one run (scripts/sweep-run, with a stand-in for rtm)."""
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
 
 from rtmsweep import columns, run
+from support import SWEEP_RUN, env, read_csv
 
 JOB = {"id": "balls-1-16x16-p2-01234567", "scene": "/scenes/balls-1.nff", "size": "16x16", "pes": 2,
        "partition": "blocks", "set": {"ray_generation": "pe", "loop_credits": "0"},
@@ -88,3 +97,83 @@ def test_the_outcome_of_a_run(tmp_path):
     assert status == "failed" and "no summary" in message and got == {"cycles": 5}
     stats.write_text(json.dumps({"summary": {"cycles": 5}}))
     assert run.outcome(0, False, None, "ignored", stats) == ("ok", "", {"summary": {"cycles": 5}})
+
+
+def stand_in_rtm(tmp_path):
+    """An executable taking rtm render's command line: it notes each start in CALLS, waits for
+    the file GO, then writes an image and statistics with a summary. Returns (it, CALLS, GO)."""
+    calls, go = tmp_path / "calls", tmp_path / "go"
+    exe = tmp_path / "rtm"
+    exe.write_text(f"""#!{sys.executable}
+import json, os, sys, time
+a = sys.argv
+with open({str(calls)!r}, "a") as f:
+    f.write(f"{{os.getpid()}}\\n")
+while not os.path.exists({str(go)!r}):
+    time.sleep(0.01)
+open(a[a.index("--out") + 1], "wb").write(b"png")
+with open(a[a.index("--stats") + 1], "w") as f:
+    json.dump({{"summary": {{"cycles": 123}}}}, f)
+""")
+    exe.chmod(0o755)
+    return exe, calls, go
+
+
+def wait_for(condition, what, seconds=30):
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.01)
+
+
+@pytest.mark.parametrize("mode", [[], ["--no-append"]], ids=["shared", "no-append"])
+def test_a_second_attempt_at_a_run_waits_for_the_first_and_takes_its_row(tmp_path, mode):
+    """A sweep killed and resumed at once can start a run whose first attempt still goes on (over
+    SSH: GNU parallel does not stop it). Sharing the run's files, the second deleted the first's
+    statistics (a finished-looking failed row, "no readable statistics", that the resume kept)
+    or its output (a crash, no row). Now it waits, then takes the first's row; one stopped while
+    it waits leaves nothing."""
+    exe, calls, go = stand_in_rtm(tmp_path)
+    out = tmp_path / "out"
+    job = {"id": "r1", "scene": str(tmp_path / "s.nff"), "images": True, "set_keys": []}
+    cmd = [SWEEP_RUN, "--dir", str(out), "--rtm", str(exe)] + mode + ["r1", job["scene"], json.dumps(job)]
+    runs = out / "runs" / ("r1.remote" if mode else "")
+    started = []
+
+    def attempt(name):
+        logs = [open(tmp_path / f"{name}.{ext}", "w") for ext in ("out", "err")]
+        p = subprocess.Popen(cmd, stdout=logs[0], stderr=logs[1], stdin=subprocess.DEVNULL, env=env())
+        for f in logs:
+            f.close()
+        started.append(p)
+        return p
+
+    def calls_made():
+        return len(calls.read_text().split()) if calls.exists() else 0
+
+    try:
+        first = attempt("first")
+        wait_for(lambda: calls_made() == 1, "the first attempt's rtm")
+        for name in ("stopped", "second"):
+            p = attempt(name)
+            wait_for(lambda: "waiting for it" in (tmp_path / f"{name}.err").read_text() or p.poll() is not None
+                     or calls_made() > 1, f"the {name} attempt to wait")
+            assert calls_made() == 1, f"the {name} attempt started rtm again beside the first"
+            assert (runs / "r1.err").exists(), f"the {name} attempt removed the first one's files"
+            if name == "stopped":
+                p.send_signal(signal.SIGTERM)
+                assert p.wait(timeout=30) == 128 + signal.SIGTERM
+        second = p
+        go.write_text("")
+        assert first.wait(timeout=30) == 0, (tmp_path / "first.err").read_text()
+        assert second.wait(timeout=30) == 0, (tmp_path / "second.err").read_text()
+    finally:
+        for p in started:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
+    assert calls_made() == 1
+    assert (tmp_path / "second.out").read_text() == "skip r1 (already has its row)\n"
+    _, rows = read_csv(runs / "r1.row")
+    assert [(r["status"], r["cycles"]) for r in rows] == [("ok", "123")]
+    assert not (out / "runs" / ("r1" + run.LOCK_SUFFIX)).exists()
