@@ -318,15 +318,17 @@ ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, con
     --running;
     finished.notify_one();
   };
-  // The watch has a thread of its own, so worker 0 still starts at once on this one (a thread
-  // started while the image library loads waits for the loader's lock).
+  // The watch has a thread of its own. A thread started while the image library loads waits for
+  // the loader's lock, so the first one waits here until it has loaded: not the reference's time.
   std::string stopped;
+  const auto before_watch = std::chrono::steady_clock::now();
   std::thread watching([&] {
     Watcher watcher(watch, s, shared);
     std::unique_lock<std::mutex> lock(m);
     while (!finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return running == 0; }))
       if (stopped.empty() && !(stopped = watcher.look()).empty()) shared.stop = true;
   });
+  const auto waited_for_loader = std::chrono::steady_clock::now() - before_watch;
   std::vector<std::thread> pool;
   for (int i = 1; i < threads; ++i) pool.emplace_back(worker, i);
   worker(0);
@@ -334,7 +336,7 @@ ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, con
   watching.join();
   if (!stopped.empty()) throw BudgetExceeded(stopped);
   for (const TraceCounts& c : counts) r.counts.add(c);
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0 - waited_for_loader).count();
   return r;
 }
 
