@@ -15,6 +15,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "machine/nearest_name.h"
+#include "units/lane_dispatcher.h"
 
 namespace rtm {
 namespace {
@@ -347,7 +348,7 @@ const std::vector<ConfigKey>& config_keys() {
       enum_key("hit_refine", "shading's hit point: none (at the root unit's t, as in the paper) or newton (one Newton step on the primitive's quadric in fp64 first; refine_cycles more shading latency per hit; docs/numerics.md)",
                &M::hit_refine),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
-      int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, 256)),
+      int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, LaneDispatcher::kMaxLanes)),
       enum_key("search_walk", "per_voxel (a ray in an empty voxel goes back to the front buffer, as in the paper) or until_occupied (the search unit steps on until an occupied voxel or the walk's end)",
                &M::search_walk),
       int_key("intersection_units", "MAC + root/sort lanes per PE (the paper has one)", &M::intersection_units, from(1, 64)),

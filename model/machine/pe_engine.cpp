@@ -105,15 +105,6 @@ inline void PeEngine::want(size_t unit, uint64_t at) {
   ++seq_;
 }
 
-void PeEngine::refresh(size_t unit) {
-  // Root units go by their lane: each takes only its own MAC's results, and the modules rank
-  // them so (machine/pe_context.h).
-  Place& p = places_[unit];
-  const auto [at, seq] = p.wakeups.next();
-  due_at_[unit] = at;
-  p.order = p.rank << 48 | seq;
-}
-
 void PeEngine::step(uint64_t now) {
   if (pending_step_ == now) pending_step_ = kNever;
   // The units due now (found by next_instant), in rank order.
@@ -122,8 +113,12 @@ void PeEngine::step(uint64_t now) {
       std::swap(due_now_[j], due_now_[j - 1]);
   for (size_t k = 0; k < due_count_; ++k) {
     const size_t u = due_now_[k];
-    places_[u].wakeups.fired(now);
-    refresh(u);
+    // Its next wake-up, ranked. Root units go by their lane: each takes only its own MAC's
+    // results, and the modules rank them so (machine/pe_context.h).
+    Place& p = places_[u];
+    const auto [at, seq] = p.wakeups.fire(now);
+    due_at_[u] = at;
+    p.order = p.rank << 48 | seq;
     wake(u, now);
   }
   // What they wrote becomes visible. The front buffer is poked by a write to any of its inputs.
@@ -173,7 +168,7 @@ uint32_t PeEngine::new_ray(const MachineRay& r) {
   return s;
 }
 
-inline bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
+[[gnu::always_inline]] inline bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
   Fifo& f = fifo(o.fifo);
   if (f.full()) return false;
   const uint32_t id = r.id;

@@ -137,7 +137,6 @@ class PeEngine {
   uint64_t next_instant();
   void step(uint64_t now);
   void want(size_t unit, uint64_t at);
-  void refresh(size_t unit);
   /// Wakes a unit (units/unit_step.h).
   void wake(size_t unit, uint64_t now);
   void take_inputs(uint64_t now);

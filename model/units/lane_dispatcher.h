@@ -1,8 +1,8 @@
 // Which of several replicated units takes the next ray.
 #pragma once
 
+#include <array>
 #include <cstdint>
-#include <vector>
 
 namespace rtm {
 
@@ -11,22 +11,23 @@ namespace rtm {
 /// numbering, not the order in which a scheduler happens to wake units waiting on the same FIFO.
 class LaneDispatcher {
  public:
+  /// The most replicated units of a kind (search_units' bound).
+  static constexpr int kMaxLanes = 256;
+
   explicit LaneDispatcher(int lanes) {
     for (int i = 0; i < lanes; ++i) idle(i);
   }
   void idle(int lane) {
-    const size_t w = size_t(lane) / 64;
-    if (w >= bits_.size()) bits_.resize(w + 1, 0);
+    uint64_t& w = bits_[size_t(lane) / 64];
     const uint64_t bit = uint64_t(1) << (lane % 64);
-    idle_ += !(bits_[w] & bit);
-    bits_[w] |= bit;
+    idle_ += !(w & bit);
+    w |= bit;
   }
   void busy(int lane) {
-    const size_t w = size_t(lane) / 64;
-    if (w >= bits_.size()) return;
+    uint64_t& w = bits_[size_t(lane) / 64];
     const uint64_t bit = uint64_t(1) << (lane % 64);
-    idle_ -= bool(bits_[w] & bit);
-    bits_[w] &= ~bit;
+    idle_ -= bool(w & bit);
+    w &= ~bit;
   }
   bool any_idle() const { return idle_ > 0; }
   /// The lowest idle lane, now busy (any_idle() must hold).
@@ -41,8 +42,8 @@ class LaneDispatcher {
   }
 
  private:
-  std::vector<uint64_t> bits_;  ///< a bit per lane: waiting
-  size_t idle_ = 0;              ///< bits set
+  std::array<uint64_t, kMaxLanes / 64> bits_{};  ///< a bit per lane: waiting
+  size_t idle_ = 0;                              ///< bits set
 };
 
 }  // namespace rtm

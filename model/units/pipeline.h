@@ -65,7 +65,7 @@ class Pipeline {
   bool can_accept(uint64_t now) const { return now >= ready_ && !stalled(now); }
 
   /// Accepts `item` at `now` (can_accept(now)); returns when its result is due.
-  uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval, MemoryWait&& wait = {}) {
+  [[gnu::always_inline]] uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval, MemoryWait&& wait = {}) {
     uint64_t due = now + latency;
     if (count_ == 0)
       busy_since_ = now;
@@ -76,7 +76,7 @@ class Pipeline {
     s.item = item;
     s.due = due;
     s.accepted = now;
-    s.wait = std::move(wait);
+    if (!wait.empty() || !s.wait.empty()) s.wait = std::move(wait);  // most items ask nothing of memory
     ready_ = now + interval;
     ++stats_->items;
     stats_->issue_cycles += interval / cycle_;

@@ -15,7 +15,7 @@ class RingQueue {
   size_t size() const { return count_; }
   const T& front() const { return ring_[head_]; }
   void push_back(const T& v) {
-    if (count_ == ring_.size()) grow();
+    if (__builtin_expect(count_ == ring_.size(), 0)) grow();
     ring_[(head_ + count_++) & (ring_.size() - 1)] = v;
   }
   void pop_front() {
@@ -24,7 +24,7 @@ class RingQueue {
   }
 
  private:
-  void grow() {
+  [[gnu::noinline]] void grow() {
     std::vector<T> bigger(ring_.empty() ? 16 : ring_.size() * 2);  // a power of two
     for (size_t i = 0; i < count_; ++i) bigger[i] = std::move(ring_[(head_ + i) & (ring_.size() - 1)]);
     ring_ = std::move(bigger);

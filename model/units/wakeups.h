@@ -31,12 +31,19 @@ class Wakeups {
     return best;
   }
   /// The wake-ups at `now` have happened.
-  void fired(uint64_t now) {
-    for (size_t i = 0; i < n_;)
-      if (at_[i].first <= now)
+  void fired(uint64_t now) { (void)fire(now); }
+  /// fired(now), then next(), in one pass.
+  std::pair<uint64_t, uint64_t> fire(uint64_t now) {
+    std::pair<uint64_t, uint64_t> best{kNever, 0};
+    for (size_t i = 0; i < n_;) {
+      if (at_[i].first <= now) {
         at_[i] = at_[--n_];
-      else
-        ++i;
+        continue;
+      }
+      if (at_[i].first < best.first) best = at_[i];
+      ++i;
+    }
+    return best;
   }
   bool empty() const { return n_ == 0; }
 
