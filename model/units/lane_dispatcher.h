@@ -3,6 +3,8 @@
 
 #include <array>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 
 namespace rtm {
 
@@ -14,7 +16,12 @@ class LaneDispatcher {
   /// The most replicated units of a kind (search_units' bound).
   static constexpr int kMaxLanes = 256;
 
+  /// `lanes` waiting at first; the lanes numbered later must lie below kMaxLanes too (the
+  /// configuration bounds search_units and intersection_units by it).
   explicit LaneDispatcher(int lanes) {
+    if (lanes < 0 || lanes > kMaxLanes)
+      throw std::invalid_argument("LaneDispatcher: " + std::to_string(lanes) + " lanes; it holds 0 to " +
+                                  std::to_string(kMaxLanes));
     for (int i = 0; i < lanes; ++i) idle(i);
   }
   void idle(int lane) {
