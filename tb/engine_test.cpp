@@ -52,23 +52,33 @@ std::string first_difference(const std::string& modules_log, const std::string& 
   }
 }
 
-void expect_engine_matches_modules(const std::string& args) {
+/// Renders the frame `args` names twice, with `a` and then `b` added, and expects the same event
+/// log, picture, ID map and statistics; returns both runs' statistics.
+std::pair<json, json> expect_same_frame(const std::string& args, const std::string& a, const std::string& b) {
   Tmp tmp;
-  const json modules =
-      render(tmp, "modules", args + " --set pe_simulation=modules --event-log " + (tmp / "modules.log"));
-  const json engine = render(tmp, "engine", args + " --event-log " + (tmp / "engine.log"));
-  ASSERT_FALSE(modules.is_null() || engine.is_null()) << args;
-  ASSERT_TRUE(engine["pe_simulation"]["engine"].get<bool>()) << engine["pe_simulation"];
-  ASSERT_FALSE(modules["pe_simulation"]["engine"].get<bool>());
-  EXPECT_GT(engine["cycles"].get<uint64_t>(), 0u);
-  const std::string log = slurp(tmp / "modules.log");
+  const json ja = render(tmp, "a", args + " " + a + " --event-log " + (tmp / "a.log"));
+  const json jb = render(tmp, "b", args + " " + b + " --event-log " + (tmp / "b.log"));
+  if (ja.is_null() || jb.is_null()) {
+    ADD_FAILURE() << "a render failed: " << args;
+    return {ja, jb};
+  }
+  EXPECT_GT(jb["cycles"].get<uint64_t>(), 0u);
+  const std::string log = slurp(tmp / "a.log");
   EXPECT_NE(log.find(" take "), std::string::npos) << "an empty event log compares nothing";
-  EXPECT_EQ(first_difference(log, slurp(tmp / "engine.log")), "") << "the event logs part; " << args;
-  const json m = comparable(modules), e = comparable(engine);
-  for (auto& [key, value] : m.items()) EXPECT_EQ(value, e[key]) << key << " differs; " << args;
-  EXPECT_EQ(m.size(), e.size());
-  EXPECT_EQ(rtm::read_image(tmp / "modules.exr").rgb, rtm::read_image(tmp / "engine.exr").rgb) << args;
-  EXPECT_EQ(rtm::read_id_map(tmp / "modules-id.exr").ids, rtm::read_id_map(tmp / "engine-id.exr").ids) << args;
+  EXPECT_EQ(first_difference(log, slurp(tmp / "b.log")), "") << "the event logs part; " << args;
+  const json ca = comparable(ja), cb = comparable(jb);
+  for (auto& [key, value] : ca.items()) EXPECT_EQ(value, cb[key]) << key << " differs; " << args;
+  EXPECT_EQ(ca.size(), cb.size());
+  EXPECT_EQ(rtm::read_image(tmp / "a.exr").rgb, rtm::read_image(tmp / "b.exr").rgb) << args;
+  EXPECT_EQ(rtm::read_id_map(tmp / "a-id.exr").ids, rtm::read_id_map(tmp / "b-id.exr").ids) << args;
+  return {ja, jb};
+}
+
+void expect_engine_matches_modules(const std::string& args) {
+  const auto [modules, engine] = expect_same_frame(args, "--set pe_simulation=modules", "");
+  if (modules.is_null() || engine.is_null()) return;
+  EXPECT_TRUE(engine["pe_simulation"]["engine"].get<bool>()) << engine["pe_simulation"];
+  EXPECT_FALSE(modules["pe_simulation"]["engine"].get<bool>());
 }
 
 struct Case {
@@ -139,6 +149,19 @@ TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
          << " --set intersection_units=" << pick(1, 3) << random_memory(rng);
     expect_engine_matches_modules(args.str());
   }
+}
+
+// The engines of several PEs run side by side on threads once their rays are in
+// (machine/engine_driver.h): nothing may depend on how many threads there are, whether the PEs
+// finish together, one by one as the host's rays reach them block by block, or with a gather as
+// each finishes.
+TEST(EngineOnThreads, TheFramesAreTheSameOnOneThreadAndOnSeveral) {
+  for (const char* args : {"balls-2.nff --size 48x48 --pes 16",
+                           "tree-2.nff --size 40x40 --pes 7 --set ray_block=23 --set gather=as_finished"
+                           " --set intersection_units=2",
+                           "balls-1.nff --size 3x2 --pes 8 --set ray_block=1"})
+    for (const char* threads : {"--sim-threads 2", "--sim-threads 3"})
+      expect_same_frame(kScenes + args, "--sim-threads 1", threads);
 }
 
 // The comparison names the first event where two runs part: here a shading unit one cycle slower,

@@ -93,6 +93,10 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--spawn-policy", r.spawn_policy,
                      "How --spawn-offset is applied: relative (x max(1, |hit point|)) or bound (x an error bound of the hit point; docs/numerics.md)");
   render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));
+  render->add_option("--sim-threads", r.sim_threads,
+                     "Threads simulating the PEs side by side once their rays are in (0: all cores); the figures "
+                     "are the same for any number")
+      ->check(CLI::Range(0, 1024));
   render->add_flag("--quiet,-q", r.quiet, "No progress display and no summary");
   render->add_option("--max-memory", r.max_memory,
                      "Memory budget, e.g. 512M or 4G (default 3/4 of the machine's): a render estimated to need more is "

@@ -22,6 +22,7 @@ struct RenderOptions {
   std::optional<double> spawn_offset;
   std::string spawn_policy;    ///< relative or bound; empty: the scene's own
   int threads = 0;             ///< reference renderer threads; 0: all cores
+  int sim_threads = 0;         ///< threads simulating the PEs side by side; 0: all cores
   bool quiet = false;
   std::string max_memory;      ///< the memory budget, e.g. "4G"; empty: 3/4 of the machine's
   double max_rays = 0;         ///< the work budget in rays traced; 0: none

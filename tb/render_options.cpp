@@ -142,6 +142,7 @@ MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c)
   m.event_log = opt.event_log;
   m.progress = !opt.quiet;
   m.max_rays = uint64_t(opt.max_rays);
+  m.sim_threads = opt.sim_threads;
   if (!opt.vcd_window.empty()) {
     std::smatch w;
     if (!std::regex_match(opt.vcd_window, w, std::regex(R"((?:pe(\d{1,6})\+)?(\d*):(\d*))")))

@@ -3,25 +3,31 @@
 namespace rtm {
 
 EngineHostedPe::EngineHostedPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
-                               size_t pixels, Timekeeper* keeper)
-    : Pe(name, index, c, units, pixels, keeper), engine_(ctx, memory.frame, memory.ids, memory.rays, pixels) {
+                               size_t pixels, Timekeeper* keeper, EngineDriver& driver)
+    : Pe(name, index, c, units, pixels, keeper),
+      engine_(ctx, memory.frame, memory.ids, memory.rays, pixels),
+      driver_(driver) {
   SC_THREAD(run);
 }
 
 void EngineHostedPe::run() {
   // Only the host's rays reach a PE from outside, and they land in local memory: until all have
-  // arrived the engine keeps behind SystemC time, afterwards it may run ahead.
+  // arrived the engine keeps behind SystemC time; afterwards it runs one to two quanta ahead, on
+  // quantum boundaries shared by every PE, so that the driver runs the PEs side by side.
   const uint64_t quantum = ctx.period.value() * kQuantumCycles;
-  for (;;) {
+  for (bool all_in = false;;) {
     const uint64_t now = sc_core::sc_time_stamp().value();
-    engine_.run_before(now);
-    if (memory.rays.size() > engine_.rays_known()) engine_.rays_arrived(now, memory.rays.size());
-    const bool all_in = memory.rays.size() == memory.rays_expected;
-    if (all_in) engine_.run_before(now + quantum);
+    if (!all_in) {
+      engine_.run_before(now);
+      if (memory.rays.size() > engine_.rays_known()) engine_.rays_arrived(now, memory.rays.size());
+      all_in = memory.rays.size() == memory.rays_expected;
+    }
+    const uint64_t boundary = (now / quantum + 1) * quantum;
+    if (all_in) driver_.run_before(engine_, boundary + quantum);
     if (engine_.finished()) break;
     if (all_in && engine_.idle()) return;  // rays outstanding and nothing to do: the machine reports it
     if (all_in)
-      sc_core::wait(sc_core::sc_time::from_value(quantum));
+      sc_core::wait(sc_core::sc_time::from_value(boundary - now));
     else
       sc_core::wait(sc_core::sc_time::from_value(quantum), memory.rays_arrived);
   }

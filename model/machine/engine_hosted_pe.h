@@ -3,6 +3,7 @@
 // counters, and its finished event at the same simulated time.
 #pragma once
 
+#include "machine/engine_driver.h"
 #include "machine/pe.h"
 #include "machine/pe_engine.h"
 
@@ -12,21 +13,22 @@ class EngineHostedPe : public Pe {
  public:
   SC_HAS_PROCESS(EngineHostedPe);
   EngineHostedPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-                 Timekeeper* keeper);
+                 Timekeeper* keeper, EngineDriver& driver);
 
   bool finished() const override { return finished_; }
   std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
   std::string occupancy_report() override;
   void trace(Waveform& wave) override;
 
-  /// The engine runs at most this far ahead of SystemC time, so that the progress display and
-  /// the stall watch (machine.cpp) keep seeing the PE's counters move.
+  /// The engine runs at most two of these ahead of SystemC time, so that the progress display
+  /// and the stall watch (machine.cpp) keep seeing the PE's counters move.
   static constexpr uint64_t kQuantumCycles = 8192;
 
  private:
   void run();
 
   PeEngine engine_;
+  EngineDriver& driver_;
   bool finished_ = false;
 };
 

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 #include <unistd.h>
 
 namespace rtm {
@@ -32,6 +33,7 @@ class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
   std::unique_ptr<Timekeeper> keeper;        ///< arbitration = ranked only
+  std::unique_ptr<EngineDriver> driver;      ///< the PEs on the engine only
   std::vector<std::unique_ptr<Pe>> pes;
   std::unique_ptr<Host> host;
   SceneNeeds needs;
@@ -43,7 +45,7 @@ class Machine : public sc_core::sc_module {
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
 
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
-          bool tracing, uint64_t max_memory, uint64_t max_rays)
+          bool tracing, uint64_t max_memory, uint64_t max_rays, int sim_threads)
       : sc_module(name),
         engine_unsupported(rtm::engine_unsupported(c, tracing)),
         config_(c),
@@ -65,12 +67,17 @@ class Machine : public sc_core::sc_module {
       units.refraction = needs.transmitted_rays;
       units.spawn_path = needs.spawns_rays();
     }
+    if (engine_unsupported.empty()) {
+      // No more threads than PEs: a thread beyond them would only wait.
+      const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+      driver = std::make_unique<EngineDriver>("engines", std::min(sim_threads > 0 ? sim_threads : cores, c.pes));
+    }
     std::vector<Pe*> raw;
     for (int i = 0; i < c.pes; ++i) {
       const std::string pe = "pe" + std::to_string(i);
       const size_t pixels = parts[size_t(i)].size();
       if (engine_unsupported.empty())
-        pes.push_back(std::make_unique<EngineHostedPe>(pe.c_str(), i, c, units, pixels, keeper.get()));
+        pes.push_back(std::make_unique<EngineHostedPe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
       else
         pes.push_back(std::make_unique<ModulesPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
@@ -309,15 +316,15 @@ std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, 
 }
 
 /// The SystemC threads a configuration elaborates, known before elaborating it: the host, the
-/// monitor and the timekeeper; per PE one thread on the PE engine, else (modules_pe.cpp) the
-/// front buffer, the shading unit, each search unit, and per intersection lane the MAC and root
-/// threads plus the clocked MAC. run_machine counts again once elaborated.
+/// monitor and the timekeeper; with the PEs on the engine, its driver and per PE one thread, else
+/// (modules_pe.cpp) per PE the front buffer, the shading unit, each search unit, and per
+/// intersection lane the MAC and root threads plus the clocked MAC. run_machine counts again once elaborated.
 size_t expected_threads(const MachineConfig& c, bool tracing) {
   const size_t per_pe = engine_unsupported(c, tracing).empty()
                             ? 1
                             : 2 + size_t(c.search_units) +
                                   size_t(c.intersection_units) * (c.timing == Timing::Clocked ? 3 : 2);
-  return 3 + size_t(c.pes) * per_pe;
+  return 3 + (engine_unsupported(c, tracing).empty() ? 1 : 0) + size_t(c.pes) * per_pe;
 }
 
 /// Each SystemC thread's stack costs the process two memory maps (the stack and its guard page);
@@ -410,7 +417,8 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
   check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
-  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory, opt.max_rays);
+  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory, opt.max_rays,
+              opt.sim_threads);
 
   check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 

@@ -27,6 +27,9 @@ struct MachineOptions {
   uint64_t max_memory = 0;
   /// The work budget: the simulation stops with an error once its PEs have traced more rays. 0: none.
   uint64_t max_rays = 0;
+  /// Threads that simulate the PEs on the engine side by side (machine/engine_driver.h); 0: one
+  /// per core. The figures do not depend on it.
+  int sim_threads = 0;
 };
 
 /// Per FIFO kind, over all PEs.

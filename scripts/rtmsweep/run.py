@@ -59,7 +59,8 @@ def rtm_command(rtm, job, out_png, out_json):
         cmd += ["--config", job["config"]]
     for key, value in job.get("set", {}).items():
         cmd += ["--set", f"{key}={value}"]
-    return cmd + ["--out", out_png, "--stats", out_json, "-q"]
+    # GNU parallel already runs a job per core: each simulates its PEs on one thread.
+    return cmd + ["--sim-threads", "1", "--out", out_png, "--stats", out_json, "-q"]
 
 
 def error_line(stderr_text):
