@@ -31,9 +31,11 @@ def test_the_rtm_command_passes_every_setting():
     assert run.rtm_command("/bin/rtm", job, "o.png", "o.json") == [
         "/bin/rtm", "render", "/scenes/balls-1.nff", "--size", "16x16", "--pes", "2", "--partition", "blocks",
         "--search-units", "4", "--timing", "clocked", "--precision", "fp64", "--config", "/m.yaml",
-        "--set", "ray_generation=pe", "--set", "loop_credits=0", "--out", "o.png", "--stats", "o.json", "-q"]
-    assert run.rtm_command("rtm", {"scene": "s.nff"}, "a", "b") == ["rtm", "render", "s.nff", "--out", "a",
-                                                                    "--stats", "b", "-q"]
+        "--set", "ray_generation=pe", "--set", "loop_credits=0", "--sim-threads", "1", "--out", "o.png",
+        "--stats", "o.json", "-q"]
+    # GNU parallel runs a job per core: each simulates on one thread.
+    assert run.rtm_command("rtm", {"scene": "s.nff"}, "a", "b") == ["rtm", "render", "s.nff", "--sim-threads", "1",
+                                                                    "--out", "a", "--stats", "b", "-q"]
 
 
 def test_a_preset_goes_to_rtm_and_into_its_column():
