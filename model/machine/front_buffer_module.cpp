@@ -28,7 +28,7 @@ void FrontBufferModule::drain() {
 void FrontBufferModule::dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait) {
   policy_.dispatched(now, r.id, cycles, from);
   probe_.begin(r.id);
-  pipe_.accept(r, now, ctx_.period.value() * cycles, ctx_.period.value() * policy_.interval(cycles), std::move(wait));
+  pipe_.accept(r, now, cycles, policy_.interval(cycles), std::move(wait));
 }
 
 bool FrontBufferModule::decide(uint64_t now) {

@@ -109,7 +109,7 @@ struct IntersectionModule::MacOps {
       x.clocked_->start(std::move(job));
       x.job_cycles_.push_back(w.cycles);
     }
-    x.mac_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval, std::move(w.wait));
+    x.mac_pipe_.accept(h, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() {
@@ -144,7 +144,7 @@ struct IntersectionModule::RootOps {
     x.root_probe_.begin(h.m.r.id);
     Work w = x.root_.take(h.m, now);
     h.out = w.out;
-    x.root_pipe_.accept(h, now, x.ctx_.period.value() * w.cycles, x.ctx_.period.value() * w.interval, std::move(w.wait));
+    x.root_pipe_.accept(h, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() { waiting = true; }

@@ -234,7 +234,7 @@ struct PeEngine::Ops {
         if (in.visible == 0) return false;
         const uint32_t slot = in.read(now);
         Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
-        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
+        pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
         return true;
     } else if constexpr (K == UnitKind::Mac) {
         Fifo& in = e.fifo(FifoId::Intersect);
@@ -250,14 +250,14 @@ struct PeEngine::Ops {
         m.r = e.slots_[slot];
         e.free_slots_.push_back(slot);  // the ray travels with its MAC result now
         Work w = e.macs_[size_t(index())].take(m, now);
-        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
+        pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
         return true;
     } else if constexpr (K == UnitKind::Root) {
         Fifo& in = e.root_fifo_[size_t(index())];
         if (in.visible == 0) return false;
         const uint32_t result = in.read(now);
         Work w = e.roots_[size_t(index())].take(e.results_[result], now);
-        pipe().accept({result, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
+        pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
         return true;
     } else {
         Fifo& in = e.fifo(FifoId::Shade);
@@ -265,7 +265,7 @@ struct PeEngine::Ops {
         const uint32_t slot = in.read(now);
         const MachineRay& r = e.slots_[slot];
         Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
-        pipe().accept({slot, w.out}, now, w.cycles * e.cycle_, w.interval * e.cycle_, std::move(w.wait));
+        pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
         return true;
     }
   }
@@ -333,7 +333,7 @@ bool PeEngine::front_decide(uint64_t now) {
 
 void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait) {
   front_.dispatched(now, slots_[slot].id, cycles, from);
-  places_[kFront].pipe.accept({slot, {}}, now, cycles * cycle_, front_.interval(cycles) * cycle_, std::move(wait));
+  places_[kFront].pipe.accept({slot, {}}, now, cycles, front_.interval(cycles), std::move(wait));
 }
 
 bool PeEngine::write_shading(uint64_t now) {

@@ -30,7 +30,7 @@ struct SearchModule::Ops {
     m.probe_.begin(h.r.id);
     Work w = m.unit_.take(h.r, now);
     h.out = w.out;
-    m.pipe_.accept(h, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval, std::move(w.wait));
+    m.pipe_.accept(h, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() {

@@ -55,7 +55,7 @@ struct ShadingModule::Ops {
     if (!m.rays_in(FifoId::Shade)->nb_read(r)) return false;
     m.probe_.begin(r.id);
     Work w = m.unit_.take(r, m.mem_.frame[r.slot], m.mem_.ids[r.slot], now);
-    m.pipe_.accept(r, now, m.ctx_.period.value() * w.cycles, m.ctx_.period.value() * w.interval, std::move(w.wait));
+    m.pipe_.accept(r, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
   void wait_for_input() { waiting = true; }

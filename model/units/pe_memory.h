@@ -94,9 +94,10 @@ class PeMemory {
     if (timing_) return request_timed(who, address, bytes, cycle, need, w);
     // The fast path, inline: every unit asks this on nearly every item. Unloaded, the data is
     // there need - unloaded(bytes) >= 0 cycles before the plan needs it.
-    beats_ += (bytes + width_ - 1) / width_;
+    const uint64_t beats = (bytes + width_ - 1) / width_;  // one division: unloaded() is latency_ + beats - 1
+    beats_ += beats;
     count(who, bytes);
-    if (need > 0) access_cycles_[size_t(who)] += visible(unloaded(bytes), need, w.latency);
+    if (need > 0) access_cycles_[size_t(who)] += visible(latency_ + beats - 1, need, w.latency);
   }
   /// A read of voxel data (a search unit's entry, a lane's list) through the voxel cache if there
   /// is one: the cycles the plan gives it (its unloaded time; a cache hit 1, a miss its lines'

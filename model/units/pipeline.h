@@ -64,9 +64,10 @@ class Pipeline {
   bool stalled(uint64_t now) const { return count_ > 0 && head().due <= now; }
   bool can_accept(uint64_t now) const { return now >= ready_ && !stalled(now); }
 
-  /// Accepts `item` at `now` (can_accept(now)); returns when its result is due.
+  /// Accepts `item` at `now` (can_accept(now)), its latency and interval in cycles; returns when
+  /// its result is due.
   [[gnu::always_inline]] uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval, MemoryWait&& wait = {}) {
-    uint64_t due = now + latency;
+    uint64_t due = now + latency * cycle_;
     if (count_ == 0)
       busy_since_ = now;
     else
@@ -77,9 +78,9 @@ class Pipeline {
     s.due = due;
     s.accepted = now;
     if (!wait.empty() || !s.wait.empty()) s.wait = std::move(wait);  // most items ask nothing of memory
-    ready_ = now + interval;
+    ready_ = now + interval * cycle_;
     ++stats_->items;
-    stats_->issue_cycles += interval / cycle_;
+    stats_->issue_cycles += interval;
     fed_ = true;
     return due;
   }
