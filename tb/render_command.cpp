@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <system_error>
 
@@ -13,6 +14,7 @@
 #include "byte_size.h"
 #include "error/error_causes.h"
 #include "error/error_map.h"
+#include "machine/engine_driver.h"
 #include "machine/machine.h"
 #include "machine/partition.h"
 #include "memory_budget.h"
@@ -78,6 +80,18 @@ int run_render(const RenderOptions& opt) {
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--max-memory: ") + e.what());
     }
+    // The PE engines' threads start before the image library loads: one started during the load
+    // would wait for it. A configuration that is not valid is reported below, after the scene's
+    // errors, as before.
+    std::optional<WorkerPool> engine_pool;
+    if (!opt.reference) {
+      try {
+        const MachineConfig early = machine_config(opt);
+        if (engine_unsupported(early, !opt.vcd.empty()).empty())
+          engine_pool.emplace(engine_threads(opt.sim_threads, early.pes));
+      } catch (const UsageError&) {
+      }
+    }
     // Its ~0.2 s of loading overlaps parsing and rendering instead of following them.
     preload_image_library();
     // However the render ends (a bad option, a deadlock), the load is over before rtm exits.
@@ -91,6 +105,7 @@ int run_render(const RenderOptions& opt) {
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
     MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
+    if (engine_pool) mopt.pool = &*engine_pool;
     if (const int idle = opt.reference ? 0 : pes_without_pixels(scene.camera.width, scene.camera.height, config))
       std::cerr << "rtm: warning: " << idle << " of " << config.pes << " PEs have no pixels to render (partition "
                 << to_string(config.partition)

@@ -1,8 +1,16 @@
 #include "machine/engine_driver.h"
 
+#include <algorithm>
+#include <thread>
+
 namespace rtm {
 
-EngineDriver::EngineDriver(sc_core::sc_module_name name, int threads) : sc_module(name), pool_(threads) {
+int engine_threads(int sim_threads, int pes) {
+  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  return std::max(1, std::min(sim_threads > 0 ? sim_threads : cores, pes));
+}
+
+EngineDriver::EngineDriver(sc_core::sc_module_name name, WorkerPool& pool) : sc_module(name), pool_(pool) {
   SC_THREAD(drive);
 }
 

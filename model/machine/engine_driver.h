@@ -15,11 +15,15 @@
 
 namespace rtm {
 
+/// The threads the PE engines of a machine of `pes` PEs run on: `sim_threads` (0: one per core),
+/// but no more than the PEs (a thread beyond them would only wait).
+int engine_threads(int sim_threads, int pes);
+
 class EngineDriver : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(EngineDriver);
-  /// `threads`: WorkerPool's (0: one per core).
-  EngineDriver(sc_core::sc_module_name name, int threads);
+  /// `pool` must outlive the driver.
+  EngineDriver(sc_core::sc_module_name name, WorkerPool& pool);
 
   /// From a PE's SystemC thread: simulates everything `engine` does before time t, together with
   /// the other engines asked to at this instant, and returns once it has.
@@ -35,7 +39,7 @@ class EngineDriver : public sc_core::sc_module {
   };
   std::vector<Request> asked_;  ///< since the last batch
   sc_core::sc_event asked_event_, ran_event_;
-  WorkerPool pool_;
+  WorkerPool& pool_;
 };
 
 }  // namespace rtm

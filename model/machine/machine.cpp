@@ -20,7 +20,6 @@
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <thread>
 #include <unistd.h>
 
 namespace rtm {
@@ -33,6 +32,7 @@ class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
   std::unique_ptr<Timekeeper> keeper;        ///< arbitration = ranked only
+  std::unique_ptr<WorkerPool> own_pool;      ///< the PEs on the engine, when the caller started no threads
   std::unique_ptr<EngineDriver> driver;      ///< the PEs on the engine only
   std::vector<std::unique_ptr<Pe>> pes;
   std::unique_ptr<Host> host;
@@ -45,7 +45,7 @@ class Machine : public sc_core::sc_module {
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
 
   Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
-          bool tracing, uint64_t max_memory, uint64_t max_rays, int sim_threads)
+          bool tracing, uint64_t max_memory, uint64_t max_rays, WorkerPool* pool, int sim_threads)
       : sc_module(name),
         engine_unsupported(rtm::engine_unsupported(c, tracing)),
         config_(c),
@@ -68,9 +68,11 @@ class Machine : public sc_core::sc_module {
       units.spawn_path = needs.spawns_rays();
     }
     if (engine_unsupported.empty()) {
-      // No more threads than PEs: a thread beyond them would only wait.
-      const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
-      driver = std::make_unique<EngineDriver>("engines", std::min(sim_threads > 0 ? sim_threads : cores, c.pes));
+      if (!pool) {
+        own_pool = std::make_unique<WorkerPool>(engine_threads(sim_threads, c.pes));
+        pool = own_pool.get();
+      }
+      driver = std::make_unique<EngineDriver>("engines", *pool);
     }
     std::vector<Pe*> raw;
     for (int i = 0; i < c.pes; ++i) {
@@ -418,7 +420,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   const auto t0 = std::chrono::steady_clock::now();
   check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
   Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory, opt.max_rays,
-              opt.sim_threads);
+              opt.pool, opt.sim_threads);
 
   check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 
