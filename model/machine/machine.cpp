@@ -320,13 +320,12 @@ std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, 
 /// The SystemC threads a configuration elaborates, known before elaborating it: the host, the
 /// monitor and the timekeeper; with the PEs on the engine, its driver and per PE one thread, else
 /// (modules_pe.cpp) per PE the front buffer, the shading unit, each search unit, and per
-/// intersection lane the MAC and root threads plus the clocked MAC. run_machine counts again once elaborated.
+/// intersection lane the MAC and root threads plus the clocked MAC. run_machine counts again once
+/// elaborated.
 size_t expected_threads(const MachineConfig& c, bool tracing) {
-  const size_t per_pe = engine_unsupported(c, tracing).empty()
-                            ? 1
-                            : 2 + size_t(c.search_units) +
-                                  size_t(c.intersection_units) * (c.timing == Timing::Clocked ? 3 : 2);
-  return 3 + (engine_unsupported(c, tracing).empty() ? 1 : 0) + size_t(c.pes) * per_pe;
+  if (engine_unsupported(c, tracing).empty()) return 4 + size_t(c.pes);
+  const size_t per_pe = 2 + size_t(c.search_units) + size_t(c.intersection_units) * (c.timing == Timing::Clocked ? 3 : 2);
+  return 3 + size_t(c.pes) * per_pe;
 }
 
 /// Each SystemC thread's stack costs the process two memory maps (the stack and its guard page);
