@@ -17,8 +17,13 @@ std::string engine_unsupported(const MachineConfig& c, bool tracing) {
   return "";
 }
 
-PeEngine::Fifo::Fifo(const FifoSpec& spec, int depth, std::vector<Fifo*>* touched)
-    : name(spec.name), ring(size_t(depth)), meter(spec.kind, depth), touched_list(touched) {}
+PeEngine::Fifo::Fifo(const FifoSpec& spec, int depth, Phase* phase)
+    : name(spec.name),
+      depth(size_t(depth)),
+      ring(size_t(depth)),
+      written(size_t(depth)),
+      meter(spec.kind, depth),
+      phase(phase) {}
 
 PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_t>& ids, const std::vector<Ray>& rays,
                    size_t rays_expected)
@@ -38,9 +43,9 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
     if (!pe.units.has(f)) continue;
     const int depth = pe.config.*f.depth;
     if (f.per_lane) {
-      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&root_fifo_.emplace_back(f, depth, &touched_));
+      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&root_fifo_.emplace_back(f, depth, &phase_));
     } else {
-      Fifo* fifo = fifos_by_id_[size_t(f.id)] = &fifos_.emplace_back(f, depth, &touched_);
+      Fifo* fifo = fifos_by_id_[size_t(f.id)] = &fifos_.emplace_back(f, depth, &phase_);
       in_order_.push_back(fifo);
       fifo->feeds_front = std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer) > 0;
       if (f.payload == Payload::Ray && fifo->feeds_front) front_inputs_.emplace_back(fifo, f.returns_credit);
@@ -121,38 +126,34 @@ void PeEngine::step(uint64_t now) {
     p.order = p.rank << 48 | seq;
     wake(u, now);
   }
-  // What they wrote becomes visible. The front buffer is poked by a write to any of its inputs.
-  bool poked = front_poked_, written = false;
+  // What they wrote becomes visible in the next phase. The front buffer is poked by a write to
+  // any of its inputs.
+  const bool poked = front_poked_ || phase_.front_input, written = phase_.written;
   front_poked_ = false;
-  for (Fifo* f : touched_) {
-    poked = poked || (f->written && f->feeds_front);
-    written = written || f->written;
-    f->visible = f->count;
-    f->written = false;
-    f->reads_now = 0;
-  }
+  next_phase();
   // Units waiting for input take it, and the front buffer, if it was waiting, drains its inputs.
   // A unit waits only after finding its input empty, and what is visible grows only here, by what
   // was written: with nothing written in the instant no waiting unit has an input to take.
   if (written) take_inputs(now);
   if (front_.waiting_for_input() && poked) wake(kFront, now);
   // Places freed by reads are there for the next instant's writers.
-  for (Fifo* f : touched_) {
-    f->reads_now = 0;
-    f->touched = false;
-  }
-  touched_.clear();
+  next_phase();
+}
+
+void PeEngine::next_phase() {
+  ++phase_.number;
+  phase_.written = phase_.front_input = false;
 }
 
 void PeEngine::take_inputs(uint64_t now) {
   // Replicated units: the lowest-numbered waiting one takes each ray.
   Fifo& search_in = fifo(FifoId::Search);
-  while (waiting_search_.any_idle() && search_in.visible > 0) wake(kSearch + size_t(waiting_search_.take()), now);
+  while (waiting_search_.any_idle() && search_in.visible()) wake(kSearch + size_t(waiting_search_.take()), now);
   Fifo& mac_in = fifo(FifoId::Intersect);
-  while (waiting_macs_.any_idle() && mac_in.visible > 0) wake(mac0_ + size_t(waiting_macs_.take()), now);
+  while (waiting_macs_.any_idle() && mac_in.visible()) wake(mac0_ + size_t(waiting_macs_.take()), now);
   for (size_t lane = 0; lane < lanes_; ++lane)
-    if (places_[root0_ + lane].waiting && root_fifo_[lane].visible > 0) wake(root0_ + lane, now);
-  if (places_[kShading].waiting && fifo(FifoId::Shade).visible > 0) wake(kShading, now);
+    if (places_[root0_ + lane].waiting && root_fifo_[lane].visible()) wake(root0_ + lane, now);
+  if (places_[kShading].waiting && fifo(FifoId::Shade).visible()) wake(kShading, now);
 }
 
 // ---- rays ----
@@ -231,14 +232,14 @@ struct PeEngine::Ops {
       return e.front_decide(now);
     } else if constexpr (K == UnitKind::Search) {
         Fifo& in = e.fifo(FifoId::Search);
-        if (in.visible == 0) return false;
+        if (!in.visible()) return false;
         const uint32_t slot = in.read(now);
         Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
         pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
         return true;
     } else if constexpr (K == UnitKind::Mac) {
         Fifo& in = e.fifo(FifoId::Intersect);
-        if (in.visible == 0) return false;
+        if (!in.visible()) return false;
         const uint32_t slot = in.read(now);
         if (e.free_results_.empty()) {
           e.results_.emplace_back();
@@ -254,14 +255,14 @@ struct PeEngine::Ops {
         return true;
     } else if constexpr (K == UnitKind::Root) {
         Fifo& in = e.root_fifo_[size_t(index())];
-        if (in.visible == 0) return false;
+        if (!in.visible()) return false;
         const uint32_t result = in.read(now);
         Work w = e.roots_[size_t(index())].take(e.results_[result], now);
         pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
         return true;
     } else {
         Fifo& in = e.fifo(FifoId::Shade);
-        if (in.visible == 0) return false;
+        if (!in.visible()) return false;
         const uint32_t slot = in.read(now);
         const MachineRay& r = e.slots_[slot];
         Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
@@ -312,12 +313,12 @@ void PeEngine::wake(size_t unit, uint64_t now) {
 bool PeEngine::front_decide(uint64_t now) {
   auto d = front_.decide(now, cycle_, [&] {
     Fifo& ends = fifo(FifoId::Ends);
-    while (ends.visible > 0) {
+    while (ends.visible()) {
       ends.read(now);
       front_.ended();
     }
     for (const auto& [in, returns_credit] : front_inputs_)
-      while (in->visible > 0) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
+      while (in->visible()) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
   });
   using D = FrontBufferPolicy<uint32_t>::Decision;
   switch (d.kind) {

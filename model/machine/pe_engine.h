@@ -64,45 +64,52 @@ class PeEngine {
  private:
   static constexpr uint64_t kNever = UINT64_MAX;
 
-  /// A FIFO of ray slots (or MAC results, or ray ids); items written in the current instant are
-  /// not yet visible to readers. Metered as MeteredFifo is.
+  /// The engine's two phases of an instant, numbered on by step(): first the units due, then
+  /// the units taking what was written. What is written in a phase is visible from the next on, and
+  /// a place a read frees is there for writers from the next phase on, as in sc_fifo.
+  struct Phase {
+    uint64_t number = 0;
+    bool written = false;      ///< something was written in it
+    bool front_input = false;  ///< ... into an input of the front buffer
+  };
+
+  /// A FIFO of ray slots (or MAC results, or ray ids), each item stamped with the phase it was
+  /// written in. Metered as MeteredFifo is.
   struct Fifo {
     std::string name;
-    std::vector<uint32_t> ring;  ///< `depth` places; items from `head`, `count` of them
+    size_t depth;
+    std::vector<uint32_t> ring;     ///< `depth` places; items from `head`, `count` of them
+    std::vector<uint64_t> written;  ///< the phase each place's item was written in
     size_t head = 0, count = 0;
-    size_t visible = 0;
-    bool written = false;  ///< in the current instant
-    size_t reads_now = 0;  ///< in the current instant: places freed only once it is over
+    uint64_t read_phase = 0;  ///< the phase of the last read ...
+    size_t reads = 0;         ///< ... and the reads in it
     FifoMeter meter;
-
     bool feeds_front = false;  ///< an input of the front buffer: a write wakes it
-    bool touched = false;  ///< written or read in the current instant: on the touched list
-    std::vector<Fifo*>* touched_list;
+    Phase* phase;
 
-    Fifo(const FifoSpec& spec, int depth, std::vector<Fifo*>* touched_list);
-    void touch() {
-      if (!touched) touched_list->push_back(this);
-      touched = true;
-    }
+    Fifo(const FifoSpec& spec, int depth, Phase* phase);
+    /// An item for readers: written before this phase.
+    bool visible() const { return count > 0 && written[head] < phase->number; }
     void write(uint32_t v, uint64_t now) {
-      const size_t at = head + count++;
-      ring[at < ring.size() ? at : at - ring.size()] = v;
-      written = true;
-      touch();
+      size_t at = head + count++;
+      at = at < depth ? at : at - depth;
+      ring[at] = v;
+      written[at] = phase->number;
+      phase->written = true;
+      phase->front_input = phase->front_input || feeds_front;
       meter.change(+1, now);
     }
     uint32_t read(uint64_t now) {
       const uint32_t v = ring[head];
-      head = head + 1 == ring.size() ? 0 : head + 1;
+      head = head + 1 == depth ? 0 : head + 1;
       --count;
-      --visible;
-      ++reads_now;
-      touch();
+      reads = read_phase == phase->number ? reads + 1 : 1;
+      read_phase = phase->number;
       meter.change(-1, now);
       return v;
     }
-    /// No room to write in this instant (sc_fifo::num_free() == 0).
-    bool full() const { return count + reads_now >= ring.size(); }
+    /// No room to write in this phase (sc_fifo::num_free() == 0).
+    bool full() const { return count + (read_phase == phase->number ? reads : 0) >= depth; }
   };
 
   /// What a unit holds in its pipeline: a ray slot (front buffer, search units, shading) or a MAC
@@ -136,6 +143,7 @@ class PeEngine {
   /// The next instant, with the units due then in due_now_ (due_count_ of them).
   uint64_t next_instant();
   void step(uint64_t now);
+  void next_phase();
   void want(size_t unit, uint64_t at);
   /// Wakes a unit (units/unit_step.h).
   void wake(size_t unit, uint64_t now);
@@ -164,7 +172,7 @@ class PeEngine {
   std::vector<MacResult> results_;  ///< MAC results on their way to the root unit
   std::vector<uint32_t> free_results_;
 
-  std::vector<Fifo*> touched_;  ///< FIFOs written or read in the current instant
+  Phase phase_;
   std::deque<Fifo> fifos_;      ///< the PE's FIFOs (a deque: they must not move)
   std::array<Fifo*, kFifoCount> fifos_by_id_{};  ///< the per-PE ones
   std::deque<Fifo> root_fifo_;  ///< one per intersection unit

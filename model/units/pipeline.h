@@ -72,7 +72,7 @@ class Pipeline {
       busy_since_ = now;
     else
       due = std::max(due, at(count_ - 1).due + cycle_);
-    if (count_ == ring_.size()) grow();
+    if (count_ == mask_ + 1) grow();
     Slot& s = at(count_++);
     s.item = item;
     s.due = due;
@@ -101,7 +101,7 @@ class Pipeline {
     const uint64_t due = head().due, stall = now - due;
     Item item = std::move(head().item);
     stats_->held_cycles += (now - head().accepted) / cycle_;
-    head_ = (head_ + 1) & (ring_.size() - 1);
+    head_ = (head_ + 1) & mask_;
     if (--count_ == 0) stats_->busy_cycles += (now - busy_since_) / cycle_;
     if (stall > 0) {
       for (size_t i = 0; i < count_; ++i) at(i).due += stall;
@@ -112,11 +112,12 @@ class Pipeline {
 
  private:
   /// The i-th item from the head (the ring's size is a power of two).
-  Slot& at(size_t i) { return ring_[(head_ + i) & (ring_.size() - 1)]; }
+  Slot& at(size_t i) { return ring_[(head_ + i) & mask_]; }
   void grow() {
     std::vector<Slot> bigger(ring_.empty() ? 4 : ring_.size() * 2);
     for (size_t i = 0; i < count_; ++i) bigger[i] = std::move(at(i));
     ring_ = std::move(bigger);
+    mask_ = ring_.size() - 1;
     head_ = 0;
   }
 
@@ -124,6 +125,7 @@ class Pipeline {
   UnitStats own_;
   UnitStats* stats_;
   std::vector<Slot> ring_;  ///< the items inside, count_ of them from head_
+  size_t mask_ = size_t(-1);  ///< ring_.size() - 1, kept: the size of a Slot is no power of two
   size_t head_ = 0, count_ = 0;
   uint64_t ready_ = 0;
   uint64_t busy_since_ = 0, starved_since_ = 0;
