@@ -38,9 +38,10 @@ json comparable(json j) {
   return j;
 }
 
-/// The first line where two event logs part ("" when they are the same), e.g.
+/// The first line where two event logs part ("" when they are the same), each named, e.g.
 /// "line 1234: modules '215703 pe0 search ray17 put intersect_fifo', engine '... put feedback_search'".
-std::string first_difference(const std::string& modules_log, const std::string& engine_log) {
+std::string first_difference(const std::string& modules_log, const std::string& engine_log,
+                             const std::string& first = "modules", const std::string& second = "engine") {
   std::istringstream m(modules_log), e(engine_log);
   std::string a, b;
   for (int line = 1;; ++line) {
@@ -48,7 +49,7 @@ std::string first_difference(const std::string& modules_log, const std::string& 
     if (!more_m && !more_e) return "";
     if (!more_m) a = "(log ended)";
     if (!more_e) b = "(log ended)";
-    if (a != b) return "line " + std::to_string(line) + ": modules '" + a + "', engine '" + b + "'";
+    if (a != b) return "line " + std::to_string(line) + ": " + first + " '" + a + "', " + second + " '" + b + "'";
   }
 }
 
@@ -65,7 +66,8 @@ std::pair<json, json> expect_same_frame(const std::string& args, const std::stri
   EXPECT_GT(jb["cycles"].get<uint64_t>(), 0u);
   const std::string log = slurp(tmp / "a.log");
   EXPECT_NE(log.find(" take "), std::string::npos) << "an empty event log compares nothing";
-  EXPECT_EQ(first_difference(log, slurp(tmp / "b.log")), "") << "the event logs part; " << args;
+  EXPECT_EQ(first_difference(log, slurp(tmp / "b.log"), a.empty() ? "default" : a, b.empty() ? "default" : b), "")
+      << "the event logs part; " << args;
   const json ca = comparable(ja), cb = comparable(jb);
   for (auto& [key, value] : ca.items()) EXPECT_EQ(value, cb[key]) << key << " differs; " << args;
   EXPECT_EQ(ca.size(), cb.size());

@@ -81,16 +81,17 @@ int run_render(const RenderOptions& opt) {
       throw UsageError(std::string("--max-memory: ") + e.what());
     }
     // The PE engines' threads start before the image library loads: one started during the load
-    // would wait for it. A configuration that is not valid is reported below, after the scene's
-    // errors, as before.
+    // would wait for it. A configuration that is not valid is read again below and reported
+    // there, after the scene's errors, as before.
+    std::optional<MachineConfig> early_config;
     std::optional<WorkerPool> engine_pool;
     if (!opt.reference) {
       try {
-        const MachineConfig early = machine_config(opt);
-        if (engine_unsupported(early, !opt.vcd.empty()).empty())
-          engine_pool.emplace(engine_threads(opt.sim_threads, early.pes));
+        early_config = machine_config(opt);
       } catch (const UsageError&) {
       }
+      if (early_config && engine_unsupported(*early_config, !opt.vcd.empty()).empty())
+        engine_pool.emplace(engine_threads(opt.sim_threads, early_config->pes));
     }
     // Its ~0.2 s of loading overlaps parsing and rendering instead of following them.
     preload_image_library();
@@ -103,7 +104,7 @@ int run_render(const RenderOptions& opt) {
     const std::string scene_text = opt.scene.empty() ? std::string(kDefaultSceneYaml) : read_text(opt.scene);
     apply_scene_options(opt, scene);
     validate(scene);
-    const MachineConfig config = opt.reference ? MachineConfig{} : machine_config(opt);
+    const MachineConfig config = opt.reference ? MachineConfig{} : early_config ? *early_config : machine_config(opt);
     MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
     if (engine_pool) mopt.pool = &*engine_pool;
     if (const int idle = opt.reference ? 0 : pes_without_pixels(scene.camera.width, scene.camera.height, config))

@@ -31,22 +31,20 @@ void WorkerPool::take_jobs() {
 void WorkerPool::run(size_t n, const std::function<void(size_t)>& job) {
   if (n == 0) return;
   errors_.assign(n, nullptr);
-  if (workers_.empty() || n == 1) {
+  const bool alone = workers_.empty() || n == 1;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
     job_ = &job;
     jobs_ = n;
     next_ = 0;
-    take_jobs();
-  } else {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      job_ = &job;
-      jobs_ = n;
-      next_ = 0;
+    if (!alone) {
       working_ = workers_.size();
       ++batch_;
     }
-    start_.notify_all();
-    take_jobs();
+  }
+  if (!alone) start_.notify_all();
+  take_jobs();
+  if (!alone) {
     std::unique_lock<std::mutex> lock(mutex_);
     done_.wait(lock, [this] { return working_ == 0; });
   }

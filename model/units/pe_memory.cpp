@@ -44,7 +44,7 @@ PeMemory::PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pix
 }
 
 void PeMemory::request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
-  beats_ += (bytes + width_ - 1) / width_;
+  beats_ += beats_of(bytes);
   if (who != host()) post_host_bursts(cycle);
   w.who = who;
   w.pending.push_back({timing_->request(who, address, bytes, cycle), need});

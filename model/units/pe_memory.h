@@ -86,7 +86,7 @@ class PeMemory {
   int host() const { return front() + 2; }
 
   bool ideal() const { return !timing_; }
-  uint64_t unloaded(uint64_t bytes) const { return latency_ + (bytes + width_ - 1) / width_ - 1; }
+  uint64_t unloaded(uint64_t bytes) const { return latency_ + beats_of(bytes) - 1; }
 
   /// A request made at PE cycle `cycle` for an item whose plan needs its data `need` cycles after it
   /// was taken (need >= unloaded(bytes): on time when unloaded). The unit sets w.latency.
@@ -94,10 +94,9 @@ class PeMemory {
     if (timing_) return request_timed(who, address, bytes, cycle, need, w);
     // The fast path, inline: every unit asks this on nearly every item. Unloaded, the data is
     // there need - unloaded(bytes) >= 0 cycles before the plan needs it.
-    const uint64_t beats = (bytes + width_ - 1) / width_;  // one division: unloaded() is latency_ + beats - 1
-    beats_ += beats;
+    beats_ += beats_of(bytes);
     count(who, bytes);
-    if (need > 0) access_cycles_[size_t(who)] += visible(latency_ + beats - 1, need, w.latency);
+    if (need > 0) access_cycles_[size_t(who)] += visible(unloaded(bytes), need, w.latency);
   }
   /// A read of voxel data (a search unit's entry, a lane's list) through the voxel cache if there
   /// is one: the cycles the plan gives it (its unloaded time; a cache hit 1, a miss its lines'
@@ -144,6 +143,8 @@ class PeMemory {
   MemoryUse use() const;
 
  private:
+  /// The beats a port moves `bytes` in.
+  uint64_t beats_of(uint64_t bytes) const { return (bytes + width_ - 1) / width_; }
   void request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w);
   /// Of an access of `cycles`, what its item's plan does not hide: a read within a unit's constant
   /// (needed after the item's latency) hides that much of its time.

@@ -10,6 +10,7 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
   Work w;
   Route route;
   uint64_t passes = 0;
+  const uint64_t cycle = now / pe_.cycle;
   for (;;) {
     ++passes;
     const bool examined = fp32 ? search_pass<float>(g, r) : search_pass<double>(g, r);
@@ -24,7 +25,7 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
         const PeMemory::VoxelRead entry = m->voxel_read(m->addresses().voxel_entry(v), voxel_entry_bytes());
         w.cycles += entry.cycles;
         w.wait.latency = w.cycles;  // so far: the latency its plan has when it is read
-        if (entry.bytes) m->request(m->search(index_), entry.address, entry.bytes, now / pe_.cycle, w.cycles, w.wait);
+        if (entry.bytes) m->request(m->search(index_), entry.address, entry.bytes, cycle, w.cycles, w.wait);
       }
     }
     if (!(walk_on && route == Route::Feedback)) break;
