@@ -105,7 +105,7 @@ inline void PeEngine::want(size_t unit, uint64_t at) {
   // A new time is the earliest only if it is earlier (a time already asked for is not new).
   if (at < due_at_[unit]) {
     due_at_[unit] = at;
-    p.order = p.rank << 48 | seq_;
+    p.order = p.ranked(seq_);
   }
   ++seq_;
 }
@@ -123,7 +123,7 @@ void PeEngine::step(uint64_t now) {
     Place& p = places_[u];
     const auto [at, seq] = p.wakeups.fire(now);
     due_at_[u] = at;
-    p.order = p.rank << 48 | seq;
+    p.order = p.ranked(seq);
     wake(u, now);
   }
   // What they wrote becomes visible in the next phase. The front buffer is poked by a write to

@@ -129,6 +129,8 @@ class PeEngine {
     uint64_t rank;  ///< its same-instant rank, shifted into `order`
     Place(uint64_t cycle, UnitStats* stats, UnitKind k, int i)
         : pipe(cycle, stats), kind(k), index(i), rank(uint64_t(k) + (k == UnitKind::Root ? uint64_t(i) : 0)) {}
+    /// Its order for a wake-up it asked for as the seq-th: by rank, then by when it asked.
+    uint64_t ranked(uint64_t seq) const { return rank << 48 | seq; }
   };
   template <UnitKind K>
   struct Ops;  // a kind of unit's operations for step_unit (units/unit_step.h)
