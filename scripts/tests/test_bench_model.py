@@ -27,3 +27,10 @@ def test_builds_given_with_against_are_timed_in_one_table_with_their_own_referen
     for cells in rows:
         assert len(cells) == len(header.split(" | ")), cells
     assert all(cells[-1] == "True |" for cells in rows[1:]), r.stdout
+
+
+def test_a_build_without_rtm_is_refused_before_anything_is_timed(tmp_path):
+    r = subprocess.run([BENCH, "--dir", str(tmp_path), "--against", str(tmp_path / "nowhere"), "balls-1"],
+                       capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=60)
+    assert r.returncode == 2, r.stdout + r.stderr
+    assert f"no rtm program at {tmp_path}/nowhere/rtm" in r.stderr and r.stdout == "", r.stdout + r.stderr
