@@ -1,4 +1,4 @@
-// Every SPD scene the project holds (scenes/spd-corpus: the whole of ../shared/scenes/spd) loads
+// Every SPD scene the project holds (scenes/spd-corpus, the whole SPD corpus) loads
 // and renders, small, with the reference renderer on the machine's automatic grid.
 #include <filesystem>
 #include <string>

@@ -12,7 +12,7 @@
 namespace rtm {
 namespace {
 
-// The whole SPD corpus, as ../shared/scenes/spd has it (scenes/spd-corpus/README.md).
+// The whole SPD corpus (scenes/spd-corpus/README.md).
 const std::string kSpdDir = RTM_SOURCE_DIR "/scenes/spd-corpus";
 
 /// A minimal valid file: view, one light, one material; the test appends primitives.
