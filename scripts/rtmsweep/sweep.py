@@ -32,7 +32,9 @@ def die(message, code=2):
     sys.exit(code)
 
 
-def find_rtm(explicit):
+def find_rtm(explicit, required=True):
+    """The rtm executable: EXPLICIT, else $RTM_BINARY, else the build's; None when there is
+    none and it is not REQUIRED."""
     candidates = [explicit] if explicit else []
     if not explicit:
         if os.environ.get("RTM_BINARY"):
@@ -42,6 +44,8 @@ def find_rtm(explicit):
         c = os.path.abspath(c)
         if os.path.isfile(c) and os.access(c, os.X_OK):
             return c
+    if not required:
+        return None
     die(f"no rtm executable at {', '.join(candidates)}; build it (scripts/setup) or pass --rtm PATH")
 
 
@@ -65,6 +69,19 @@ def preset_error(rtm, name):
     except (OSError, subprocess.SubprocessError):
         return None
     return (p.stderr.strip() or f"rtm config exited {p.returncode}") if p.returncode else None
+
+
+def missing_files(spec_path, the_spec):
+    """One line per file the spec names that is not here: its scenes and its config file."""
+    files = the_spec.scenes + ([the_spec.config] if the_spec.config else [])
+    return [f"{spec_path}: no {'config' if f == the_spec.config else 'scene'} file {shown(f)}"
+            for f in dict.fromkeys(files) if not os.path.isfile(f)]
+
+
+def shown(path):
+    """PATH relative to the current folder when it is inside it, else as it is."""
+    rel = os.path.relpath(path)
+    return path if rel.startswith(os.pardir) else rel
 
 
 def jobs_tsv(jobs):
@@ -163,7 +180,12 @@ def parse_args(argv):
                     help="only print how far the sweep in DIR is, after bringing results.csv up to date with the "
                          "runs' row files (exit 0 when every run has its row)")
     ap.add_argument("--dry-run", action="store_true",
-                    help="print the runs (rtm command lines) and the GNU parallel command; run nothing")
+                    help="print the runs (rtm command lines) and the GNU parallel command; run nothing "
+                         "(exit 2 when a scene file is missing)")
+    ap.add_argument("--check", action="store_true",
+                    help="only check the spec and that every scene file it names is here (exit 0, or 2 with "
+                         "one line per problem); needs no rtm, but checks the keys and presets with one if "
+                         "there is one")
     return ap.parse_args(argv)
 
 
@@ -182,15 +204,15 @@ def main(argv=None):
     if args.no_shared_dir and not args.sshloginfile:
         die("--no-shared-dir only makes sense with --sshloginfile")
     parallel = shutil.which("parallel")
-    if not parallel and not args.status:
+    if not parallel and not (args.status or args.check):
         die("GNU parallel is not installed (Debian: apt-get install parallel)", 1)
 
-    rtm = find_rtm(args.rtm)
+    rtm = find_rtm(args.rtm, required=not args.check)
     try:
-        the_spec = spec.load(args.spec, config_keys(rtm))
+        the_spec = spec.load(args.spec, config_keys(rtm) if rtm else None)
     except spec.SpecError as e:
         die(f"{args.spec}: {e}")
-    for preset in the_spec.presets:
+    for preset in the_spec.presets if rtm else []:
         error = preset_error(rtm, preset)
         if error:
             die(f"{args.spec}: preset {preset}: {error}")
@@ -201,10 +223,17 @@ def main(argv=None):
     if shard:
         jobs = all_jobs[shard[0]::shard[1]]
         name += f" (shard {shard[0]}/{shard[1]})"
-    for scene in the_spec.scenes:
-        if not os.path.isfile(scene):
-            print(f"sweep: warning: no scene file {scene} here (its runs will fail unless the hosts have it)",
-                  file=sys.stderr)
+    missing = missing_files(args.spec, the_spec)
+    if missing and (args.check or args.dry_run):
+        for line in missing:
+            print(f"sweep: {line}", file=sys.stderr)
+        return 2
+    for line in missing:
+        print(f"sweep: warning: {line} (its runs will fail unless the hosts have it)", file=sys.stderr)
+    if args.check:
+        print(f"sweep {name}: {len(jobs)} run{'' if len(jobs) == 1 else 's'}, every file the spec names is here"
+              + ("" if rtm else " (keys and presets not checked: no rtm executable)"))
+        return 0
 
     out = os.path.abspath(args.out or os.path.join("out", "sweeps", the_spec.name))
     csv_path = results.results_path(out)

@@ -288,6 +288,37 @@ def test_a_bad_spec_is_rejected_up_front(sweep, tmp_path):
     assert not out.exists()
 
 
+def test_check_and_dry_run_name_every_missing_file_and_exit_2(sweep, tmp_path):
+    spec = write_spec(tmp_path / "spec.yaml", "scenes: [balls-1.nff, no-such-scene.nff, rings-1.nff, gone.nff]\n"
+                                              "sizes: [8x8]\nconfig: no-such-config.yaml\n")
+    out = tmp_path / "out"
+    for option in ("--check", "--dry-run"):
+        r = sweep(spec, out, option)
+        assert r.returncode == 2, r.stdout + r.stderr
+        assert r.stderr.splitlines() == [f"sweep: {spec}: no scene file {SCENES}/no-such-scene.nff",
+                                         f"sweep: {spec}: no scene file {SCENES}/gone.nff",
+                                         f"sweep: {spec}: no config file {tmp_path}/no-such-config.yaml"], r.stderr
+        assert not out.exists()
+    r = sweep(write_spec(tmp_path / "good.yaml", "scenes: [balls-1.nff, rings-1.nff]\npes: [1, 2]\n"), out, "--check")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert r.stdout == "sweep good: 4 runs, every file the spec names is here\n"
+    assert not out.exists()
+    # With an rtm to ask, --check refuses what rtm does not know, as a run would.
+    r = sweep(write_spec(tmp_path / "bad-key.yaml", "scenes: [balls-1.nff]\nset: {no_such_key: [1]}\n"), out, "--check")
+    assert r.returncode == 2 and "no_such_key: unknown machine configuration key" in r.stderr, r.stderr
+
+
+def test_check_needs_no_rtm(tmp_path):
+    spec = write_spec(tmp_path / "spec.yaml", "scenes: [balls-1.nff]\nset: {any_key: [1]}\n")
+    environment = {k: v for k, v in env().items() if k != "RTM_BINARY"}
+    environment["RTM_BUILD_DIR"] = str(tmp_path / "no-build")
+    r = subprocess.run([SWEEP, spec, "--check"], capture_output=True, text=True, stdin=subprocess.DEVNULL,
+                       cwd=tmp_path, env=environment, timeout=60)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert r.stdout == ("sweep spec: 1 run, every file the spec names is here "
+                        "(keys and presets not checked: no rtm executable)\n")
+
+
 def test_shards_fill_one_results_csv_in_the_specs_order(sweep, tmp_path):
     spec = write_spec(tmp_path / "spec.yaml", "name: shards\nscenes: [balls-1.nff]\nsizes: [8x8]\npes: [1, 2, 3]\n")
     out = tmp_path / "out"
