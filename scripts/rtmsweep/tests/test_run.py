@@ -11,7 +11,7 @@ import time
 import pytest
 
 from rtmsweep import columns, run
-from support import SWEEP_RUN, env, read_csv
+from support import ROOT, SWEEP_RUN, env, read_csv
 
 JOB = {"id": "balls-1-16x16-p2-01234567", "scene": "/scenes/balls-1.nff", "size": "16x16", "pes": 2,
        "partition": "blocks", "set": {"ray_generation": "pe", "loop_credits": "0"},
@@ -72,6 +72,9 @@ def test_a_row_copies_the_summary():
     assert [row[k] for k in columns.INTEGER_COLUMNS] == [100, 200, 650, 50]
     assert all(isinstance(row[k], int) for k in columns.INTEGER_COLUMNS)
     assert row["host"] == "node1" and row["exit_code"] == 0 and row["scene_file"] == "/scenes/balls-1.nff"
+    # A scene in the checkout: its path in the checkout, the same wherever the checkout is.
+    inside = run.build_row(dict(JOB, scene=os.path.join(ROOT, "scenes", "spd", "balls-1.nff")), "ok", "", 0, stats)
+    assert inside["scene_file"] == "scenes/spd/balls-1.nff"
     # The configuration: the job's settings, else what the run used.
     assert (row["width"], row["height"], row["pes"], row["partition"]) == (16, 16, 2, "blocks")
     assert (row["search_units"], row["timing"], row["precision"]) == (4, "fast", "fp32")
