@@ -81,7 +81,7 @@ def missing_files(spec_path, the_spec):
 def shown(path):
     """PATH relative to the current folder when it is inside it, else as it is."""
     rel = os.path.relpath(path)
-    return path if rel.startswith(os.pardir) else rel
+    return path if rel == os.pardir or rel.startswith(os.pardir + os.sep) else rel
 
 
 def jobs_tsv(jobs):
