@@ -297,7 +297,8 @@ def test_check_and_dry_run_name_every_missing_file_and_exit_2(sweep, tmp_path):
         assert r.returncode == 2, r.stdout + r.stderr
         assert r.stderr.splitlines() == [f"sweep: {spec}: no scene file {SCENES}/no-such-scene.nff",
                                          f"sweep: {spec}: no scene file {SCENES}/gone.nff",
-                                         f"sweep: {spec}: no config file {tmp_path}/no-such-config.yaml"], r.stderr
+                                         # in the folder the sweep is run from: named from there
+                                         f"sweep: {spec}: no config file no-such-config.yaml"], r.stderr
         assert not out.exists()
     r = sweep(write_spec(tmp_path / "good.yaml", "scenes: [balls-1.nff, rings-1.nff]\npes: [1, 2]\n"), out, "--check")
     assert r.returncode == 0, r.stdout + r.stderr
