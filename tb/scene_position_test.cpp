@@ -49,7 +49,7 @@ TEST_P(ScenePosition, DefaultMachineRendersTheSameWhereverTheSceneIs) {
   Tmp tmp;
   const Case c = GetParam();
   const std::string scene = kRoot + "/scenes/" + c.scene, moved = tmp / "moved.nff";
-  const Proc mv = sh(kRoot + "/scripts/move-scene " + scene + " " + moved + " --by " + c.at.by + " --scale " +
+  const Proc mv = sh(kRoot + "/scripts/move-scene " + scene + " " + moved + " --by=" + c.at.by + " --scale " +
                          std::to_string(c.at.scale),
                      tmp);
   ASSERT_EQ(mv.exit_code, 0) << mv.err;
