@@ -351,7 +351,7 @@ const std::vector<ConfigKey>& config_keys() {
                &M::origin_latch),
       enum_key("hit_refine", "shading's hit point: none (at the root unit's t, as in the paper) or newton (one Newton step on the primitive's quadric in fp64 first; refine_cycles more shading latency per hit; docs/numerics.md)",
                &M::hit_refine),
-      enum_key("pe_frame", "the coordinates the PEs compute in: world (the scene's own, as in the paper) or grid (translated to the grid's corner and scaled by its longest edge, formed by the host in fp64: fp32 accuracy independent of where the scene is; host_frame_cycles per primitive and light)",
+      enum_key("pe_frame", "the coordinates the PEs compute in: world (the scene's own, as in the paper) or grid (translated to the grid's corner and scaled by its longest edge, formed by the host in fp64: fp32 accuracy independent of where the scene is; host_frame_cycles per primitive, light and camera)",
                &M::pe_frame),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
       int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, LaneDispatcher::kMaxLanes)),
