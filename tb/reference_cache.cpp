@@ -214,11 +214,11 @@ void store(const fs::path& p, uint64_t digest, const ReferenceResult& r) {
 }  // namespace
 
 ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit,
-                                 const ReferenceWatch& watch) {
+                                 const ReferenceWatch& watch, PeFrame frame) {
   std::ostringstream key;
   key.precision(17);
   key << scene_text << "|" << s.camera.width << "x" << s.camera.height << "|grid " << g.n[0] << "," << g.n[1] << ","
-      << g.n[2] << "|t " << s.threshold << "|d " << s.max_depth << "|o " << s.spawn_offset << " " << to_string(s.spawn_policy) << "|" << __DATE__ << " "
+      << g.n[2] << "|t " << s.threshold << "|d " << s.max_depth << "|o " << s.spawn_offset << " " << to_string(s.spawn_policy) << "|frame " << to_string(frame) << "|" << __DATE__ << " "
       << __TIME__ << "|" << reference_build_id();
   key << "|refs " << fnv1a(std::string(reinterpret_cast<const char*>(g.items.data()), g.items.size() * sizeof(uint32_t)))
       << " " << fnv1a(std::string(reinterpret_cast<const char*>(g.start.data()), g.start.size() * sizeof(uint32_t)));
@@ -245,7 +245,7 @@ ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::strin
     }
   }
   if (hit) *hit = false;
-  r = render_reference(s, g, 0, watch);
+  r = render_reference(s, g, 0, watch, frame);
   if (!dir.empty()) store(dir / name, digest, r);
   return r;
 }

@@ -19,7 +19,7 @@ namespace rtm {
 /// (default kDefaultCacheCap), and temporaries left by writers that are gone are removed. A
 /// render the watch stops (render_reference) is not stored.
 ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit,
-                                 const ReferenceWatch& watch);
+                                 const ReferenceWatch& watch, PeFrame frame);
 
 constexpr uint64_t kDefaultCacheCap = uint64_t(2) << 30;  ///< 2 GiB: about 1100 entries of 256x256
 

@@ -182,7 +182,7 @@ int run_render(const RenderOptions& opt) {
       return 3;
     }
     bool cache_hit = false;
-    const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit, watch);
+    const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit, watch, config.pe_frame);
     ImageError err;
     try {
       err = compare_images(m.image, ref.image);

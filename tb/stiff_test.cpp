@@ -42,7 +42,10 @@ double rmse(const json& j) { return j["error"]["rmse"].get<double>(); }
 
 // The paper's intersection arithmetic: world coefficients, unscaled, V as the machine holds it (the
 // advanced latch, the default, would start it at each voxel's entry even without re-centring).
-const std::string kPaper = "--set recentre=false --set coef_scaling=none --set origin_latch=machine";
+// The stiff frames' failures are those of world coordinates (pe_frame = world); the grid's frame
+// (the default) removes the far-origin ones (docs/numerics.md, "Where the scene is").
+const std::string kWorld = " --set pe_frame=world";
+const std::string kPaper = "--set recentre=false --set coef_scaling=none --set origin_latch=machine" + kWorld;
 /// The shading unit in fp64: far from the eye or the origin, a float32 shading unit rounds the
 /// hit point (and so the spawned origins) by more than the spawn offset (docs/numerics.md, case 12).
 const std::string kWideShading = "--set shading_precision=fp64";
@@ -56,6 +59,9 @@ TEST(StiffFrames, FarFromTheOriginPaperFailsRecentringAndTheWideLatchFix) {
   const json fp64 = render(tmp, "fp64", "far-origin.yaml", "--precision fp64");
   ASSERT_FALSE(paper.is_null() || machine.is_null() || wide.is_null() || wide64.is_null() || fp64.is_null());
   EXPECT_GT(over(paper), 1000);   // of 4096 pixels (measured 1505)
+  const json paper_grid = render(tmp, "paper-grid", "far-origin.yaml", "--set recentre=false --set coef_scaling=none --set origin_latch=machine");
+  ASSERT_FALSE(paper_grid.is_null());
+  EXPECT_EQ(over(paper_grid), 0);  // the same arithmetic in the grid's frame
   EXPECT_LE(over(machine), 10);   // re-centring alone: measured 6
   EXPECT_LE(over(wide), 10);      // measured 4: the float32 shading unit's hit points
   EXPECT_EQ(over(wide64), 0);
@@ -65,14 +71,16 @@ TEST(StiffFrames, FarFromTheOriginPaperFailsRecentringAndTheWideLatchFix) {
 
 TEST(StiffFrames, FarFromTheEyeNeedsTheAdvancedOriginLatch) {
   Tmp tmp;
-  const json machine = render(tmp, "machine", "far-eye.yaml", "--set origin_latch=machine");
-  const json wide = render(tmp, "wide", "far-eye.yaml", "--set origin_latch=wide");
-  const json adv = render(tmp, "advance", "far-eye.yaml", "");  // the default latch
+  const json machine = render(tmp, "machine", "far-eye.yaml", "--set origin_latch=machine" + kWorld);
+  const json wide = render(tmp, "wide", "far-eye.yaml", "--set origin_latch=wide" + kWorld);
+  const json adv = render(tmp, "advance", "far-eye.yaml", "--set origin_latch=advance" + kWorld);
+  const json grid = render(tmp, "grid", "far-eye.yaml", "");  // the default machine
   const json adv64 = render(tmp, "advance64", "far-eye.yaml", "--set origin_latch=advance " + kWideShading);
-  ASSERT_FALSE(machine.is_null() || wide.is_null() || adv.is_null() || adv64.is_null());
+  ASSERT_FALSE(machine.is_null() || wide.is_null() || adv.is_null() || grid.is_null() || adv64.is_null());
   EXPECT_GT(over(machine), 500);  // measured 1159
   EXPECT_GT(over(wide), 500);
   EXPECT_GT(over(adv), 300);      // measured 585: hit points 1e4 from the eye rounded in float32
+  EXPECT_LE(over(grid), 100);     // measured 89: the eye is 1e4 grids away, so it still is in the frame
   EXPECT_EQ(over(adv64), 0);
   EXPECT_LT(rmse(adv64), 1e-5);
 }
@@ -80,10 +88,10 @@ TEST(StiffFrames, FarFromTheEyeNeedsTheAdvancedOriginLatch) {
 TEST(StiffFrames, HugeAndTinyNeedTheWideLatch) {
   Tmp tmp;
   const json paper = render(tmp, "paper", "huge-tiny.yaml", kPaper);
-  const json machine = render(tmp, "machine", "huge-tiny.yaml", "--set origin_latch=machine");
-  const json wide = render(tmp, "wide", "huge-tiny.yaml", "--set origin_latch=wide");
-  const json machine64 = render(tmp, "machine64", "huge-tiny.yaml", "--set origin_latch=machine " + kWideShading);
-  const json wide64 = render(tmp, "wide64", "huge-tiny.yaml", "--set origin_latch=wide " + kWideShading);
+  const json machine = render(tmp, "machine", "huge-tiny.yaml", "--set origin_latch=machine" + kWorld);
+  const json wide = render(tmp, "wide", "huge-tiny.yaml", "--set origin_latch=wide" + kWorld);
+  const json machine64 = render(tmp, "machine64", "huge-tiny.yaml", "--set origin_latch=machine " + kWideShading + kWorld);
+  const json wide64 = render(tmp, "wide64", "huge-tiny.yaml", "--set origin_latch=wide " + kWideShading + kWorld);
   ASSERT_FALSE(paper.is_null() || machine.is_null() || wide.is_null() || machine64.is_null() || wide64.is_null());
   EXPECT_GT(over(paper), 500);    // measured 839
   EXPECT_GT(over(machine), 100);  // measured 144
@@ -129,8 +137,9 @@ std::pair<double, int> compare(const std::string& a, const std::string& b) {
 }
 
 TEST(StiffFrames, SmallShellsNeedTheBoundSpawnPolicy) {
-  // small-shells-x1000.yaml is the same scene 1000 times larger; with the relative offset
-  // (floor 1e-5) the small one loses its inner spheres, with the bound it renders the same picture.
+  // small-shells-x1000.yaml is the same scene 1000 times larger. In world coordinates the
+  // relative offset's floor (1e-5) lost the small one's inner spheres; in the grid's frame both
+  // policies render the same picture at either scale.
   Tmp tmp;
   const auto ref = [&](const std::string& scene, const std::string& args, const std::string& name) {
     const Proc r = run_rtm("render " + scene + " --reference " + args + " --out " + (tmp / name) + " -q", tmp);
@@ -143,7 +152,9 @@ TEST(StiffFrames, SmallShellsNeedTheBoundSpawnPolicy) {
   const auto bound = compare(tmp / "big.exr", tmp / "small-bound.exr");
   std::printf("[numerics] small shells vs the same scene x1000: relative %d px over 1/255 (max %.3g), bound %d (max %.3g)\n",
               rel.second, rel.first, bound.second, bound.first);
-  EXPECT_GT(rel.second, 500);  // measured 1630 of 4096
+  // The reference computes in the grid's frame, where the relative offset is relative to the
+  // grid: both scales render alike (in world coordinates 1630 of 4096 pixels differed).
+  EXPECT_EQ(rel.second, 0);
   EXPECT_EQ(bound.second, 0);
   // The float32 machine with the bound policy agrees with its reference.
   const json m = render(tmp, "m", "small-shells.yaml", "--spawn-policy bound");

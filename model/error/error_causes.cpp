@@ -138,9 +138,13 @@ PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& refe
   return cause;
 }
 
-ErrorCauses explain_errors(const Scene& s, const Grid& g, const MachineConfig& config, const Image& machine,
+ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const MachineConfig& config, const Image& machine,
                            const Image& reference) {
   const auto t0 = std::chrono::steady_clock::now();
+  // Both traced in the frame the machine and its reference computed in.
+  const FramedScene view = framed(world, world_grid, config.pe_frame);
+  const Scene& s = view.scene;
+  const Grid& g = view.grid;
   ErrorCauses e;
   e.width = machine.width;
   e.height = machine.height;

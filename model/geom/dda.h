@@ -20,6 +20,10 @@ struct DdaState {
   std::array<double, 3> t_next{kInf, kInf, kInf};  ///< where the ray crosses the next plane on each axis
   double t_enter = 0;                              ///< where the ray enters the current voxel
   double t_exit = 0;                               ///< where it leaves it (>= t_enter)
+  /// How far past the true entry the rounded t_enter may lie: the bound of its crossing's rounding
+  /// in the walk's arithmetic (0 at the ray's own start). A voxel test reaches back this far, so a
+  /// hit just past the entry face is found in this voxel whatever the rounding.
+  double t_enter_slack = 0;
   bool done = true;                                ///< no current voxel: the ray has left the grid
 };
 
@@ -60,6 +64,11 @@ class BasicDda {
   /// A voxel plane from its index, in Real (no accumulated drift).
   static Real plane(const Grid& g, int axis, int i) { return Real(g.box.lo[axis]) + Real(i) * Real(g.cell[axis]); }
   static Real crossing(const Grid& g, const V& o, const V& d, int axis, int cell);
+  /// The rounding bound of a crossing at t on `axis`: t = (P − o)/d with P, o and d rounded to
+  /// Real, and |P| <= |o| + |t d|, is within 8 ε (|o| / |d| + |t|) of the exact crossing.
+  static double slack(const Vec3& o, const Vec3& d, int axis, double t) {
+    return 8 * double(std::numeric_limits<Real>::epsilon()) * (std::abs(o[axis] / d[axis]) + std::abs(t));
+  }
   static int exit_axis(const DdaState& s);
 };
 
@@ -90,6 +99,7 @@ DdaState BasicDda<Real>::start(const Grid& g, const Vec3& o_in, const Vec3& d_in
   auto finite = [](const V& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
   if (!finite(o) || !finite(d)) return s;
   Real t0 = Real(t_min), t1 = Real(t_max);
+  int entry_axis = -1;  // the face the walk enters the grid by; -1: it starts at t_min
   for (int a = 0; a < 3; ++a) {
     const Real lo = Real(g.box.lo[a]), hi = Real(g.box.hi[a]);
     if (d[a] == 0) {
@@ -98,6 +108,7 @@ DdaState BasicDda<Real>::start(const Grid& g, const Vec3& o_in, const Vec3& d_in
     }
     Real ta = (lo - o[a]) / d[a], tb = (hi - o[a]) / d[a];
     if (ta > tb) std::swap(ta, tb);
+    if (ta > t0) entry_axis = a;
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
   }
@@ -108,6 +119,7 @@ DdaState BasicDda<Real>::start(const Grid& g, const Vec3& o_in, const Vec3& d_in
   }
   for (int a = 0; a < 3; ++a) s.t_next[a] = crossing(g, o, d, a, s.cell[a]);
   s.t_enter = t0;
+  s.t_enter_slack = entry_axis < 0 ? 0.0 : std::min(double(t0) - t_min, slack(o_in, d_in, entry_axis, t0));
   s.t_exit = std::max(double(t0), s.t_next[exit_axis(s)]);
   s.done = false;
   return s;
@@ -122,6 +134,7 @@ void BasicDda<Real>::advance(const Grid& g, const Vec3& o, const Vec3& d, double
   }
   s.cell[a] += d[a] > 0 ? 1 : -1;
   s.t_enter = s.t_exit;
+  s.t_enter_slack = slack(o, d, a, s.t_enter);
   if (s.cell[a] < 0 || s.cell[a] >= g.n[a] || s.t_enter > double(Real(t_max))) {
     s.done = true;
     return;
@@ -149,6 +162,7 @@ void BasicDda<Real>::advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, 
   const int dir = d[a] > 0 ? 1 : -1;
   s.cell[a] += dir;
   s.t_enter = s.t_exit;
+  s.t_enter_slack = slack(o, d, a, s.t_enter);
   if (s.cell[a] < 0 || s.cell[a] >= g.n[a] || s.t_enter > double(Real(t_max))) {
     s.done = true;
     return;
@@ -193,6 +207,7 @@ int BasicDda<Real>::skip_box(const Grid& g, const Vec3& o_in, const Vec3& d_in, 
 
   DdaState n = s;
   int steps = 0;
+  int entry_axis = -1;  // the axis whose crossing n.t_enter is
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0) continue;
     const int dir = d[a] > 0 ? 1 : -1;
@@ -228,10 +243,12 @@ int BasicDda<Real>::skip_box(const Grid& g, const Vec3& o_in, const Vec3& d_in, 
     if (k == 0) continue;
     n.cell[a] = s.cell[a] + k * dir;
     n.t_next[a] = t_k;
+    if (t_before >= n.t_enter) entry_axis = a;  // ties: advance() crosses the lowest axis first
     n.t_enter = std::max(n.t_enter, t_before);  // t_enter is the running maximum of t_exit
     steps += k;
   }
   if (steps == 0) return 0;
+  if (entry_axis >= 0) n.t_enter_slack = slack(o_in, d_in, entry_axis, n.t_enter);
   n.t_exit = std::max(n.t_enter, n.t_next[exit_axis(n)]);
   s = n;
   return steps;

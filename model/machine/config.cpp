@@ -77,6 +77,10 @@ struct EnumNames<OriginLatch> {
       {OriginLatch::Machine, "machine"}, {OriginLatch::Wide, "wide"}, {OriginLatch::Advance, "advance"}};
 };
 template <>
+struct EnumNames<PeFrame> {
+  static constexpr std::pair<PeFrame, const char*> all[] = {{PeFrame::World, "world"}, {PeFrame::Grid, "grid"}};
+};
+template <>
 struct EnumNames<M::MacSchedule> {
   static constexpr std::pair<M::MacSchedule, const char*> all[] = {{M::MacSchedule::Full, "full"},
                                                                    {M::MacSchedule::Sparse, "sparse"}};
@@ -347,6 +351,8 @@ const std::vector<ConfigKey>& config_keys() {
                &M::origin_latch),
       enum_key("hit_refine", "shading's hit point: none (at the root unit's t, as in the paper) or newton (one Newton step on the primitive's quadric in fp64 first; refine_cycles more shading latency per hit; docs/numerics.md)",
                &M::hit_refine),
+      enum_key("pe_frame", "the coordinates the PEs compute in: world (the scene's own, as in the paper) or grid (translated to the grid's corner and scaled by its longest edge, formed by the host in fp64: fp32 accuracy independent of where the scene is; host_frame_cycles per primitive, light and camera)",
+               &M::pe_frame),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
       int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, LaneDispatcher::kMaxLanes)),
       enum_key("search_walk", "per_voxel (a ray in an empty voxel goes back to the front buffer, as in the paper) or until_occupied (the search unit steps on until an occupied voxel or the walk's end)",
@@ -415,6 +421,8 @@ const std::vector<ConfigKey>& config_keys() {
       double_key("host_clock_ns", "host clock period, ns", &M::host_clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
       int_key("host_voxel_cycles", "host cycles per primitive reference registered in a voxel", &M::host_voxel_cycles, from(0, kMaxOpCycles)),
       int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles, from(0, kMaxOpCycles)),
+      int_key("host_frame_cycles", "host cycles per primitive, light and camera moved into the grid's frame (pe_frame = grid)",
+              &M::host_frame_cycles, from(0, kMaxOpCycles)),
       double_key("link_bandwidth_mb_s", "host <-> PE link bandwidth, MB/s", &M::link_bandwidth_mb_s,
                  from(kMinBandwidthMbS, kMaxBandwidthMbS)),
       double_key("link_latency_ns", "host <-> PE link latency per transaction, ns (per hop on a tree)", &M::link_latency_ns,
@@ -452,6 +460,7 @@ const std::vector<Preset>& presets() {
            {"dda_precision", "precision", "silent (§4: the 3DDDA's arithmetic is not described): the PE's one floating-point width"},
            {"shading_precision", "precision", "silent (§6: the shading arithmetic is not described): the PE's one floating-point width"},
            {"hit_refine", "none", "§6 shades the point the intersection stage found; no refinement is described"},
+           {"pe_frame", "world", "§3.2, §5.2: the host sends the primitives, the voxel data and the rays as the scene gives them, and the RAM and latches hold world coordinates; no change of coordinates is described"},
            {"mac_schedule", "full", "§5.2: the adder accumulates 6 products for α, 12 for β and 10 for γ, for every primitive"},
            {"leave_out", "false", "§3.1, §6: one machine for every scene: each PE has its shadow and branch-ray units whether the scene uses them or not"},
            {"recentre", "false", "§5.2: the RAM holds the quadric's coefficients and the latches the ray's V, both in world space"},

@@ -14,6 +14,7 @@
 
 #include "geom/numerics.h"
 #include "scene/file_error.h"
+#include "scene/grid_frame.h"
 
 namespace rtm {
 
@@ -58,6 +59,9 @@ struct MachineConfig {
   CoefScaling coef_scaling = MacNumerics{}.coef_scaling;
   OriginLatch origin_latch = OriginLatch::Advance;
   HitRefine hit_refine = HitRefine::Newton;
+  /// The coordinates the PEs compute in (scene/grid_frame.h): the grid's own, so that fp32
+  /// accuracy does not depend on where the scene is (docs/numerics.md, "Where the scene is").
+  PeFrame pe_frame = PeFrame::Grid;
 
   // PE clock and units (cycles)
   double clock_ns = 10;
@@ -116,6 +120,7 @@ struct MachineConfig {
   double host_clock_ns = 10;
   int host_voxel_cycles = 40;
   int host_ray_cycles = 20;
+  int host_frame_cycles = 40;
   double link_bandwidth_mb_s = 400;
   double link_latency_ns = 1000;
   // The interconnect (model/net/interconnect.h, docs/machine.md "The host-PE interconnect").

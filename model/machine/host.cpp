@@ -93,6 +93,11 @@ void Host::run() {
   const sc_time host_cycle(config_.host_clock_ns, sc_core::SC_NS);
   const int n = int(pes_.size());
 
+  // Pre-processing 0: every primitive, light and the camera into the grid's frame, in fp64 (the
+  // simulator framed them before simulation, as it built the grid).
+  if (config_.pe_frame == PeFrame::Grid)
+    host_work(checked_periods(host_cycle, double(uint64_t(config_.host_frame_cycles) * (scene_.primitives.size() + scene_.lights.size() + 1)),
+                              "the host's change of frame"));
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
   // host is charged per primitive reference it registers).
   host_work(checked_periods(host_cycle, double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),

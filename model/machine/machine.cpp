@@ -418,8 +418,10 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
   check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
-  Machine top("machine", s, g, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory, opt.max_rays,
-              opt.pool, opt.sim_threads);
+  // What the host hands the PEs, in the frame they compute in (its cost is the host's: host.cpp).
+  const FramedScene pe_view = framed(s, g, c.pe_frame);
+  Machine top("machine", pe_view.scene, pe_view.grid, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory,
+              opt.max_rays, opt.pool, opt.sim_threads);
 
   check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 

@@ -144,6 +144,7 @@ VoxelHit walk(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb) {
     }
     const uint32_t n = g.count(v);
     const double t_hi = window_end(ray, s);
+    const double t_lo = s.t_enter - entry_reach(mem.numerics.origin, s, t_hi);
     const uint32_t* ids = g.begin(v);
     VoxelHit best;
     for (uint32_t i = 0; i < n; ++i) {
@@ -151,7 +152,7 @@ VoxelHit walk(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb) {
       ++best.tests;
       best.clip_tests += uint32_t(h.clip_tests);
       // Ties go to the lower primitive number, the order the voxel lists them in.
-      if (h.hit && h.t >= s.t_enter && h.t <= t_hi && h.t < best.t) {
+      if (h.hit && h.t >= t_lo && h.t <= t_hi && h.t < best.t) {
         best.hit = true;
         best.t = h.t;
         best.prim = ids[i];
@@ -291,8 +292,12 @@ class Watcher {
 
 const char* reference_build_id() { return __DATE__ " " __TIME__; }
 
-ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, const ReferenceWatch& watch) {
+ReferenceResult render_reference(const Scene& world, const Grid& world_grid, int threads, const ReferenceWatch& watch,
+                                 PeFrame frame) {
   const auto t0 = std::chrono::steady_clock::now();
+  const FramedScene view = framed(world, world_grid, frame);
+  const Scene& s = view.scene;
+  const Grid& g = view.grid;
   ReferenceResult r;
   r.image = Image(s.camera.width, s.camera.height);
   const SceneMemory<double> mem(s, g);

@@ -11,6 +11,7 @@
 #include "geom/grid.h"
 #include "render/ray.h"
 #include "render/ray_result.h"
+#include "scene/grid_frame.h"
 #include "scene/scene.h"
 
 namespace rtm {
@@ -67,13 +68,16 @@ struct BudgetExceeded : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Renders the whole frame. threads <= 0: all hardware threads. Throws BudgetExceeded when the
-/// watch's budget is passed.
-ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, const ReferenceWatch& watch = {});
+/// Renders the whole frame, computing in `frame` (the machine's pe_frame: the two then round
+/// alike). threads <= 0: all hardware threads. Throws BudgetExceeded when the watch's budget is
+/// passed.
+ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, const ReferenceWatch& watch = {},
+                                 PeFrame frame = PeFrame::Grid);
 
 /// The reference renderer one ray at a time, for a caller that follows a pixel's tree itself (the
 /// error attribution re-traces only the pixels that differ): the same walk and shading as
 /// render_reference, so a tree traced through it sums to the reference image's pixel exactly.
+/// Its scene and rays are in the frame the caller chose (framed()).
 class ReferenceTracer : public RayTracer {
  public:
   ReferenceTracer(const Scene& s, const Grid& g);  ///< both must outlive the tracer

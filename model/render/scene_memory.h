@@ -42,9 +42,12 @@ struct SceneMemory {
       Vec3 c{0, 0, 0};
       if (recentre) {
         // The machine latch subtracts the stored centre from the origin rounded to Real, so the
-        // centre must be a Real; the wide latches subtract in fp64 and keep the box centre itself
-        // (a sphere then has no linear terms, and sparse MAC schedules skip them).
-        const Vec3 mid = 0.5 * (p.bounds.lo + p.bounds.hi);
+        // centre must be a Real; the wide latches subtract in fp64 and keep the box centre itself,
+        // or the shape's own origin where its local form has no linear terms (a sphere's centre:
+        // its box's centre rounds differently once the host has moved it into the grid's frame),
+        // so a centred shape has none, and sparse MAC schedules skip them.
+        const bool centred = p.has_local && p.local.c[kG] == 0 && p.local.c[kH] == 0 && p.local.c[kI] == 0;
+        const Vec3 mid = centred && num.origin != OriginLatch::Machine ? p.origin : 0.5 * (p.bounds.lo + p.bounds.hi);
         c = num.origin == OriginLatch::Machine
                 ? Vec3(round_to_real<Real>(mid.x), round_to_real<Real>(mid.y), round_to_real<Real>(mid.z))
                 : mid;

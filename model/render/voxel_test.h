@@ -25,6 +25,20 @@ struct VoxelHit {
 /// the distances the latches hold, which a grid of up to ~1000 voxels a side keeps below this.
 constexpr double kAdvancedWindowReach = 1e-4;
 
+/// How far before the voxel's t_enter a hit still counts in it. The walk's t_enter is rounded and
+/// may lie past the true entry (by at most DdaState::t_enter_slack): a hit just past the entry
+/// face would fall before it, and the voxel before need not list its primitive. Measured from
+/// each voxel's own entry point (the advanced latch), a hit on the face between two voxels is
+/// also rounded differently in each: that window reaches back a fraction of itself too. Either
+/// only finds what the voxel before rounded out, and never reaches behind the ray's start. The
+/// paper's latch keeps the walk's windows as they are.
+inline double entry_reach(OriginLatch latch, const DdaState& s, double t_hi) {
+  if (latch == OriginLatch::Machine) return 0.0;
+  double reach = s.t_enter_slack;
+  if (latch == OriginLatch::Advance) reach = std::max(reach, kAdvancedWindowReach * (t_hi - s.t_enter));
+  return std::min(reach, s.t_enter);
+}
+
 /// The window of the current voxel in which a hit counts: shadow rays also stop at their light.
 inline double window_end(const Ray& r, const DdaState& s) { return std::min(s.t_exit, r.t_max); }
 
@@ -51,11 +65,7 @@ VoxelHit resolve_voxel(const SceneMemory<Real>& mem, const Ray& ray, const DdaSt
   const Grid& g = *mem.grid;
   const double t_hi = window_end(ray, s);
   const double shift = mem.t_shift(s.t_enter);  // roots are measured from V + shift·U
-  // Measured from each voxel's own entry point, a hit on the boundary of two voxels is rounded
-  // differently in each, and can fall past the first's exit and before the second's entry: the
-  // window reaches back a little, which only finds what the voxel before rounded out (a primitive
-  // not listed there does not reach it). With one origin for all voxels the windows tile exactly.
-  const double reach_back = shift > 0 ? kAdvancedWindowReach * (t_hi - s.t_enter) : 0.0;
+  const double reach_back = entry_reach(mem.numerics.origin, s, t_hi);
   const uint32_t* ids = g.begin(voxel);
   if (clips_per_prim) clips_per_prim->clear();
   for (uint32_t i = 0, n = g.count(voxel); i < n; ++i) {
