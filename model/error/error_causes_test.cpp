@@ -201,7 +201,7 @@ TEST(ErrorCauses, ACountGapIsExplainedOnlyWhenTheDifferingPixelsTreesHoldAllOfIt
 TEST(ErrorCauses, ExplainingAPixelCountsItsTreesRays) {
   Scene s;
   s.materials.push_back(Material{});
-  s.lights.push_back({{0, 10, 0}, {1, 1, 1}});
+  s.lights.push_back({{3, 0, 10}, {1, 1, 1}});  // in front of the sphere, beside the eye
   s.primitives.push_back(make_sphere({0, 0, 0}, 1));
   Traced t(s);
   const Ray r = primary({0, 0, 5}, {0, 0, 0});
