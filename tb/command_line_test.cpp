@@ -1,6 +1,6 @@
 // The command line and the summary, consistent: a bad option value is a usage error (exit 2, one
-// line naming the option), --help gives the ranges the checks enforce, --size N is NxN, and the
-// summary names the machine that ran.
+// line naming the option), --help gives the ranges the checks enforce, --size N is NxN, the
+// summary names the machine that ran, and every build names its commit.
 #include <cmath>
 #include <limits>
 #include <regex>
@@ -169,6 +169,58 @@ TEST(CommandLine, TheSummarysCountsHaveUnitsAndTheirPluralsAreRight) {
   EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(contention stalls \d+ requester-cycles, results waiting \d+ requester-cycles)")))
       << r.out;
   EXPECT_EQ(off, 1u) << "the frame no longer has the one pixel off this test is for";
+}
+
+// `rtm --version` names the version, the commit and whether the tree was modified; every stats
+// file records the same.
+TEST(CommandLine, TheVersionNamesTheBuildsCommitAndTheStatsRecordIt) {
+  Tmp tmp;
+  const Proc v = run_rtm("--version", tmp);
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_match(v.out, m, std::regex(R"(rtm (\S+) \(commit ([0-9a-f]{40}|unknown)(, modified|, unmodified)?\)\n)")))
+      << v.out;
+  const json j = render(tmp, "s", "--reference --size 2");
+  ASSERT_FALSE(j.is_null());
+  EXPECT_EQ(j["build"]["version"], m[1].str());
+  EXPECT_EQ(j["build"]["commit"], m[2].str());
+  EXPECT_EQ(j["build"]["modified"], m[3].matched ? json(m[3].str() == ", modified") : json(nullptr));
+  // Built from this checkout: the commit is one of its own.
+  if (m[2] != "unknown") {
+    EXPECT_EQ(sh("git -C " + kSource + " cat-file -e " + m[2].str() + "^{commit}", tmp).exit_code, 0) << m[2];
+  }
+}
+
+/// Runs cmake/build_info.cmake on the sources in `dir`, returns the file it writes.
+std::string build_info_for(const std::string& dir, const Tmp& tmp) {
+  const Proc r = sh(std::string(RTM_CMAKE) + " -DSOURCE_DIR=" + dir + " -DVERSION=9.9 -DTEMPLATE=" + kSource +
+                        "cmake/build_info.cpp.in -DOUT=" + (tmp / "info.cpp") + " -P " + kSource + "cmake/build_info.cmake",
+                    tmp);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  return slurp(tmp / "info.cpp");
+}
+
+// The build's commit is read from git when rtm is built: from a checkout, its commit and whether a
+// tracked file differs; from sources without one (a tarball), unknown.
+TEST(CommandLine, TheBuildReadsItsCommitFromGitOrSaysUnknown) {
+  Tmp tmp;
+  const std::string src = tmp / "src";
+  std::filesystem::create_directories(src);
+  spit(src + "/a.txt", "one\n");
+  EXPECT_NE(build_info_for(src, tmp).find(R"({"9.9", "unknown", std::nullopt})"), std::string::npos)
+      << slurp(tmp / "info.cpp");
+  const std::string git = "git -C " + src + " -c user.name=t -c user.email=t@t ";
+  ASSERT_EQ(sh(git + "init -q && " + git + "add a.txt && " + git + "commit -q -m one", tmp).exit_code, 0);
+  const std::string head = sh(git + "rev-parse HEAD", tmp).out.substr(0, 40);
+  EXPECT_NE(build_info_for(src, tmp).find("{\"9.9\", \"" + head + "\", false}"), std::string::npos)
+      << slurp(tmp / "info.cpp");
+  spit(src + "/a.txt", "two\n");
+  EXPECT_NE(build_info_for(src, tmp).find("{\"9.9\", \"" + head + "\", true}"), std::string::npos)
+      << slurp(tmp / "info.cpp");
+  spit(src + "/a.txt", "one\n");
+  spit(src + "/untracked.txt", "x\n");  // a build folder, an output: not the sources
+  EXPECT_NE(build_info_for(src, tmp).find("{\"9.9\", \"" + head + "\", false}"), std::string::npos)
+      << slurp(tmp / "info.cpp");
 }
 
 }  // namespace

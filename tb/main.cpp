@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <systemc>
 
+#include "build_info.h"
 #include "machine/config.h"
 #include "machine/nearest_name.h"
 #include "options.h"
@@ -74,7 +75,7 @@ int sc_main(int argc, char* argv[]) {
   sc_core::sc_report_handler::set_actions(sc_core::SC_FATAL, sc_core::SC_DISPLAY | sc_core::SC_THROW);
   CLI::App app{"rtm - a SystemC model of the Gwun/Murakami/Tomita parallel ray-tracing machine"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "rtm 0.1");
+  app.set_version_flag("--version", rtm::version_text());
 
   // Every preset with its meaning, from their one declaration.
   std::string preset_help = "Machine preset, applied before --config and --set:";

@@ -99,6 +99,12 @@ TEST(StatsContract, BrokenStatsAreRejected) {
   j = good;
   j["schema_version"] = good["schema_version"].get<int>() + 1;
   rejected(j, "another format version");
+  j = good;
+  j["build"]["commit"] = "HEAD";
+  rejected(j, "a commit that is no hash");
+  j = good;
+  j.erase("build");
+  rejected(j, "no build");
   spit(tmp / "bad.json", "{\"schema_version\": ");
   const Proc truncated = sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "bad.json"), tmp);
   EXPECT_EQ(truncated.exit_code, 1) << truncated.out << truncated.err;
