@@ -74,7 +74,8 @@ INSTANTIATE_TEST_SUITE_P(
                     BadValue{"VcdPes", "render --size 4 --vcd-pes 3", "--vcd-pes"},
                     BadValue{"UnknownPreset", "render --size 4 --preset fastest", "--preset"},
                     BadValue{"UnknownKey", "render --size 4 --set warp=1", "--set"},
-                    BadValue{"PovSize", "pov --size 0x4", "--size"}),
+                    BadValue{"PovSize", "pov --size 0x4", "--size"},
+                    BadValue{"PovUnwritable", "pov --out /proc/none/x.pov", "--out"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 /// The line of `rtm render --help` that describes `option`.

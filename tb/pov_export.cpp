@@ -178,6 +178,7 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
 int run_pov(const PovOptions& opt) {
   remove_partial_files_on_signals();  // the .pov file is written under a temporary name
   return run_command([&] {
+    check_writable("--out", opt.out);
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     if (!opt.size.empty()) apply_size(opt.size, scene);

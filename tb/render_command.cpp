@@ -55,20 +55,6 @@ void clear_outputs(const std::vector<std::string>& paths) {
   }
 }
 
-/// An output that cannot be written is a bad command line, found before the simulation rather than
-/// after it. Creates the file's folder, as writing it would.
-void check_writable(const char* option, const std::string& path) {
-  namespace fs = std::filesystem;
-  if (path.empty()) return;
-  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
-  std::error_code ec, ignored;
-  fs::create_directories(folder, ec);
-  if (!ec && !fs::is_directory(fs::status(folder, ignored))) ec = std::make_error_code(std::errc::not_a_directory);
-  if (!ec && fs::is_directory(fs::status(path, ignored))) ec = std::make_error_code(std::errc::is_a_directory);
-  if (!ec && access(folder.c_str(), W_OK) != 0) ec = std::error_code(errno, std::generic_category());
-  if (ec) throw UsageError(std::string(option) + ": " + path + ": cannot write: " + ec.message());
-}
-
 }  // namespace
 
 int run_render(const RenderOptions& opt) {

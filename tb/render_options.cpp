@@ -1,12 +1,15 @@
 #include "render_options.h"
 
 #include <array>
+#include <cerrno>
 #include <filesystem>
 #include <stdexcept>
 #include <iostream>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include "scene/scene_checks.h"
 
@@ -44,6 +47,18 @@ std::array<int, 3> parse_grid(const std::string& text) {
 }
 
 }  // namespace
+
+void check_writable(const char* option, const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return;
+  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  std::error_code ec, ignored;
+  fs::create_directories(folder, ec);
+  if (!ec && !fs::is_directory(fs::status(folder, ignored))) ec = std::make_error_code(std::errc::not_a_directory);
+  if (!ec && fs::is_directory(fs::status(path, ignored))) ec = std::make_error_code(std::errc::is_a_directory);
+  if (!ec && access(folder.c_str(), W_OK) != 0) ec = std::error_code(errno, std::generic_category());
+  if (ec) throw UsageError(std::string(option) + ": " + path + ": cannot write: " + ec.message());
+}
 
 void apply_size(const std::string& size, Scene& scene) {
   std::smatch m;
