@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -87,6 +88,29 @@ struct Proc {
   int exit_code = -1;
   std::string out, err;
 };
+
+/// Every signal a VCD declares, named as GTKWave names it: scopes and name joined by dots, then
+/// the bit range of a vector (SystemC.machine.pe0.search_fifo.occupancy[31:0]).
+inline std::vector<std::string> vcd_signals(const std::string& vcd) {
+  std::vector<std::string> scopes, names;
+  std::istringstream words(vcd.substr(0, vcd.find("$enddefinitions")));
+  for (std::string w; words >> w;) {
+    if (w == "$scope") {
+      std::string kind, name;
+      words >> kind >> name;
+      scopes.push_back(name);
+    } else if (w == "$upscope") {
+      scopes.pop_back();
+    } else if (w == "$var") {
+      std::string type, bits, id, name, range;
+      words >> type >> bits >> id >> name >> range;
+      std::string full;
+      for (const std::string& s : scopes) full += s + ".";
+      names.push_back(full + name + (range != "$end" ? range : ""));
+    }
+  }
+  return names;
+}
 
 /// Runs a shell command with stdout and stderr captured in `tmp` (no stdin).
 inline Proc sh(const std::string& cmd, const Tmp& tmp) {

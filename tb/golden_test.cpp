@@ -133,8 +133,8 @@ std::string gtkw_hash(const std::string& gtkw) {
 }
 
 /// The stats without what may differ between two runs of the same frame: wall times (every key
-/// ending in `seconds`, at any depth), whether the reference came from the cache, and the command
-/// line (it names the case's scratch folder).
+/// ending in `seconds`, at any depth), whether the reference came from the cache, the command
+/// line (it names the case's scratch folder) and the build (each commit has its own).
 json without_run_dependent(json j) {
   if (j.is_array())
     for (json& e : j) e = without_run_dependent(e);
@@ -150,6 +150,7 @@ json without_run_dependent(json j) {
   }
   if (j.contains("reference") && j["reference"].is_object()) j["reference"].erase("cached");
   j.erase("command_line");
+  j.erase("build");
   return j;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <systemc>
 
+#include "build_info.h"
 #include "machine/config.h"
 #include "machine/nearest_name.h"
 #include "options.h"
@@ -15,6 +16,7 @@
 #include "reference_cache.h"
 #include "render/ray.h"
 #include "render_options.h"
+#include "scene/scene_checks.h"
 
 namespace {
 // The kernel's banner would land in the middle of rtm's own output. It is printed before
@@ -53,6 +55,18 @@ std::string did_you_mean(CLI::App& app, int argc, char* argv[]) {
   return "";
 }
 
+/// A scene setting's range (scene/scene_checks.h) as the option's check: --help shows the range
+/// the scene's own check enforces, and a value outside it is a bad command line.
+CLI::Validator in_range(const rtm::scene_checks::NumberRange& range) {
+  return CLI::Validator(
+      [range](std::string& text) {
+        double x = 0;
+        if (!CLI::detail::lexical_cast(text, x)) return "expected a number, got '" + text + "'";
+        return range.contains(x) ? std::string() : "must be in " + range.text() + ", got " + text;
+      },
+      range.text());
+}
+
 }  // namespace
 
 int sc_main(int argc, char* argv[]) {
@@ -61,7 +75,7 @@ int sc_main(int argc, char* argv[]) {
   sc_core::sc_report_handler::set_actions(sc_core::SC_FATAL, sc_core::SC_DISPLAY | sc_core::SC_THROW);
   CLI::App app{"rtm - a SystemC model of the Gwun/Murakami/Tomita parallel ray-tracing machine"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "rtm 0.1");
+  app.set_version_flag("--version", rtm::version_text());
 
   // Every preset with its meaning, from their one declaration.
   std::string preset_help = "Machine preset, applied before --config and --set:";
@@ -73,7 +87,7 @@ int sc_main(int argc, char* argv[]) {
   CLI::App* render = app.add_subcommand("render", "Render a whole frame (the built-in default scene if SCENE is omitted)");
   render->add_option("scene", r.scene, "Scene file: .nff (NFF) or .yaml (native format)");
   render->add_flag("--reference", r.reference, "Use the untimed double-precision reference renderer instead of the machine");
-  render->add_option("--size", r.size, "Image size WxH (keeps the scene's horizontal field of view)");
+  render->add_option("--size", r.size, "Image size WxH, or N for NxN (keeps the scene's horizontal field of view)");
   render->add_option("--out", r.out, "Image file, .png (8-bit, clamped) or .exr (float); default out/<scene>.png");
   render->add_option("--stats", r.stats, "Statistics JSON file; default beside the image");
   render->add_option("--id-map", r.id_map, "One-channel EXR: primitive number seen by each primary ray, -1 background");
@@ -84,12 +98,12 @@ int sc_main(int argc, char* argv[]) {
                       "Grid resolution: auto, machine (with --reference: the machine's automatic grid), N, or NxNyNz; "
                       "default the scene's own (auto)");
   render->add_option("--threshold", r.threshold, "Branch-ray contribution threshold (overrides the scene)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(rtm::scene_checks::kThresholdRange));
   render->add_option("--max-depth", r.max_depth, "Maximum ray generation, primary = 1 (overrides the scene)")
       ->check(CLI::Range(1, rtm::kMaxRayDepth));
   render->add_option("--spawn-offset", r.spawn_offset,
                      "Spawned rays start this far off the surface, relative to max(1, |hit point|) (overrides the scene)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(rtm::scene_checks::kSpawnOffsetRange));
   render->add_option("--spawn-policy", r.spawn_policy,
                      "How --spawn-offset is applied: relative (x max(1, |hit point|)) or bound (x an error bound of the hit point; docs/numerics.md)");
   render->add_option("--threads", r.threads, "Reference renderer threads (0: all cores)")->check(CLI::Range(0, 1024));

@@ -55,7 +55,7 @@ TEST(Pipelining, FastAndClockedAgreeUnderBothPresetsAndSchedules) {
     }
 }
 
-/// The value changes of one VCD signal (by its name's last two parts, e.g. "mac_unit/abg_select"),
+/// The value changes of one VCD signal (by its name's last two parts, e.g. "mac/abg_select"),
 /// as time -> value text, from the first PE's first intersection unit.
 std::map<uint64_t, std::string> changes(const std::string& vcd, const std::string& unit, const std::string& name) {
   std::istringstream in(vcd);
@@ -99,9 +99,9 @@ TEST(Pipelining, TheClockedMacShowsWhichSumItAccumulatesAndHandsThemOn) {
                                       (tmp / "w.vcd") + " --vcd-window pe0+0:3000");
   ASSERT_FALSE(j.is_null());
   const std::string vcd = slurp(tmp / "w.vcd");
-  const auto select = changes(vcd, "mac_unit", "abg_select");
-  const auto handed = changes(vcd, "mac_unit", "sums_valid");
-  const auto gamma = changes(vcd, "mac_unit", "gamma");
+  const auto select = changes(vcd, "mac", "abg_select");
+  const auto handed = changes(vcd, "mac", "sums_valid");
+  const auto gamma = changes(vcd, "mac", "gamma");
   ASSERT_GT(select.size(), 3u) << "abg_select is not in the VCD or never changes";
   // Each α -> β -> γ run: β starts 6 cycles after α, γ 12 after β, and the sums leave with γ's
   // last product, 9 cycles after γ's first.

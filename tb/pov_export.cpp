@@ -5,14 +5,15 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
-#include <regex>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
 
 #include "render/image_io.h"
 #include "render/partial_files.h"
+#include "render_options.h"
 #include "scene/scene.h"
 
 namespace rtm {
@@ -166,7 +167,7 @@ std::string to_pov(const Scene& s, bool id) {
 CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
   CLI::App* pov = app.add_subcommand("pov", "Export a scene to POV-Ray 3.7 SDL (for validation against POV-Ray)");
   pov->add_option("scene", opt.scene, "Scene file: .nff or .yaml (the built-in default scene if omitted)");
-  pov->add_option("--size", opt.size, "Image size WxH (keeps the scene's horizontal field of view)");
+  pov->add_option("--size", opt.size, "Image size WxH, or N for NxN (keeps the scene's horizontal field of view)");
   pov->add_flag("--id", opt.id, "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
   pov->add_flag("--strict", opt.strict, "Degenerate shapes are errors instead of skipped (as rtm render --strict)");
   pov->add_flag("--skip-unknown", opt.skip_unknown, "Skip unknown NFF records (as rtm render --skip-unknown)");
@@ -176,27 +177,17 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
 
 int run_pov(const PovOptions& opt) {
   remove_partial_files_on_signals();  // the .pov file is written under a temporary name
-  try {
+  return run_command([&] {
+    check_writable("--out", opt.out);
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
-    if (!opt.size.empty()) {
-      std::smatch m;
-      if (!std::regex_match(opt.size, m, std::regex(R"((\d{1,6})x(\d{1,6}))"))) {
-        std::cerr << "rtm: --size: expected WxH, e.g. 320x240, got '" << opt.size << "'\n";
-        return 2;
-      }
-      set_resolution(scene, std::stoi(m[1]), std::stoi(m[2]));
-    }
-    if (opt.id && scene.primitives.size() >= (1u << 24) - 1) {
-      std::cerr << "rtm: --id: more primitives than 24 bits can number\n";
-      return 2;
-    }
+    if (!opt.size.empty()) apply_size(opt.size, scene);
+    if (opt.id && scene.primitives.size() >= (1u << 24) - 1) throw UsageError("--id: more primitives than 24 bits can number");
     write_text_atomically(opt.out, to_pov(scene, opt.id));
+    std::printf("pov: %s (%s%zu primitives, %dx%d)\n", opt.out.c_str(), opt.id ? "ID colours, " : "",
+                scene.primitives.size(), scene.camera.width, scene.camera.height);
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "rtm: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
 
 }  // namespace rtm

@@ -11,6 +11,11 @@ namespace rtm {
 
 namespace {
 
+/// "1 pixel", "2 pixels".
+std::string counted(uint64_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
 void print_rays(const TraceCounts& c) {
   std::printf("rays: %llu primary, %llu shadow, %llu reflected, %llu transmitted\n", (unsigned long long)c.rays[0],
               (unsigned long long)c.rays[1], (unsigned long long)c.rays[2], (unsigned long long)c.rays[3]);
@@ -40,19 +45,54 @@ std::string precision_text(const MachineConfig& c) {
   return s;
 }
 
-/// A warning line when the machine did other work than the reference (reference.counts_match
-/// false): each count that differs, both values.
-void print_count_differences(const TraceCounts& machine, const TraceCounts& reference, const MachineConfig& c) {
-  const std::vector<CountDifference> d = count_differences(machine, reference);
-  if (d.empty()) return;
+/// Which machine ran: its preset, then every key on which it differs from the preset.
+std::string configuration_text(const MachineConfig& c) {
+  std::string s = "preset " + c.preset;
+  const char* sep = ", then ";
+  for (const std::string& key : keys_apart_from_preset(c)) s += sep + key, sep = ", ";
+  return s;
+}
+
+/// A line when the machine did other work than the reference (reference.counts_match false):
+/// each count that differs, both values, the difference absolute and relative, and how much of it
+/// is in the differing pixels' ray trees (what the error map accounts for). At fp64 the counts
+/// must be equal: a warning. At fp32 a difference the differing pixels hold is their error; one
+/// they do not hold is in pixels within 1/255 of the reference.
+void print_count_differences(const TraceCounts& machine, const TraceCounts& reference, const ErrorCauses& causes,
+                             const MachineConfig& c) {
+  const std::vector<CountGap> gaps = count_gaps(machine, reference, causes);
+  if (gaps.empty()) return;
   const bool fp64 = c.intersection_precision_in_force() == Precision::Fp64 &&
                     c.dda_precision_in_force() == Precision::Fp64 && c.shading_precision_in_force() == Precision::Fp64;
-  std::printf("warning: counts differ from the reference (machine vs reference):");
-  for (size_t i = 0; i < d.size(); ++i)
-    std::printf("%s %s %llu vs %llu", i ? "," : "", d[i].what.c_str(), (unsigned long long)d[i].a,
-                (unsigned long long)d[i].b);
-  std::printf("; %s (docs/machine.md, \"Statistics\")\n",
-              fp64 ? "at fp64 they should be equal" : "at fp32 a hit flipped by rounding can do that");
+  bool all_explained = true, any_in_trees = false;
+  std::printf("%s: counts differ from the reference (machine vs reference):", fp64 ? "warning" : "note");
+  for (size_t i = 0; i < gaps.size(); ++i) {
+    const CountGap& g = gaps[i];
+    // Of the reference's count; two significant digits, whole percents from 100 up.
+    const double relative = 100.0 * double(g.difference()) / double(std::max<uint64_t>(1, g.count.b));
+    std::printf(std::abs(relative) < 100 ? "%s %s %llu vs %llu (%+lld, %+.2g%%; " : "%s %s %llu vs %llu (%+lld, %+.0f%%; ",
+                i ? "," : "", g.count.what.c_str(), (unsigned long long)g.count.a, (unsigned long long)g.count.b,
+                (long long)g.difference(), relative);
+    if (g.explained)
+      std::printf("all in the differing pixels)");
+    else if (g.in_trees == 0)
+      std::printf("none in the differing pixels)");
+    else
+      std::printf("%+lld in the differing pixels)", (long long)g.in_trees);
+    all_explained &= g.explained;
+    any_in_trees |= g.in_trees != 0;
+  }
+  const std::string pixels = counted(causes.differing, "differing pixel", "differing pixels");
+  if (fp64)
+    std::printf("; at fp64 they should be equal (docs/machine.md, \"Statistics\")\n");
+  else if (all_explained)
+    std::printf("; all of it is in the ray trees of the %s (their causes above, the error map)\n", pixels.c_str());
+  else if (!causes.trees_whole)
+    std::printf("; some differing pixels' trees could not be traced whole, so their part is not known\n");
+  else
+    std::printf("; %s in rays of pixels within 1/255 of the reference (at fp32 rounding can change a walk or a hit "
+                "without changing its pixel)\n",
+                any_in_trees ? "the rest is" : "it is all");
 }
 
 /// Why the pixels differ: each cause's pixels, and the generation and kind where most part.
@@ -66,8 +106,8 @@ void print_causes(const ErrorCauses& e) {
       const CauseCount* most = nullptr;
       for (const CauseCount& c : e.counts)
         if (c.cause == cause && (!most || c.pixels > most->pixels)) most = &c;
-      std::printf("%s %llu %s (most at generation %d, %s)", sep, (unsigned long long)n, error_cause_name(cause),
-                  most->generation, ray_kind_name(most->kind));
+      std::printf("%s %s %s (most at generation %d, %s)", sep, counted(n, "pixel", "pixels").c_str(),
+                  error_cause_name(cause), most->generation, ray_kind_name(most->kind));
       sep = ",";
     }
   std::printf("\n");
@@ -112,7 +152,7 @@ void print_interconnect(const MachineResult& m, const MachineConfig& c) {
   if (m.links.size() == 1)
     std::printf(" (%.1f%% of the frame)\n", share);
   else
-    std::printf(" over all links; the busiest, %s, %.0f (%.1f%% of the frame)\n", busiest->name.c_str(), busiest_cycles, share);
+    std::printf(" over all links; the busiest, %s, %.0f cycles (%.1f%% of the frame)\n", busiest->name.c_str(), busiest_cycles, share);
 }
 
 void print_local_memory(const std::vector<MemoryLayout>& pes) {
@@ -124,6 +164,8 @@ void print_local_memory(const std::vector<MemoryLayout>& pes) {
 }
 
 /// What the PEs' local memories did: traffic, what contention and late data cost, the stores.
+/// Stalls and waits are each requester's, summed over requesters and PEs: requester-cycles, which
+/// can exceed the working windows.
 void print_memory_traffic(const MachineResult& m, const MachineConfig& c) {
   uint64_t requests = 0, bytes = 0, stall = 0, wait = 0, hits = 0, misses = 0;
   for (const MemoryUse& u : m.memory_use) {
@@ -132,8 +174,8 @@ void print_memory_traffic(const MachineResult& m, const MachineConfig& c) {
     hits += u.coef_hits;
     misses += u.coef_misses;
   }
-  std::printf("memory traffic: %llu requests, %.1f MiB (%s); stalls %llu, results waiting %llu cycles (%.1f%% of the "
-              "working windows); coefficient RAM hit rate %.1f%%\n",
+  std::printf("memory traffic: %llu requests, %.1f MiB (%s); contention stalls %llu requester-cycles, results waiting "
+              "%llu requester-cycles (%.1f%% of the PEs' working windows); coefficient RAM hit rate %.1f%%\n",
               (unsigned long long)requests, double(bytes) / (1 << 20), c.memory_ports == 0 && c.memory_banks == 0 ? "ideal memory" : "timed",
               (unsigned long long)stall, (unsigned long long)wait, 100 * m.stats.profile.memory_wait,
               hits + misses == 0 ? 100.0 : 100.0 * double(hits) / double(hits + misses));
@@ -156,10 +198,11 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
                            const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
                            bool ref_cached, const RenderFiles& files) {
   const FrameStats& st = m.stats;
-  std::printf("%s: %dx%d, %zu primitives, grid %dx%dx%d, %d PE%s (%s, %s, %s timing)\n", s.name.c_str(),
+  std::printf("%s: %dx%d, %zu primitives, grid %dx%dx%d, %d PE%s (%s, %s, %s timing); %s\n", s.name.c_str(),
               s.camera.width, s.camera.height, s.primitives.size(), g.n[0], g.n[1], g.n[2], c.pes,
-              c.pes == 1 ? "" : "s", to_string(c.partition), precision_text(c).c_str(), to_string(c.timing));
-  std::printf("cycles: %llu (%.3f ms simulated at %.4g ns)\n", (unsigned long long)m.cycles, m.end.to_seconds() * 1e3,
+              c.pes == 1 ? "" : "s", to_string(c.partition), precision_text(c).c_str(), to_string(c.timing),
+              configuration_text(c).c_str());
+  std::printf("cycles: %llu (%.3f ms simulated at %.4g ns a cycle)\n", (unsigned long long)m.cycles, m.end.to_seconds() * 1e3,
               c.clock_ns);
   print_rays(m.counts);
   std::printf("rays per cycle: %.4f\n", double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));
@@ -174,12 +217,14 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   print_local_memory(m.memory);
   print_memory_traffic(m, c);
   std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
-  std::printf("cycles / MAC bound %.2f, load imbalance %.2f\n", st.cycles_over_mac_bound, st.profile.imbalance);
-  std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %llu pixels off by > 1/255, %llu primary hits differ\n",
-              err.rmse, err.psnr_db, err.max_abs, (unsigned long long)err.pixels_over_1_255,
-              (unsigned long long)err.primary_ids_differing);
+  std::printf("cycles / MAC bound %.2f, load imbalance %.2f (longest PE working window / mean)\n", st.cycles_over_mac_bound,
+              st.profile.imbalance);
+  // rmse and max are of channel values on 0..1.
+  std::printf("error vs reference: rmse %.3g, psnr %.1f dB, max %.3g, %s off by > 1/255, %s\n", err.rmse, err.psnr_db,
+              err.max_abs, counted(err.pixels_over_1_255, "pixel", "pixels").c_str(),
+              (counted(err.primary_ids_differing, "primary hit differs", "primary hits differ")).c_str());
   print_causes(causes);
-  print_count_differences(m.counts, ref.counts, c);
+  print_count_differences(m.counts, ref.counts, causes, c);
   std::printf("wall time: %.3f s model (%s), %.3f s reference%s, %.3f s explaining the differing pixels; grid build %.3f s (%zu references)\n",
               m.wall_seconds,
               m.engine_unsupported.empty() ? "PEs on the PE engine" : ("PEs as modules: " + m.engine_unsupported).c_str(),

@@ -277,8 +277,9 @@ int run_cache(const std::string& action) {
       if (n.find(".partial-") != std::string::npos && abandoned_partial(n, fs::last_write_time(it->path(), e2)) && !e2)
         partials += fs::remove(it->path(), e2);
     }
-    std::cout << "removed " << removed << " entries (" << format_bytes(double(l.bytes)) << ") and " << partials
-              << " partial files from " << dir.string() << "\n";
+    std::cout << "removed " << removed << (removed == 1 ? " entry (" : " entries (") << format_bytes(double(l.bytes))
+              << ") and " << partials << (partials == 1 ? " partial file" : " partial files") << " from " << dir.string()
+              << "\n";
     return 0;
   }
   std::cerr << "rtm: cache: expected info or clean, got '" << action << "'\n";

@@ -22,6 +22,7 @@
 #include "printed_summary.h"
 #include "reference_cache.h"
 #include "render/atomic_file.h"
+#include "render/image_formats.h"
 #include "render/image_io.h"
 #include "render/partial_files.h"
 #include "render/reference.h"
@@ -54,20 +55,6 @@ void clear_outputs(const std::vector<std::string>& paths) {
   }
 }
 
-/// An output that cannot be written is a bad command line, found before the simulation rather than
-/// after it. Creates the file's folder, as writing it would.
-void check_writable(const char* option, const std::string& path) {
-  namespace fs = std::filesystem;
-  if (path.empty()) return;
-  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
-  std::error_code ec, ignored;
-  fs::create_directories(folder, ec);
-  if (!ec && !fs::is_directory(fs::status(folder, ignored))) ec = std::make_error_code(std::errc::not_a_directory);
-  if (!ec && fs::is_directory(fs::status(path, ignored))) ec = std::make_error_code(std::errc::is_a_directory);
-  if (!ec && access(folder.c_str(), W_OK) != 0) ec = std::error_code(errno, std::generic_category());
-  if (ec) throw UsageError(std::string(option) + ": " + path + ": cannot write: " + ec.message());
-}
-
 }  // namespace
 
 int run_render(const RenderOptions& opt) {
@@ -80,6 +67,15 @@ int run_render(const RenderOptions& opt) {
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--max-memory: ") + e.what());
     }
+    // The outputs' formats, before anything is loaded or run.
+    if (!opt.out.empty() && !is_image_path(opt.out))
+      throw UsageError("--out: " + opt.out + ": must be a .png or .exr file");
+    if (!opt.id_map.empty() && !is_exr_path(opt.id_map))
+      throw UsageError("--id-map: " + opt.id_map + ": must be an .exr file");
+    if (!opt.error_map.empty() && opt.reference)
+      throw UsageError("--error-map: it explains the machine's image against the reference; not with --reference");
+    if (!opt.error_map.empty() && !is_exr_path(opt.error_map))
+      throw UsageError("--error-map: " + opt.error_map + ": must be an .exr file (its picture is written beside it as .png)");
     // The PE engines' threads start before the image library loads: one started during the load
     // would wait for it. A configuration that is not valid is read again below and reported
     // there, after the scene's errors, as before.
@@ -123,9 +119,6 @@ int run_render(const RenderOptions& opt) {
         opt.stats.empty() ? (std::filesystem::path(files.image).replace_extension(".json")).string() : opt.stats;
     files.id_map = opt.id_map;
     if (!opt.error_map.empty()) {
-      if (opt.reference) throw UsageError("--error-map: it explains the machine's image against the reference; not with --reference");
-      if (std::filesystem::path(opt.error_map).extension() != ".exr")
-        throw UsageError("--error-map: " + opt.error_map + ": must be an .exr file (its picture is written beside it as .png)");
       files.error_map = opt.error_map;
       files.error_picture = std::filesystem::path(opt.error_map).replace_extension(".png").string();
     }

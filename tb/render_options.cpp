@@ -1,13 +1,15 @@
 #include "render_options.h"
 
 #include <array>
-#include <cmath>
+#include <cerrno>
 #include <filesystem>
 #include <stdexcept>
 #include <iostream>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include "scene/scene_checks.h"
 
@@ -30,15 +32,6 @@ int run_command(const std::function<int()>& body) {
 
 namespace {
 
-void parse_size(const std::string& text, int& w, int& h) {
-  std::smatch m;
-  if (!std::regex_match(text, m, std::regex(R"((\d{1,6})x(\d{1,6}))")))
-    throw UsageError("--size: expected WxH, e.g. 320x240, got '" + text + "'");
-  w = std::stoi(m[1]);
-  h = std::stoi(m[2]);
-  if (w < 1 || h < 1) throw UsageError("--size: the image must have at least one pixel, got '" + text + "'");
-}
-
 std::array<int, 3> parse_grid(const std::string& text) {
   if (text == "auto" || text == "machine") return {0, 0, 0};
   std::smatch m;
@@ -55,16 +48,34 @@ std::array<int, 3> parse_grid(const std::string& text) {
 
 }  // namespace
 
-void apply_scene_options(const RenderOptions& opt, Scene& scene) {
-  if (!opt.size.empty()) {
-    int w = 0, h = 0;
-    parse_size(opt.size, w, h);
-    try {
-      set_resolution(scene, w, h);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--size: ") + e.what());
-    }
+void check_writable(const char* option, const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return;
+  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  std::error_code ec, ignored;
+  fs::create_directories(folder, ec);
+  if (!ec && !fs::is_directory(fs::status(folder, ignored))) ec = std::make_error_code(std::errc::not_a_directory);
+  if (!ec && fs::is_directory(fs::status(path, ignored))) ec = std::make_error_code(std::errc::is_a_directory);
+  if (!ec && access(folder.c_str(), W_OK) != 0) ec = std::error_code(errno, std::generic_category());
+  if (ec) throw UsageError(std::string(option) + ": " + path + ": cannot write: " + ec.message());
+}
+
+void apply_size(const std::string& size, Scene& scene) {
+  std::smatch m;
+  // N is NxN, as in a sweep's sizes.
+  if (!std::regex_match(size, m, std::regex(R"((\d{1,6})(?:x(\d{1,6}))?)")))
+    throw UsageError("--size: expected WxH (e.g. 320x240) or N (NxN), got '" + size + "'");
+  const int w = std::stoi(m[1]), h = m[2].matched ? std::stoi(m[2]) : w;
+  if (w < 1 || h < 1) throw UsageError("--size: the image must have at least one pixel, got '" + size + "'");
+  try {
+    set_resolution(scene, w, h);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--size: ") + e.what());
   }
+}
+
+void apply_scene_options(const RenderOptions& opt, Scene& scene) {
+  if (!opt.size.empty()) apply_size(opt.size, scene);
   if (!opt.grid.empty()) {
     scene.grid.resolution = parse_grid(opt.grid);
     try {
@@ -75,10 +86,6 @@ void apply_scene_options(const RenderOptions& opt, Scene& scene) {
   }
   // The reference on its own sizes its automatic grid for a CPU, unless asked for the machine's.
   if (opt.reference && opt.grid != "machine") size_for_cpu(scene.grid);
-  // CLI11's range checks let NaN through (every comparison with it is false).
-  if (opt.threshold && std::isnan(*opt.threshold)) throw UsageError("--threshold: threshold must be a number in 0..1, got nan");
-  if (opt.spawn_offset && std::isnan(*opt.spawn_offset))
-    throw UsageError("--spawn-offset: spawn_offset must be a number in 0..1, got nan");
   if (opt.threshold) scene.threshold = *opt.threshold;
   if (opt.max_depth) scene.max_depth = *opt.max_depth;
   if (opt.spawn_offset) scene.spawn_offset = *opt.spawn_offset;

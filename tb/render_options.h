@@ -21,6 +21,11 @@ struct UsageError : std::runtime_error {
 /// bad command line or configuration (UsageError, MachineLimitError), 1 for any other failure.
 int run_command(const std::function<int()>& body);
 
+/// An output that cannot be written is a bad command line, found before the work rather than
+/// after it: throws UsageError naming the option. Creates the file's folder, as writing it would.
+void check_writable(const char* option, const std::string& path);
+/// Applies --size (WxH, or N for NxN) to a loaded scene.
+void apply_size(const std::string& size, Scene& scene);
 /// Applies the scene overrides (size, grid, threshold, depth, spawning) to a loaded scene.
 void apply_scene_options(const RenderOptions& opt, Scene& scene);
 /// The preset, then the configuration file, then --set, then the dedicated flags; validated.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "build_info.h"
 #include "fnv1a.h"
 
 namespace rtm {
@@ -305,7 +306,12 @@ nlohmann::json run_json(const std::vector<std::string>& command_line, const std:
                         const std::string& scene_text) {
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)fnv1a(scene_text));
+  const BuildInfo& b = build_info();
   return {{"schema_version", kStatsSchemaVersion},
+          {"build",
+           {{"version", b.version},
+            {"commit", b.commit},
+            {"modified", b.modified ? nlohmann::json(*b.modified) : nlohmann::json(nullptr)}}},
           {"command_line", command_line},
           {"scene_path", scene_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene_path)},
           {"scene_fnv1a", hash}};

@@ -17,11 +17,12 @@ namespace rtm {
 /// The stats file's format version: docs/stats.schema.json describes exactly this one, and allows
 /// no key it does not list, so any change to the format (a key added, gone, or changed in type or
 /// meaning) raises it, with the schema in the same commit.
-inline constexpr int kStatsSchemaVersion = 4;
+inline constexpr int kStatsSchemaVersion = 5;
 
-/// What was run, at the head of every stats file: the format's version, the command line as given
-/// (argv), the scene file as named there (null: the built-in scene) and an FNV-1a hash of the
-/// bytes read, so that a stats file names the input it came from.
+/// What was run, at the head of every stats file: the format's version, the build that ran it
+/// (tb/build_info.h), the command line as given (argv), the scene file as named there (null: the
+/// built-in scene) and an FNV-1a hash of the bytes read, so that a stats file names the program
+/// and the input it came from.
 nlohmann::json run_json(const std::vector<std::string>& command_line, const std::string& scene_path,
                         const std::string& scene_text);
 

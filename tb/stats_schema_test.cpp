@@ -50,6 +50,7 @@ TEST_P(StatsSchema, ARealRenderValidates) {
   ASSERT_FALSE(j.is_null());
   const Proc check = sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "s.json"), tmp);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  EXPECT_EQ(check.out, (tmp / "s.json") + ": ok (schema_version " + std::to_string(j["schema_version"].get<int>()) + ")\n");
 }
 
 INSTANTIATE_TEST_SUITE_P(Renders, StatsSchema, testing::ValuesIn(kCases),
@@ -98,6 +99,17 @@ TEST(StatsContract, BrokenStatsAreRejected) {
   j = good;
   j["schema_version"] = good["schema_version"].get<int>() + 1;
   rejected(j, "another format version");
+  j = good;
+  j["build"]["commit"] = "HEAD";
+  rejected(j, "a commit that is no hash");
+  j = good;
+  j.erase("build");
+  rejected(j, "no build");
+  spit(tmp / "bad.json", "{\"schema_version\": ");
+  const Proc truncated = sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "bad.json"), tmp);
+  EXPECT_EQ(truncated.exit_code, 1) << truncated.out << truncated.err;
+  EXPECT_EQ(truncated.err, "") << "a message, not a traceback";
+  EXPECT_NE(truncated.out.find(tmp / "bad.json"), std::string::npos) << truncated.out;
 }
 
 // The schema's enum of bottlenecks is exactly the model's list (machine/bottleneck.h).

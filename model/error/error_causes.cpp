@@ -76,6 +76,7 @@ struct Side {
   std::deque<TreeRay> queue;
   PixelSum sum;
   uint64_t traced = 0;
+  std::array<uint64_t, kRayKinds> rays{};  ///< traced, by kind
 
   /// Traces the next ray into `out`, queues its children; false when the tree is done or too big.
   bool next(TreeRay& ray, RayResult& out, uint64_t max_rays) {
@@ -83,6 +84,7 @@ struct Side {
     ray = queue.front();
     queue.pop_front();
     ++traced;
+    ++rays[size_t(ray.ray.kind)];
     tracer.trace(ray.ray, out);
     sum.add(out.added);
     for (const Ray& child : out.spawned) queue.push_back({child, ray.generation + 1});
@@ -109,7 +111,7 @@ Vec3 traced_pixel(RayTracer& tracer, const Ray& primary, uint64_t max_rays) {
 }
 
 PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& reference, double hit_tolerance,
-                         const Vec3& machine_pixel, const Vec3& reference_pixel, uint64_t max_rays) {
+                         const Vec3& machine_pixel, const Vec3& reference_pixel, uint64_t max_rays, TreeWork* rays) {
   Side m(machine, primary), r(reference, primary);
   PixelCause cause, brightest;
   double widest = -1;
@@ -135,7 +137,22 @@ PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& refe
   // The trees must be the images' own: each traced to its end sums to its pixel exactly.
   const bool whole = m.finish(max_rays) & r.finish(max_rays);
   if (!whole || m.sum.value() != machine_pixel || r.sum.value() != reference_pixel) cause.cause = ErrorCause::Unknown;
+  if (rays)
+    for (size_t k = 0; k < size_t(kRayKinds); ++k) rays->machine.rays[k] += m.rays[k], rays->reference.rays[k] += r.rays[k];
   return cause;
+}
+
+std::vector<CountGap> count_gaps(const TraceCounts& machine, const TraceCounts& reference, const ErrorCauses& e) {
+  std::map<std::string, int64_t> in_trees;
+  for (const CountDifference& d : count_differences(e.trees.machine, e.trees.reference))
+    in_trees[d.what] = int64_t(d.a) - int64_t(d.b);
+  std::vector<CountGap> gaps;
+  for (const CountDifference& d : count_differences(machine, reference)) {
+    CountGap g{d, in_trees.count(d.what) ? in_trees[d.what] : 0};
+    g.explained = e.trees_whole && g.in_trees == g.difference();
+    gaps.push_back(g);
+  }
+  return gaps;
 }
 
 ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const MachineConfig& config, const Image& machine,
@@ -162,7 +179,9 @@ ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const Mac
         pe = std::make_unique<PeTracer>(s, g, config);
         ref = std::make_unique<ReferenceTracer>(s, g);
       }
-      const PixelCause c = explain_pixel(camera.at(x, y), *pe, *ref, tolerance, machine.rgb[i], reference.rgb[i]);
+      const PixelCause c =
+          explain_pixel(camera.at(x, y), *pe, *ref, tolerance, machine.rgb[i], reference.rgb[i], kTreeRayLimit, &e.trees);
+      e.trees_whole &= c.cause != ErrorCause::Unknown;
       e.pixels[i] = c;
       ++e.differing;
       ++e.by_cause[size_t(c.cause)];
@@ -171,6 +190,12 @@ ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const Mac
       if (prim >= 0) ++e.by_shape[size_t(s.primitives[size_t(prim)].kind)];
     }
   for (const auto& [key, n] : tally) e.counts.push_back({std::get<0>(key), std::get<1>(key), std::get<2>(key), n});
+  if (pe) {
+    for (auto count : {&TraceCounts::voxel_steps, &TraceCounts::intersection_tests, &TraceCounts::clip_tests}) {
+      e.trees.machine.*count = pe->counts().*count;
+      e.trees.reference.*count = ref->counts().*count;
+    }
+  }
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return e;
 }

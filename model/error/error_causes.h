@@ -49,16 +49,26 @@ struct PixelCause {
   int32_t reference_prim = -1;        ///< the same for the reference's
 };
 
+/// The rays traced of one tree at most, on each side.
+constexpr uint64_t kTreeRayLimit = uint64_t(1) << 22;
+
+/// What the traced trees did on each side: their rays by kind, their voxel steps and tests.
+struct TreeWork {
+  TraceCounts machine, reference;
+};
+
 /// Traces the primary ray's tree through both tracers and names where they part. The trees are
 /// compared breadth first, so the parting named is the shallowest (ties: in the order shading
 /// spawned them). machine_pixel and reference_pixel are the images' values: a tree that does not
 /// sum to its pixel gives Unknown. hit_tolerance is a distance. Rays past max_rays on either side
 /// are not traced: a tree that large gives Unknown unless its parting came first.
+/// With `rays`, each tree's rays are added to it by kind.
 PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& reference, double hit_tolerance,
-                         const Vec3& machine_pixel, const Vec3& reference_pixel, uint64_t max_rays = uint64_t(1) << 22);
+                         const Vec3& machine_pixel, const Vec3& reference_pixel, uint64_t max_rays = kTreeRayLimit,
+                         TreeWork* rays = nullptr);
 
 /// The pixel a primary ray's tree sums to through one tracer.
-Vec3 traced_pixel(RayTracer& tracer, const Ray& primary, uint64_t max_rays = uint64_t(1) << 22);
+Vec3 traced_pixel(RayTracer& tracer, const Ray& primary, uint64_t max_rays = kTreeRayLimit);
 
 /// Whether a pixel counts as differing: some channel off by more than 1/255, the test the image
 /// comparison's pixels_over_1_255 makes (in float, as OpenImageIO's threshold is).
@@ -80,8 +90,23 @@ struct ErrorCauses {
   /// Pixels whose parting ray's primitive (the machine's, else the reference's) is of each shape.
   std::array<uint64_t, kShapeKinds> by_shape{};
   uint64_t differing = 0;  ///< pixels over 1/255: the sum of every count
+  /// The differing pixels' trees on both sides: the part of the frames' work the error map
+  /// accounts for.
+  TreeWork trees;
+  bool trees_whole = true;  ///< every tree was traced to its end and summed to its pixel (no Unknown)
   double seconds = 0;      ///< wall time of the attribution
 };
+
+/// A count in which the machine's frame differs from the reference's, and how much of the
+/// difference is in the differing pixels' trees: the rest is in pixels that agree within 1/255.
+struct CountGap {
+  CountDifference count;   ///< a: the machine's, b: the reference's
+  int64_t in_trees = 0;    ///< machine − reference over the differing pixels' trees
+  bool explained = false;  ///< the whole difference is in them (every tree traced whole)
+  int64_t difference() const { return int64_t(count.a) - int64_t(count.b); }
+};
+/// Each count that differs (count_differences' order), with its part in e's trees.
+std::vector<CountGap> count_gaps(const TraceCounts& machine, const TraceCounts& reference, const ErrorCauses& e);
 
 /// Explains every pixel where the machine's image differs from the reference's, re-tracing the
 /// machine's trees with a PE's units under config (error/pe_tracer.h).

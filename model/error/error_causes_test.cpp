@@ -167,5 +167,50 @@ TEST(ErrorCauses, AReflectionOffAThinCylinderPartsAtTheReflectedRay) {
   EXPECT_GT(parted, 0) << "no reflected ray parted the float machine from the reference";
 }
 
+// A count difference is the differing pixels' own only when their trees hold all of it: the
+// rest was done on pixels that agree within 1/255.
+TEST(ErrorCauses, ACountGapIsExplainedOnlyWhenTheDifferingPixelsTreesHoldAllOfIt) {
+  TraceCounts machine, reference;
+  machine.rays = {16, 30, 4, 2};
+  reference.rays = {16, 28, 4, 5};
+  machine.voxel_steps = 1007;
+  reference.voxel_steps = 1000;
+  ErrorCauses e;
+  e.differing = 2;
+  e.trees.machine.rays = {2, 5, 0, 0};  // the two pixels: 2 more shadow rays, 3 fewer transmitted
+  e.trees.reference.rays = {2, 3, 0, 3};
+  e.trees.machine.voxel_steps = e.trees.reference.voxel_steps = 40;  // none of the 7 voxel steps
+  const std::vector<CountGap> g = count_gaps(machine, reference, e);
+  ASSERT_EQ(g.size(), 3u);
+  EXPECT_EQ(g[0].count.what, "shadow rays");
+  EXPECT_EQ(g[0].difference(), 2);
+  EXPECT_EQ(g[0].in_trees, 2);
+  EXPECT_TRUE(g[0].explained);
+  EXPECT_EQ(g[1].count.what, "transmitted rays");
+  EXPECT_EQ(g[1].difference(), -3);
+  EXPECT_TRUE(g[1].explained);
+  EXPECT_EQ(g[2].count.what, "voxel steps");
+  EXPECT_EQ(g[2].in_trees, 0);
+  EXPECT_FALSE(g[2].explained);
+  // A tree that could not be traced whole explains nothing.
+  e.trees_whole = false;
+  for (const CountGap& x : count_gaps(machine, reference, e)) EXPECT_FALSE(x.explained) << x.count.what;
+}
+
+// explain_pixel counts each tree's rays by kind, on both sides.
+TEST(ErrorCauses, ExplainingAPixelCountsItsTreesRays) {
+  Scene s;
+  s.materials.push_back(Material{});
+  s.lights.push_back({{3, 0, 10}, {1, 1, 1}});  // in front of the sphere, beside the eye
+  s.primitives.push_back(make_sphere({0, 0, 0}, 1));
+  Traced t(s);
+  const Ray r = primary({0, 0, 5}, {0, 0, 0});
+  TreeWork work;
+  explain_pixel(r, *t.pe, *t.ref, t.tolerance(), traced_pixel(*t.pe, r), traced_pixel(*t.ref, r), kTreeRayLimit, &work);
+  EXPECT_EQ(work.machine.rays[size_t(RayKind::Primary)], 1u);
+  EXPECT_EQ(work.machine.rays[size_t(RayKind::Shadow)], 1u);  // one light
+  EXPECT_EQ(work.machine.rays, work.reference.rays);
+}
+
 }  // namespace
 }  // namespace rtm

@@ -19,6 +19,9 @@ class PeTracer : public RayTracer {
  public:
   PeTracer(const Scene& s, const Grid& g, const MachineConfig& c);  ///< s and g must outlive it
   void trace(const Ray& ray, RayResult& out) override;
+  /// The walks' and tests' counts of every ray traced so far, as the machine's units count them
+  /// (rays are counted where the machine spawns them, which this does not: see TreeWork).
+  const TraceCounts& counts() const { return pe_.counters.counts; }
 
  private:
   PeState pe_;

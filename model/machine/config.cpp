@@ -617,6 +617,15 @@ std::string config_keys_markdown() {
   return s.str();
 }
 
+std::vector<std::string> keys_apart_from_preset(const MachineConfig& c) {
+  MachineConfig start;
+  apply_preset(start, c.preset);
+  std::vector<std::string> apart;
+  for (const ConfigKey& k : config_keys())
+    if (k.get(c) != k.get(start)) apart.push_back(k.name + "=" + k.get(c));
+  return apart;
+}
+
 std::string preset_markdown(const std::string& name) {
   const Preset& p = find_preset(name);
   const MachineConfig defaults;

@@ -232,6 +232,9 @@ void parse_config(MachineConfig& c, const std::string& text, const std::string& 
 /// A YAML file load_config_file reads back as c: its preset, then one
 /// `key: value  # meaning (accepted)` a line.
 std::string describe_config(const MachineConfig& c);
+/// Each key on which c differs from the preset it started from (c.preset on MachineConfig{}), as
+/// `key=value`, in config_keys()' order: with the preset, what names c.
+std::vector<std::string> keys_apart_from_preset(const MachineConfig& c);
 /// docs/machine.md's table of every key: name, default, what it accepts, meaning.
 std::string config_keys_markdown();
 /// docs/machine.md's table of every key on which preset `name` differs from the defaults: both

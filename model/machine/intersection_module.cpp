@@ -14,7 +14,7 @@ IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& 
       mac_pipe_(ctx.period.value(), &ctx.counters.mac),
       root_pipe_(ctx.period.value(), &ctx.counters.root) {
   if (clock) {
-    clocked_ = std::make_unique<ClockedMac>("mac_unit", mac_.timing(), ctx.config.intersection_precision_in_force(), ctx.period);
+    clocked_ = std::make_unique<ClockedMac>("mac", mac_.timing(), ctx.config.intersection_precision_in_force(), ctx.period);
     clocked_->clk(*clock);
   }
   SC_THREAD(mac_thread);
@@ -159,6 +159,8 @@ void IntersectionModule::root_thread() {
 
 void IntersectionModule::trace(Waveform& wave) {
   const std::string scope = name();
+  // The MAC's busy flag and ray are the unit's; in clocked timing its pipeline's registers join
+  // them in the same scope (the clocked MAC is the module scope.mac).
   mac_probe_.trace(wave, scope + ".mac", &ctx_.window);
   root_probe_.trace(wave, scope + ".root", &ctx_.window);
   root_fifo_.trace(wave, std::string(root_fifo_.name()) + ".occupancy", &ctx_.window);

@@ -78,7 +78,7 @@ void ClockedMac::edge() {
     if (tracing) {
       acc.write(sum_[op.sum]);
       abg_select.write(uint32_t(op.sum));
-      ray_id.write(j.job.ray_id);
+      adder_ray_id.write(j.job.ray_id);
       prim.write(uint32_t(out.prim));
       product_counter.write(accumulated_);
     }
@@ -135,7 +135,6 @@ void ClockedMac::edge() {
   ++tick_;
 
   if (tracing) {
-    busy.write(!idle());
     m1_valid.write(in.valid);
     if (in.valid) {
       const MacOp& op = kMacSchedule[size_t(in.k)];
@@ -153,8 +152,7 @@ void ClockedMac::edge() {
 
 void ClockedMac::trace(Waveform& wave, const std::string& prefix, const TraceWindow* window) {
   window_ = window;
-  wave.trace(busy, prefix + ".busy");
-  wave.trace(ray_id, prefix + ".ray_id");
+  wave.trace(adder_ray_id, prefix + ".adder_ray_id");
   wave.trace(m1_valid, prefix + ".m1_valid");
   wave.trace(m1_a, prefix + ".m1_a");
   wave.trace(m1_b, prefix + ".m1_b");

@@ -55,11 +55,10 @@ class ClockedMac : public sc_core::sc_module {
   sc_core::sc_signal<double> acc{"acc"};
   sc_core::sc_signal<uint32_t> abg_select{"abg_select"};  ///< the sum the adder accumulates: 0 α, 1 β, 2 γ
   sc_core::sc_signal<uint32_t> product_counter{"product_counter"};  ///< products accumulated in the adder's job
-  sc_core::sc_signal<uint32_t> ray_id{"ray_id"};  ///< the adder's job's ray ...
+  sc_core::sc_signal<uint32_t> adder_ray_id{"adder_ray_id"};  ///< the adder's job's ray ...
   sc_core::sc_signal<uint32_t> prim{"prim"};      ///< ... and primitive (its place in the voxel's list)
   sc_core::sc_signal<bool> sums_valid{"sums_valid"};  ///< a primitive's α, β, γ are handed on this cycle
   sc_core::sc_signal<double> alpha{"alpha"}, beta{"beta"}, gamma{"gamma"};
-  sc_core::sc_signal<bool> busy{"busy"};
 
   SC_HAS_PROCESS(ClockedMac);
   ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision, sc_core::sc_time period);
@@ -79,7 +78,8 @@ class ClockedMac : public sc_core::sc_module {
   /// start(), wait until the job is done, finish(): for a caller with nothing else to do.
   Done run(MacJob job);
 
-  /// Traces the pipeline registers; they change only inside the waveform window.
+  /// Traces the pipeline registers; they change only inside the waveform window. The unit's busy
+  /// flag and ray (UnitProbe) are traced beside them, under the same prefix.
   void trace(Waveform& wave, const std::string& prefix, const TraceWindow* window);
 
  private:

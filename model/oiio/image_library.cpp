@@ -13,15 +13,9 @@
 #include <OpenImageIO/imageio.h>
 
 #include "render/atomic_file.h"
+#include "render/image_formats.h"
 
 namespace rtm::oiio {
-namespace fs = std::filesystem;
-
-std::string extension(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e;
-}
 
 /// names: the channels' names; empty, the format's own (R, G, B; Y).
 void write_pixels(const std::string& final_path, const std::string& tmp, int w, int h, int channels,
@@ -35,9 +29,8 @@ void write_pixels(const std::string& final_path, const std::string& tmp, int w, 
 }
 
 void write_image(const std::string& path, const Image& img) {
-  const std::string ext = extension(path);
-  if (ext != ".png" && ext != ".exr") throw std::runtime_error(path + ": output must be .png or .exr");
-  const bool png = ext == ".png";
+  if (!is_image_path(path)) throw std::runtime_error(path + ": output must be .png or .exr");
+  const bool png = image_extension(path) == ".png";
   std::vector<float> px(img.rgb.size() * 3);
   for (size_t i = 0; i < img.rgb.size(); ++i)
     for (int c = 0; c < 3; ++c) {
@@ -50,7 +43,7 @@ void write_image(const std::string& path, const Image& img) {
 }
 
 void write_id_map(const std::string& path, const Image& img) {
-  if (extension(path) != ".exr") throw std::runtime_error(path + ": the ID map must be an .exr file");
+  if (!is_exr_path(path)) throw std::runtime_error(path + ": the ID map must be an .exr file");
   std::vector<float> px(img.ids.begin(), img.ids.end());
   commit_atomically(path, [&](const std::string& tmp) {
     write_pixels(path, tmp, img.width, img.height, 1, OIIO::TypeDesc::FLOAT, px.data());
@@ -58,7 +51,7 @@ void write_id_map(const std::string& path, const Image& img) {
 }
 
 void write_channels(const std::string& path, const Channels& c) {
-  if (extension(path) != ".exr") throw std::runtime_error(path + ": must be an .exr file");
+  if (!is_exr_path(path)) throw std::runtime_error(path + ": must be an .exr file");
   if (c.values.size() != size_t(c.width) * size_t(c.height) * c.names.size())
     throw std::invalid_argument(path + ": the channels' values do not fill the image");
   commit_atomically(path, [&](const std::string& tmp) {

@@ -362,4 +362,6 @@ void ReferenceTracer::trace(const Ray& ray, RayResult& out) {
   trace_ray(state_->data, ray, state_->counts, state_->mailbox, state_->shade, out);
 }
 
+const TraceCounts& ReferenceTracer::counts() const { return state_->counts; }
+
 }  // namespace rtm

@@ -83,6 +83,8 @@ class ReferenceTracer : public RayTracer {
   ReferenceTracer(const Scene& s, const Grid& g);  ///< both must outlive the tracer
   ~ReferenceTracer() override;
   void trace(const Ray& ray, RayResult& out) override;
+  /// The counts of every ray traced so far.
+  const TraceCounts& counts() const;
 
  private:
   struct State;

@@ -282,14 +282,15 @@ class NativeParser {
     Map m(*this, n, "render", {"threshold", "max_depth", "grid", "spawn_offset", "spawn_policy"});
     if (auto v = m.get("threshold")) {
       scene_.threshold = number(*v, m.path("threshold"));
-      if (!(scene_.threshold >= 0 && scene_.threshold < 1))
-        fail(*v, m.path("threshold"), "must be in [0, 1), got " + str(scene_.threshold));
+      if (!scene_checks::kThresholdRange.contains(scene_.threshold))
+        fail(*v, m.path("threshold"), "must be in " + scene_checks::kThresholdRange.text() + ", got " + str(scene_.threshold));
     }
     if (auto v = m.get("max_depth")) {
       scene_.max_depth = integer(*v, m.path("max_depth"), 1);
       check(*v, m.path("max_depth"), [&] { scene_checks::check_max_depth(scene_.max_depth); });
     }
-    if (auto v = m.get("spawn_offset")) scene_.spawn_offset = at_least(*v, m.path("spawn_offset"), 0);
+    if (auto v = m.get("spawn_offset"))
+      scene_.spawn_offset = at_least(*v, m.path("spawn_offset"), scene_checks::kSpawnOffsetRange.lo);
     if (auto v = m.get("spawn_policy"))
       check(*v, m.path("spawn_policy"), [&] { scene_.spawn_policy = parse_spawn_policy(text(*v, m.path("spawn_policy"))); });
     if (auto v = m.get("grid")) {

@@ -90,12 +90,14 @@ void check_material(const Material& m) {
   require(std::isfinite(m.ior) && m.ior > 0, "index of refraction must be a finite number > 0, got " + str(m.ior));
 }
 
+std::string NumberRange::text() const { return "[" + str(lo) + ", " + str(hi) + (hi_open ? ")" : "]"); }
+
 void check_render(const Scene& s) {
-  require(std::isfinite(s.threshold) && s.threshold >= 0 && s.threshold < 1,
-          "threshold must be in [0, 1), got " + str(s.threshold));
+  require(kThresholdRange.contains(s.threshold),
+          "threshold must be in " + kThresholdRange.text() + ", got " + str(s.threshold));
   check_max_depth(s.max_depth);
-  require(std::isfinite(s.spawn_offset) && s.spawn_offset >= 0,
-          "spawn_offset must be a finite number >= 0, got " + str(s.spawn_offset));
+  require(kSpawnOffsetRange.contains(s.spawn_offset),
+          "spawn_offset must be in " + kSpawnOffsetRange.text() + ", got " + str(s.spawn_offset));
   check_grid(s.grid);
 }
 

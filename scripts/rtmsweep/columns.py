@@ -27,7 +27,10 @@ SUMMARY_COLUMNS = [
 ]
 # The sweep's own: how rtm exited, where it ran, which file it read.
 RUN_COLUMNS = ["exit_code", "host", "scene_file"]
-METRIC_COLUMNS = SUMMARY_COLUMNS + RUN_COLUMNS
+# Which build made the figures, from the stats JSON's `build`: its commit, with "-modified" when
+# its tracked files differed from it (`rtm --version`).
+BUILD_COLUMNS = ["commit"]
+METRIC_COLUMNS = SUMMARY_COLUMNS + RUN_COLUMNS + BUILD_COLUMNS
 # The frame's phases are cycle counts that rtm's summary gives as floats; the CSV writes a whole
 # number as an integer there, as it always has.
 INTEGER_COLUMNS = ["host_preprocess_cycles", "transfer_cycles", "pe_cycles", "gather_cycles"]

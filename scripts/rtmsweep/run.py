@@ -101,6 +101,8 @@ def build_row(job, status, error, exit_code, stats=None, host=None):
             row[key] = job.get(key, s.get(key))  # a job without a preset: the one rtm says it used
         else:
             row[key] = job.get("set", {}).get(key, cfg.get(key))
+    build = s.get("build") if isinstance(s.get("build"), dict) else {}
+    row["commit"] = build["commit"] + ("-modified" if build.get("modified") else "") if build.get("commit") else None
     summary = s.get("summary")
     if isinstance(summary, dict):
         for key in columns.SUMMARY_COLUMNS:

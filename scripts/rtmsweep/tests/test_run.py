@@ -81,6 +81,15 @@ def test_a_row_copies_the_summary():
     assert (row["variant"], row["loop_credits"]) == ("improved", "0")
 
 
+def test_a_row_names_the_build_that_made_it():
+    build = {"version": "0.1", "commit": "ab" * 20, "modified": False}
+    assert run.build_row(JOB, "ok", "", 0, {"build": build, "summary": summary()}, host="h")["commit"] == "ab" * 20
+    build["modified"] = True
+    assert run.build_row(JOB, "ok", "", 0, {"build": build, "summary": summary()}, host="h")["commit"] == \
+        "ab" * 20 + "-modified"
+    assert run.build_row(JOB, "failed", "rtm: bad", 2, None, host="h")["commit"] is None
+
+
 def test_a_failed_row_has_no_metrics():
     row = run.build_row(JOB, "failed", "rtm: bad", 2, None, host="h")
     assert row["scene"] == "balls-1" and row["error"] == "rtm: bad" and row["exit_code"] == 2

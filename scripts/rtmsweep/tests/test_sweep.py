@@ -26,7 +26,7 @@ def test_the_stats_summary_holds_exactly_the_metric_columns(rtm, tmp_path):
     assert r.returncode == 0, r.stderr
     summary = json.loads((tmp_path / "x.json").read_text())["summary"]
     assert sorted(summary) == sorted(columns.SUMMARY_COLUMNS)
-    assert sorted(columns.METRIC_COLUMNS) == sorted(columns.SUMMARY_COLUMNS + ["exit_code", "host", "scene_file"])
+    assert sorted(columns.METRIC_COLUMNS) == sorted(columns.SUMMARY_COLUMNS + ["exit_code", "host", "scene_file", "commit"])
 
 
 def test_the_stats_schema_documents_exactly_the_summary_columns():
@@ -67,6 +67,7 @@ def test_the_tiny_example_gives_one_ok_row_per_configuration(sweep, tmp_path):
         # The row is the run's own summary, kept in runs/ beside its row file, stderr and image.
         stats = json.loads((out / "runs" / f"{rid}.json").read_text())
         assert stats["summary"]["cycles"] == int(row["cycles"]) and stats["pes"] == int(row["pes"])
+        assert row["commit"] == stats["build"]["commit"] + ("-modified" if stats["build"]["modified"] else "")
         assert read_csv(out / "runs" / f"{rid}.row") == (head, [row])
         assert (out / "runs" / f"{rid}.err").exists() and (out / "runs" / f"{rid}.png").exists()
     # More PEs, fewer cycles of PE work on these scenes (the frame's cycles need not fall: on
