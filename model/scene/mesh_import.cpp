@@ -107,7 +107,12 @@ void add_node(const aiScene* sc, const aiNode* n, const aiMatrix4x4& parent, Mes
 MeshData read_with_assimp(const std::string& path) {
   Assimp::Importer importer;
   const aiScene* sc = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
-  if (!sc) throw std::runtime_error(importer.GetErrorString());
+  if (!sc) {
+    const std::string why = importer.GetErrorString();
+    // Assimp catches its own allocation failures and reports them by the exception's name.
+    if (why == "std::bad_alloc") throw std::bad_alloc();
+    throw std::runtime_error("Assimp cannot read it: " + why);
+  }
   if (!sc->mRootNode) throw std::runtime_error("the file has no scene graph");
   MeshData out;
   for (unsigned i = 0; i < sc->mNumMaterials; ++i) out.materials.push_back(material(sc->mMaterials[i]));
@@ -175,11 +180,11 @@ void write_all(int fd, const std::string& s) {
     reply = "M" + encode_mesh(read_with_assimp(path));
   } catch (const std::bad_alloc&) {
     reply = "Eout of memory: Assimp needed more than the import's limit of " +
-            std::to_string(options.import_memory >> 20) + " MiB";
+            std::to_string(options.import_memory >> 20) + " MiB of address space";
   } catch (const std::exception& e) {
     reply = std::string("E") + e.what();
   } catch (...) {
-    reply = "Ethe importer failed with an unknown exception";
+    reply = "Ethe mesh import (Assimp) failed with an unknown exception";
   }
   write_all(fd, reply);
   ::close(fd);
@@ -262,7 +267,7 @@ MeshData import_mesh(const std::string& path, const SceneReadOptions& options) {
          strsignal(WTERMSIG(status)) + ")");
   if (reply.empty()) fail("the mesh import (Assimp) ended without an answer (exit status " +
                           std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
-  if (reply[0] == 'E') fail("Assimp cannot read it: " + printable(reply.substr(1)));
+  if (reply[0] == 'E') fail(printable(reply.substr(1)));
   try {
     return decode_mesh(reply.substr(1));
   } catch (const std::invalid_argument& e) {
