@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "cli_test_support.h"
+#include "render/image_io.h"
 
 namespace rtm::test {
 namespace {
@@ -47,6 +48,30 @@ TEST(MeshRender, DegenerateTrianglesWarnAndStrictRefuses) {
   const Proc s = run_rtm("render " + tmp / "deg.obj" + " --reference -q --strict --size 8x8 --out " + tmp / "s.png", tmp);
   EXPECT_EQ(s.exit_code, 1);
   EXPECT_EQ(s.err, "rtm: " + tmp / "deg.obj" + ":0: triangle 1: polygon has zero area (--strict)\n");
+}
+
+TEST(MeshRender, CameraOnTheCommandLine) {
+  Tmp tmp;
+  spit(tmp / "cube.obj", kCube);
+  // Looking at the cube from far away down -z: it covers the middle only; from close, every pixel.
+  const std::string args = tmp / "cube.obj" + " --reference --size 16x16 --camera ";
+  render(tmp, "far", args + "'{eye: [0, 0, 40], look_at: [0, 0, 0], fov: 20}'");
+  render(tmp, "near", args + "'{eye: [0, 0, 1.5], look_at: [0, 0, 0]}'");
+  auto hits = [&](const std::string& name) {
+    int n = 0;
+    for (const int32_t id : rtm::read_id_map(tmp / (name + "-id.exr")).ids) n += id >= 0;
+    return n;
+  };
+  // A 2-unit cube 40 away in a 20° view spans 2 / (2 × 40 × tan 10°) = 14% of the width: about 5 of 256 pixels.
+  EXPECT_GT(hits("far"), 0);
+  EXPECT_LT(hits("far"), 20);
+  EXPECT_EQ(hits("near"), 256);  // inside the cube's front face's view
+  const Proc bad = run_rtm("render " + args + "'{fov: 200}' -q --out " + tmp / "b.png", tmp);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.err, "rtm: --camera: camera.fov: must be in (0, 180) degrees, got 200\n");
+  const Proc typo = run_rtm("render " + args + "'{eyes: [0, 0, 1]}' -q --out " + tmp / "b.png", tmp);
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_NE(typo.err.find("unknown key 'eyes'"), std::string::npos) << typo.err;
 }
 
 /// Where Debian's assimp-testmodels puts its files.

@@ -56,6 +56,14 @@ std::array<int, 3> parse_grid(const std::string& text) {
 }  // namespace
 
 void apply_scene_options(const RenderOptions& opt, Scene& scene) {
+  if (!opt.camera.empty()) {
+    try {
+      override_camera(scene.camera, opt.camera);
+    } catch (const SceneError& e) {
+      const std::string where = e.file() + ":" + std::to_string(e.line()) + ": ";
+      throw UsageError("--camera: " + std::string(e.what()).substr(where.size()));
+    }
+  }
   if (!opt.size.empty()) {
     int w = 0, h = 0;
     parse_size(opt.size, w, h);

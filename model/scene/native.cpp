@@ -56,6 +56,19 @@ class NativeParser {
  public:
   NativeParser(const std::string& file, const SceneReadOptions& options) : file_(file), options_(options) {}
 
+  /// `text`, a YAML mapping of camera keys, applied to `base`.
+  Camera camera_override(const std::string& text, const Camera& base) {
+    YAML::Node doc;
+    try {
+      doc = YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+      throw SceneError(file_, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax error: " + e.msg);
+    }
+    scene_.camera = base;
+    camera(doc, false);
+    return scene_.camera;
+  }
+
   Scene parse(const std::string& yaml) {
     YAML::Node doc;
     try {
@@ -214,11 +227,12 @@ class NativeParser {
 
   // ---- sections ----
 
-  void camera(const YAML::Node& n) {
+  /// The scene's camera; `whole` false: only the keys given change `c` (rtm render --camera).
+  void camera(const YAML::Node& n, bool whole = true) {
     Map m(*this, n, "camera", {"eye", "look_at", "up", "fov", "resolution"});
     Camera& c = scene_.camera;
-    c.eye = vec3(m.required("eye"), m.path("eye"));
-    c.look_at = vec3(m.required("look_at"), m.path("look_at"));
+    if (whole || m.get("eye")) c.eye = vec3(m.required("eye"), m.path("eye"));
+    if (whole || m.get("look_at")) c.look_at = vec3(m.required("look_at"), m.path("look_at"));
     if (auto v = m.get("up")) c.up = vec3(*v, m.path("up"));
     if (auto v = m.get("fov")) {
       c.fov_deg = number(*v, m.path("fov"));
@@ -498,6 +512,11 @@ class NativeParser {
 };
 
 }  // namespace
+
+void override_camera(Camera& camera, const std::string& text) {
+  NativeParser p("--camera", {});
+  camera = p.camera_override(text, camera);
+}
 
 Scene parse_native(const std::string& text, const std::string& file_name, const SceneReadOptions& options) {
   try {

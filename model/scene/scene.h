@@ -107,6 +107,9 @@ std::vector<std::string> skipped_warnings(const Scene& s, const std::string& fil
 /// Native YAML text (docs/scene-format.md). A `mesh` entry's file is read relative to file_name's
 /// folder, with `options`' import limits.
 Scene parse_native(const std::string& text, const std::string& file_name, const SceneReadOptions& options = {});
+/// Applies `text`, a YAML mapping with any of the native format's camera keys (`{eye: [0, 2, 10],
+/// fov: 30}`), to `camera`; the keys not given stay. Throws SceneError (file "--camera").
+void override_camera(Camera& camera, const std::string& text);
 /// The built-in default scene (every quadric kind, diffuse, reflective and transparent materials).
 Scene default_scene();
 
