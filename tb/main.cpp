@@ -85,9 +85,12 @@ int sc_main(int argc, char* argv[]) {
   rtm::RenderOptions r;
   r.command_line.assign(argv, argv + argc);
   CLI::App* render = app.add_subcommand("render", "Render a whole frame (the built-in default scene if SCENE is omitted)");
-  render->add_option("scene", r.scene, "Scene file: .nff (NFF) or .yaml (native format)");
+  render->add_option("scene", r.scene, "Scene file: .nff (NFF), .yaml (native format) or a mesh file (.obj, .ply, .gltf, .glb, .stl, .off, ...)");
   render->add_flag("--reference", r.reference, "Use the untimed double-precision reference renderer instead of the machine");
   render->add_option("--size", r.size, "Image size WxH, or N for NxN (keeps the scene's horizontal field of view)");
+  render->add_option("--camera", r.camera,
+                     "Camera keys as in the native format, a YAML mapping: '{eye: [0, 2, 10], look_at: [0, 0, 0], up: "
+                     "[0, 1, 0], fov: 40}'; the keys given replace the scene's");
   render->add_option("--out", r.out, "Image file, .png (8-bit, clamped) or .exr (float); default out/<scene>.png");
   render->add_option("--stats", r.stats, "Statistics JSON file; default beside the image");
   render->add_option("--id-map", r.id_map, "One-channel EXR: primitive number seen by each primary ray, -1 background");

@@ -12,6 +12,7 @@ struct RenderOptions {
   std::string scene;           ///< empty: the built-in default scene
   bool reference = false;      ///< the untimed reference renderer instead of the machine
   std::string size;            ///< "WxH", empty: the scene's own
+  std::string camera;          ///< camera keys as a YAML mapping, e.g. "{eye: [0, 2, 10]}"; empty: the scene's own
   std::string out;             ///< image path; empty: out/<scene>.png
   std::string stats;           ///< stats JSON path; empty: beside the image
   std::string id_map;          ///< optional ID map (.exr)

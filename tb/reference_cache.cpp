@@ -217,7 +217,10 @@ ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::strin
                                  const ReferenceWatch& watch, PeFrame frame) {
   std::ostringstream key;
   key.precision(17);
-  key << scene_text << "|" << s.camera.width << "x" << s.camera.height << "|grid " << g.n[0] << "," << g.n[1] << ","
+  const Camera& c = s.camera;  // --camera may change it without changing scene_text
+  key << scene_text << "|" << c.width << "x" << c.height << "|eye " << c.eye.x << "," << c.eye.y << "," << c.eye.z
+      << "|at " << c.look_at.x << "," << c.look_at.y << "," << c.look_at.z << "|up " << c.up.x << "," << c.up.y << ","
+      << c.up.z << "|fov " << c.fov_deg << "|grid " << g.n[0] << "," << g.n[1] << ","
       << g.n[2] << "|t " << s.threshold << "|d " << s.max_depth << "|o " << s.spawn_offset << " " << to_string(s.spawn_policy) << "|frame " << to_string(frame) << "|" << __DATE__ << " "
       << __TIME__ << "|" << reference_build_id();
   key << "|refs " << fnv1a(std::string(reinterpret_cast<const char*>(g.items.data()), g.items.size() * sizeof(uint32_t)))

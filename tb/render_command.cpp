@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <system_error>
 
@@ -97,7 +98,12 @@ int run_render(const RenderOptions& opt) {
     } load_finished;
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
-    const std::string scene_text = opt.scene.empty() ? std::string(kDefaultSceneYaml) : read_text(opt.scene);
+    std::string scene_text = opt.scene.empty() ? std::string(kDefaultSceneYaml) : read_text(opt.scene);
+    // The mesh files a YAML scene includes are as much the scene as its own text (the reference
+    // cache's key and the stats' scene_fnv1a).
+    std::set<std::string> included;
+    for (const SourceLocation& o : scene.origins)
+      if (!opt.scene.empty() && o.file != opt.scene && included.insert(o.file).second) scene_text += "\n" + read_text(o.file);
     apply_scene_options(opt, scene);
     validate(scene);
     const MachineConfig config = opt.reference ? MachineConfig{} : early_config ? *early_config : machine_config(opt);

@@ -75,6 +75,14 @@ void apply_size(const std::string& size, Scene& scene) {
 }
 
 void apply_scene_options(const RenderOptions& opt, Scene& scene) {
+  if (!opt.camera.empty()) {
+    try {
+      override_camera(scene.camera, opt.camera);
+    } catch (const SceneError& e) {
+      const std::string where = e.file() + ":" + std::to_string(e.line()) + ": ";
+      throw UsageError("--camera: " + std::string(e.what()).substr(where.size()));
+    }
+  }
   if (!opt.size.empty()) apply_size(opt.size, scene);
   if (!opt.grid.empty()) {
     scene.grid.resolution = parse_grid(opt.grid);

@@ -14,6 +14,7 @@
 
 #include "geom/polygon.h"
 #include "scene/scene.h"
+#include "scene/mesh.h"
 #include "scene/scene_checks.h"
 
 namespace rtm {
@@ -53,7 +54,20 @@ class NoAliases : public YAML::EventHandler {
 /// Every parse step knows its node, and where it is in the document ("primitives[2].sphere.radius").
 class NativeParser {
  public:
-  explicit NativeParser(const std::string& file) : file_(file) {}
+  NativeParser(const std::string& file, const SceneReadOptions& options) : file_(file), options_(options) {}
+
+  /// `text`, a YAML mapping of camera keys, applied to `base`.
+  Camera camera_override(const std::string& text, const Camera& base) {
+    YAML::Node doc;
+    try {
+      doc = YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+      throw SceneError(file_, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax error: " + e.msg);
+    }
+    scene_.camera = base;
+    camera(doc, false);
+    return scene_.camera;
+  }
 
   Scene parse(const std::string& yaml) {
     YAML::Node doc;
@@ -213,11 +227,12 @@ class NativeParser {
 
   // ---- sections ----
 
-  void camera(const YAML::Node& n) {
+  /// The scene's camera; `whole` false: only the keys given change `c` (rtm render --camera).
+  void camera(const YAML::Node& n, bool whole = true) {
     Map m(*this, n, "camera", {"eye", "look_at", "up", "fov", "resolution"});
     Camera& c = scene_.camera;
-    c.eye = vec3(m.required("eye"), m.path("eye"));
-    c.look_at = vec3(m.required("look_at"), m.path("look_at"));
+    if (whole || m.get("eye")) c.eye = vec3(m.required("eye"), m.path("eye"));
+    if (whole || m.get("look_at")) c.look_at = vec3(m.required("look_at"), m.path("look_at"));
     if (auto v = m.get("up")) c.up = vec3(*v, m.path("up"));
     if (auto v = m.get("fov")) {
       c.fov_deg = number(*v, m.path("fov"));
@@ -311,7 +326,13 @@ class NativeParser {
       const std::string path = "primitives[" + std::to_string(i) + "]";
       Map m(*this, n[i], path,
             {"sphere", "ellipsoid", "cylinder", "cone", "paraboloid", "hyperboloid", "plane", "polygon", "quadric",
-             "material"});
+             "mesh", "material"});
+      if (auto mesh_node = m.get("mesh")) {
+        if (m.size() != 1)
+          fail(n[i], path, "a mesh names its material inside: {mesh: {file: ..., material: ...}}, with no other key");
+        mesh(*mesh_node, path + ".mesh");
+        continue;
+      }
       const YAML::Node mat = m.required("material");
       if (m.size() != 2) fail(n[i], path, "expected exactly one shape (sphere, ellipsoid, ...) and a material");
       std::string kind;
@@ -330,6 +351,35 @@ class NativeParser {
         scene_.primitives.push_back(std::move(p));
         scene_.origins.push_back({file_, line_of(n[i])});
       }
+    }
+  }
+
+  /// A mesh file's triangles, placed by scale and translation, with the file's materials or one of
+  /// the scene's. The file is from the wild: its degenerate triangles are skipped unless --strict.
+  void mesh(const YAML::Node& n, const std::string& path) {
+    Map m(*this, n, path, {"file", "scale", "translate", "material"});
+    const YAML::Node file_node = m.required("file");
+    const std::string name = text(file_node, m.path("file"));
+    if (name.empty()) fail(file_node, m.path("file"), "must name a mesh file");
+    namespace fs = std::filesystem;
+    const fs::path file = fs::path(name).is_absolute() ? fs::path(name) : fs::path(file_).parent_path() / name;
+    MeshPlacement place;
+    if (auto v = m.get("scale")) place.scale = positive(*v, m.path("scale"));
+    if (auto v = m.get("translate")) place.translate = vec3(*v, m.path("translate"));
+    if (auto v = m.get("material")) {
+      const std::string mat = text(*v, m.path("material"));
+      auto found = material_index_.find(mat);
+      if (found == material_index_.end()) fail(*v, m.path("material"), "unknown material '" + mat + "'");
+      place.material = found->second;
+    }
+    std::string ext = file.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (!is_mesh_extension(ext))
+      fail(file_node, m.path("file"), "'" + name + "' is not a mesh file Assimp reads (.obj, .ply, .gltf, .glb, .stl, .off, ...)");
+    try {
+      add_mesh(scene_, import_mesh(file.string(), options_), file.string(), place, options_);
+    } catch (const SceneError& e) {
+      fail(file_node, m.path("file"), e.what());
     }
   }
 
@@ -457,15 +507,21 @@ class NativeParser {
   }
 
   std::string file_;
+  SceneReadOptions options_;
   Scene scene_;
   std::map<std::string, int> material_index_;
 };
 
 }  // namespace
 
-Scene parse_native(const std::string& text, const std::string& file_name) {
+void override_camera(Camera& camera, const std::string& text) {
+  NativeParser p("--camera", {});
+  camera = p.camera_override(text, camera);
+}
+
+Scene parse_native(const std::string& text, const std::string& file_name, const SceneReadOptions& options) {
   try {
-    return NativeParser(file_name).parse(text);
+    return NativeParser(file_name, options).parse(text);
   } catch (const YAML::Exception& e) {
     // Every access is type-checked first, so this is only a safety net.
     throw SceneError(file_name, e.mark.is_null() ? 0 : e.mark.line + 1, std::string("YAML error: ") + e.msg);

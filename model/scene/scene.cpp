@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 #include "scene/scene_checks.h"
+#include "scene/mesh.h"
 
 #include "render/ray.h"
 
@@ -179,8 +180,12 @@ Scene load_scene(const std::string& path, const SceneReadOptions& options) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   const bool nff = ext == ".nff";
-  if (!nff && ext != ".yaml" && ext != ".yml")
-    throw SceneError(path, 0, "unknown scene file extension '" + ext + "' (expected .nff, .yaml or .yml)");
+  const bool native = ext == ".yaml" || ext == ".yml";
+  if (!nff && !native) {
+    if (is_mesh_extension(ext)) return mesh_scene(import_mesh(path, options), path, options);
+    throw SceneError(path, 0, "unknown scene file extension '" + ext +
+                                  "' (expected .nff, .yaml, .yml or a mesh file Assimp reads: .obj, .ply, .gltf, .glb, .stl, .off, ...)");
+  }
 
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw SceneError(path, 0, "cannot read scene file: it is a directory");
@@ -189,7 +194,7 @@ Scene load_scene(const std::string& path, const SceneReadOptions& options) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, 0, "cannot read scene file: read error");
-  return nff ? parse_nff(text.str(), path, options) : parse_native(text.str(), path);
+  return nff ? parse_nff(text.str(), path, options) : parse_native(text.str(), path, options);
 }
 
 std::vector<std::string> skipped_warnings(const Scene& s, const std::string& file) {
@@ -198,9 +203,11 @@ std::vector<std::string> skipped_warnings(const Scene& s, const std::string& fil
     std::string lines;
     for (int l : k.lines) lines += (lines.empty() ? "" : ", ") + std::to_string(l);
     if (size_t(k.count) > k.lines.size()) lines += ", ...";
+    // A mesh's faces have no lines: the reason names the first of them.
+    const std::string where = k.lines.empty() ? "" : std::string("; line") + (k.lines.size() == 1 ? " " : "s ") + lines;
     out.push_back(file + ":" + std::to_string(k.lines.empty() ? 0 : k.lines.front()) + ": skipped " +
                   std::to_string(k.count) + " " + k.kind + (k.count == 1 ? " record" : " records") + " (" + k.reason +
-                  "; line" + (k.lines.size() == 1 ? " " : "s ") + lines + ")");
+                  where + ")");
   }
   return out;
 }

@@ -1,6 +1,7 @@
 // A scene as the host holds it before pre-processing: camera, lights, materials, primitives.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -56,6 +57,11 @@ struct SceneReadOptions {
   bool strict = false;
   /// Unknown NFF records are skipped with a warning instead of being errors.
   bool skip_unknown = false;
+  /// A mesh file's import (scene/mesh.h, import_mesh) may use this much more address space than
+  /// rtm had when it began, and this long: a file that makes Assimp exhaust memory or hang is an
+  /// error naming the file.
+  uint64_t import_memory = uint64_t(4) << 30;
+  double import_seconds = 120;
 };
 
 /// How a spawned ray's origin is moved off the surface (render/shade.h, docs/numerics.md).
@@ -91,14 +97,19 @@ struct SceneError : FileError {
   using FileError::FileError;
 };
 
-/// Reads a scene by extension: `.nff` for NFF, `.yaml`/`.yml` for the native format.
+/// Reads a scene by extension: `.nff` for NFF, `.yaml`/`.yml` for the native format, any other
+/// extension Assimp reads (`.obj`, `.ply`, `.gltf`, `.glb`, `.stl`, `.off`, ...) as a mesh file.
 Scene load_scene(const std::string& path, const SceneReadOptions& options = {});
 /// NFF text (classic semantics; see docs/scene-format.md for the mapping to the paper's coefficients).
 Scene parse_nff(const std::string& text, const std::string& file_name, const SceneReadOptions& options = {});
 /// One warning line per kind of skipped record, "file:line: skipped ...", for the command line.
 std::vector<std::string> skipped_warnings(const Scene& s, const std::string& file);
-/// Native YAML text (docs/scene-format.md).
-Scene parse_native(const std::string& text, const std::string& file_name);
+/// Native YAML text (docs/scene-format.md). A `mesh` entry's file is read relative to file_name's
+/// folder, with `options`' import limits.
+Scene parse_native(const std::string& text, const std::string& file_name, const SceneReadOptions& options = {});
+/// Applies `text`, a YAML mapping with any of the native format's camera keys (`{eye: [0, 2, 10],
+/// fov: 30}`), to `camera`; the keys not given stay. Throws SceneError (file "--camera").
+void override_camera(Camera& camera, const std::string& text);
 /// The built-in default scene (every quadric kind, diffuse, reflective and transparent materials).
 Scene default_scene();
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "machine/config.h"
+#include "scene/mesh.h"
 #include "scene/scene.h"
 
 namespace rtm::fuzz {
@@ -41,6 +42,35 @@ bool native(std::string_view input) {
   } catch (const SceneError&) {
     return false;
   }
+}
+
+bool mesh(std::string_view input) {
+  MeshData m;
+  try {
+    m = decode_mesh(std::string(input));
+  } catch (const std::invalid_argument&) {
+    return false;  // what import_mesh reports as a bad answer
+  }
+  bool read = true;
+  for (const SceneReadOptions options : {SceneReadOptions{}, SceneReadOptions{true, false}}) {
+    try {
+      use(mesh_scene(m, "fuzz.obj", options), "fuzz.obj");
+    } catch (const SceneError&) {
+      read = false;
+    }
+    // In a YAML scene beside a sphere, placed, with the scene's own material.
+    Scene s = parse_native(
+        "camera: {eye: [0, 0, 10], look_at: [0, 0, 0]}\nmaterials: {red: {}}\n"
+        "primitives: [{sphere: {center: [0, 0, 0], radius: 1}, material: red}]\n",
+        "fuzz.yaml");
+    try {
+      add_mesh(s, m, "fuzz.obj", {2, {1e3, -1, 0}, 0}, options);
+      use(s, "fuzz.yaml");
+    } catch (const SceneError&) {
+      read = false;
+    }
+  }
+  return read;
 }
 
 bool config(std::string_view input) {

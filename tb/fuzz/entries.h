@@ -13,6 +13,9 @@ namespace rtm::fuzz {
 bool nff(std::string_view input);
 /// A native YAML scene, as `rtm render scene.yaml` reads it.
 bool native(std::string_view input);
+/// What a mesh file's import sends rtm (scene/mesh.h, encode_mesh): decoded, made a scene as
+/// `rtm render model.obj` makes it, and placed in a YAML scene, with and without --strict.
+bool mesh(std::string_view input);
 /// A `--config` file; one that is accepted must read back from what `rtm config` prints of it.
 bool config(std::string_view input);
 /// One `--set KEY=VALUE` argument a line, applied in order, then the whole configuration checked.
@@ -22,6 +25,6 @@ struct Target {
   const char* name;  ///< scripts/fuzz's name, and the folder under tb/fuzz-corpus
   bool (*run)(std::string_view);
 };
-inline constexpr Target kTargets[] = {{"nff", nff}, {"native", native}, {"config", config}, {"set", set}};
+inline constexpr Target kTargets[] = {{"nff", nff}, {"native", native}, {"mesh", mesh}, {"config", config}, {"set", set}};
 
 }  // namespace rtm::fuzz

@@ -1,0 +1,131 @@
+// `rtm render` of mesh files: a small OBJ on the reference and the machine, bad files (exit 1, the
+// file and the problem named, no image), and every OBJ, PLY, STL, OFF and glTF file of Debian's
+// assimp-testmodels (docs/scene-format.md, "The real-world corpus").
+#include <atomic>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "cli_test_support.h"
+#include "render/image_io.h"
+
+namespace rtm::test {
+namespace {
+
+const std::string kCube =
+    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nf 1 5 8 4\n";
+
+TEST(MeshRender, ObjOnTheReferenceAndTheMachine) {
+  Tmp tmp;
+  spit(tmp / "cube.obj", kCube);
+  const nlohmann::json ref = render(tmp, "ref", tmp / "cube.obj" + " --reference --size 24x24");
+  ASSERT_FALSE(ref.is_null());
+  EXPECT_EQ(ref["primitives"], 12);
+  const nlohmann::json machine = render(tmp, "machine", tmp / "cube.obj" + " --size 24x24 --pes 2");
+  ASSERT_FALSE(machine.is_null());
+  EXPECT_EQ(machine["primitives"], 12);
+  EXPECT_GT(machine["rays"]["primary"].get<int>() + 0, 0) << machine.dump();
+}
+
+TEST(MeshRender, BadMeshFileExitsOneNamingIt) {
+  Tmp tmp;
+  spit(tmp / "bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n");
+  const Proc r = run_rtm("render " + tmp / "bad.ply" + " --reference -q --size 8x8 --out " + tmp / "b.png", tmp);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err.rfind("rtm: " + tmp / "bad.ply" + ":0: ", 0), 0u) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "b.png"));
+}
+
+TEST(MeshRender, DegenerateTrianglesWarnAndStrictRefuses) {
+  Tmp tmp;
+  spit(tmp / "deg.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 4\nf 1 2 3\n");
+  const Proc r = run_rtm("render " + tmp / "deg.obj" + " --reference -q --size 8x8 --out " + tmp / "d.png", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("rtm: warning: " + tmp / "deg.obj" + ":0: skipped 1 degenerate triangle record ("),
+            std::string::npos)
+      << r.err;
+  const Proc s = run_rtm("render " + tmp / "deg.obj" + " --reference -q --strict --size 8x8 --out " + tmp / "s.png", tmp);
+  EXPECT_EQ(s.exit_code, 1);
+  EXPECT_EQ(s.err, "rtm: " + tmp / "deg.obj" + ":0: triangle 1: polygon has zero area (--strict)\n");
+}
+
+TEST(MeshRender, CameraOnTheCommandLine) {
+  Tmp tmp;
+  spit(tmp / "cube.obj", kCube);
+  // Looking at the cube from far away down -z: it covers the middle only; from close, every pixel.
+  const std::string args = tmp / "cube.obj" + " --reference --size 16x16 --camera ";
+  render(tmp, "far", args + "'{eye: [0, 0, 40], look_at: [0, 0, 0], fov: 20}'");
+  render(tmp, "near", args + "'{eye: [0, 0, 1.5], look_at: [0, 0, 0]}'");
+  auto hits = [&](const std::string& name) {
+    int n = 0;
+    for (const int32_t id : rtm::read_id_map(tmp / (name + "-id.exr")).ids) n += id >= 0;
+    return n;
+  };
+  // A 2-unit cube 40 away in a 20° view spans 2 / (2 × 40 × tan 10°) = 14% of the width: about 5 of 256 pixels.
+  EXPECT_GT(hits("far"), 0);
+  EXPECT_LT(hits("far"), 20);
+  EXPECT_EQ(hits("near"), 256);  // inside the cube's front face's view
+  const Proc bad = run_rtm("render " + args + "'{fov: 200}' -q --out " + tmp / "b.png", tmp);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.err, "rtm: --camera: camera.fov: must be in (0, 180) degrees, got 200\n");
+  const Proc typo = run_rtm("render " + args + "'{eyes: [0, 0, 1]}' -q --out " + tmp / "b.png", tmp);
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_NE(typo.err.find("unknown key 'eyes'"), std::string::npos) << typo.err;
+}
+
+/// Where Debian's assimp-testmodels puts its files.
+const std::string kTestModels = "/usr/share/assimp/models";
+
+TEST(MeshCorpus, EveryTestModelRendersOrFailsWithAMessage) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(kTestModels)) GTEST_SKIP() << "assimp-testmodels is not installed (" << kTestModels << ")";
+  std::vector<std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(kTestModels)) {
+    std::string ext = e.path().extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (e.is_regular_file() && (ext == ".obj" || ext == ".ply" || ext == ".stl" || ext == ".off" || ext == ".gltf" ||
+                                ext == ".glb"))
+      files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  ASSERT_GT(files.size(), 50u);
+  Tmp tmp;
+  std::atomic<size_t> next{0};
+  std::mutex m;
+  std::map<std::string, Proc> results;
+  auto worker = [&] {
+    for (size_t i; (i = next++) < files.size();) {
+      const std::string& f = files[i];
+      // A hang would be a finding: `timeout` ends it, and its exit code 137 fails the test.
+      const std::string err = tmp / (std::to_string(i) + ".err");
+      const int status = std::system(("timeout -s KILL 200 " + std::string(RTM_BINARY) + " render '" + f +
+                                      "' --reference -q --threads 1 --size 16x16 --out " + tmp / (std::to_string(i) + ".png") +
+                                      " >/dev/null 2>" + err + " </dev/null")
+                                         .c_str());
+      Proc r;
+      r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      r.err = slurp(err).substr(0, 2000);
+      std::lock_guard<std::mutex> lock(m);
+      results[f] = r;
+    }
+  };
+  // The suite runs beside other tests: two at a time.
+  std::thread a(worker), b(worker);
+  a.join();
+  b.join();
+  int rendered = 0;
+  for (const auto& [f, r] : results) {
+    SCOPED_TRACE(f);
+    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1) << "exit " << r.exit_code << ": " << r.err;
+    if (r.exit_code == 0) ++rendered;
+    if (r.exit_code == 1) {
+      EXPECT_EQ(r.err.rfind("rtm: " + f + ":", 0), 0u) << r.err;
+    }
+  }
+  std::cout << rendered << " of " << files.size() << " files render\n";
+  EXPECT_GT(rendered, int(files.size()) / 2);
+}
+
+}  // namespace
+}  // namespace rtm::test
