@@ -56,7 +56,7 @@ TEST(Tech, ABadFileIsRefusedWithItsLineAndExit2) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "x.png"));
   const Proc missing = run_rtm("render --size 4x4 -q --out " + (tmp / "x.png") + " --tech " + (tmp / "none.yaml"), tmp);
   EXPECT_EQ(missing.exit_code, 2);
-  EXPECT_NE(missing.err.find("none.yaml:0: cannot read the technology file"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("none.yaml:0: cannot read the technology file '"), std::string::npos) << missing.err;
 }
 
 TEST(Tech, RenderTakesTheFileAndTheStatsRecordIt) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +24,22 @@ using S = TechScaling;
 
 /// A chain of scale_from longer than this is a file scaling from itself, directly or not.
 constexpr int kMaxScaleDepth = 8;
+
+/// A technology file is a page of figures: anything larger is not one, and is not read whole.
+constexpr std::uintmax_t kMaxFileBytes = 1 << 20;
+
+/// The text of the file at `path`; throws TechnologyError naming `file`, `line` of the asker.
+std::string read_text(const std::string& path, const std::string& file, int line) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  std::ifstream f(path);
+  if (ec || !f) throw TechnologyError(file, line, "cannot read the technology file '" + path + "'");
+  if (size > kMaxFileBytes)
+    throw TechnologyError(file, line, "'" + path + "' is " + std::to_string(size) + " bytes: not a technology file (at most 1 MiB)");
+  std::stringstream text;
+  text << f.rdbuf();
+  return text.str();
+}
 
 int line_of(const YAML::Node& n) { return n.IsDefined() && !n.Mark().is_null() ? n.Mark().line + 1 : 1; }
 
@@ -126,12 +143,8 @@ class Parser {
     if (depth_ >= kMaxScaleDepth)
       fail(line_of(n), "scale_from: more than " + std::to_string(kMaxScaleDepth) + " files deep (does a file scale from itself?)");
     if (spec == kBuiltInTechnology) return Parser("<built-in 45nm>", depth_ + 1).parse(kDefaultTechYaml);
-    const std::filesystem::path path = std::filesystem::path(file_).parent_path() / spec;
-    std::ifstream f(path);
-    if (!f) fail(line_of(n), "scale_from: cannot read '" + path.string() + "'");
-    std::stringstream text;
-    text << f.rdbuf();
-    return Parser(path.string(), depth_ + 1).parse(text.str());
+    const std::string path = (std::filesystem::path(file_).parent_path() / spec).string();
+    return Parser(path, depth_ + 1).parse(read_text(path, file_, line_of(n)));
   }
 
   /// Every scaled entry of t times its factor; its source says so.
@@ -211,11 +224,7 @@ Technology parse_technology(const std::string& text, const std::string& file) { 
 
 Technology load_technology(const std::string& spec) {
   if (spec == kBuiltInTechnology) return parse_technology(kDefaultTechYaml, "<built-in 45nm>");
-  std::ifstream f(spec);
-  if (!f) throw TechnologyError(spec, 0, "cannot read the technology file");
-  std::stringstream text;
-  text << f.rdbuf();
-  return parse_technology(text.str(), spec);
+  return parse_technology(read_text(spec, spec, 0), spec);
 }
 
 double sram_access_energy_pj(const Technology& t, double capacity_bytes, double word_bits) {

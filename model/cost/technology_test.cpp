@@ -172,8 +172,20 @@ TEST(Technology, AnUnreadableFileIsNamed) {
     load_technology("no/such/tech.yaml");
     FAIL();
   } catch (const TechnologyError& e) {
-    EXPECT_EQ(std::string(e.what()), "no/such/tech.yaml:0: cannot read the technology file");
+    EXPECT_EQ(std::string(e.what()), "no/such/tech.yaml:0: cannot read the technology file 'no/such/tech.yaml'");
   }
+}
+
+TEST(Technology, AFileTooLargeToBeOneIsNotRead) {
+  const std::string path = std::filesystem::temp_directory_path() / ("rtm-tech-big-" + std::to_string(getpid()) + ".yaml");
+  std::ofstream(path) << std::string((1 << 20) + 1, '#');
+  try {
+    load_technology(path);
+    ADD_FAILURE() << "a 1 MiB + 1 file was read";
+  } catch (const TechnologyError& e) {
+    EXPECT_NE(std::string(e.what()).find("1048577 bytes: not a technology file"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
 }
 
 TEST(Technology, DescribeListsEveryEntryWithUnitAndSource) {
