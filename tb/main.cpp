@@ -137,6 +137,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--partition", r.partition, "Screen partitioning: scanlines, blocks, strips or pixels");
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
   render->add_option("--mac-schedule", r.mac_schedule, "MAC schedule: sparse (default) or full (the paper's 28 products)");
+  render->add_option("--tech", r.tech, "Technology file the cost is figured in (the key tech; default the built-in 45nm; docs/cost.md)");
   render->add_option("--vcd", r.vcd, "Write a waveform (VCD) and a GTKWave save file beside it");
   render->add_option("--vcd-window", r.vcd_window,
                      "Waveform window FROM:TO in PE cycles (either may be empty), or peN+FROM:TO counted from PE N's "
@@ -159,6 +160,13 @@ int sc_main(int argc, char* argv[]) {
       ->excludes(from)
       ->excludes(set);
 
+  std::string tech_file;
+  CLI::App* tech = app.add_subcommand(
+      "tech", "Print every entry of the technology (energy, area, leakage) with its value, unit and source");
+  tech->add_option("file", tech_file, "Technology file (docs/cost.md); default the built-in 45nm");
+  bool tech_markdown = false;
+  tech->add_flag("--markdown", tech_markdown, "Instead, docs/cost.md's table of the entries (scripts/config-doc)");
+
   std::string cache_action;
   CLI::App* cache = app.add_subcommand(
       "cache", "The reference cache ($RTM_CACHE_DIR, else $XDG_CACHE_HOME/rtm, else ~/.cache/rtm; capped at $RTM_CACHE_SIZE, default 2G)");
@@ -180,6 +188,7 @@ int sc_main(int argc, char* argv[]) {
     }
     if (render->parsed()) return rtm::run_render(r);
     if (config->parsed()) return rtm::run_config(c, markdown);
+    if (tech->parsed()) return rtm::run_tech(tech_file, tech_markdown);
     if (pov->parsed()) return rtm::run_pov(pov_opt);
     if (cache->parsed()) return rtm::run_cache(cache_action);
     return 2;

@@ -37,6 +37,7 @@ struct RenderOptions {
   std::optional<int> pes;
   std::string timing, precision, partition, mac_schedule;
   std::optional<int> search_units;
+  std::string tech;                  ///< technology file; empty: the `tech` key's
   std::string vcd;                   ///< waveform file
   std::string vcd_window;            ///< "FROM:TO" in PE cycles (either side may be empty)
   std::string vcd_pes;               ///< comma-separated PE numbers; default 0
@@ -49,5 +50,8 @@ int run_render(const RenderOptions& opt);
 /// a YAML file --config reads back, or with `markdown` docs/machine.md's table of the keys (of
 /// how the preset differs from the defaults, with a preset).
 int run_config(const RenderOptions& opt, bool markdown);
+/// Runs `rtm tech`: prints every entry of the technology in `file` (empty: the built-in one), or
+/// with `markdown` docs/cost.md's table of the entries.
+int run_tech(const std::string& file, bool markdown);
 
 }  // namespace rtm

@@ -142,12 +142,22 @@ MachineConfig machine_config(const RenderOptions& opt) {
   if (!opt.partition.empty()) set("partition", opt.partition, "--partition");
   if (!opt.mac_schedule.empty()) set("mac_schedule", opt.mac_schedule, "--mac-schedule");
   if (opt.search_units) set("search_units", std::to_string(*opt.search_units), "--search-units");
+  if (!opt.tech.empty()) set("tech", opt.tech, "--tech");
   try {
     c.validate();
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("machine configuration: ") + e.what());
   }
+  technology(c.tech);  // a bad technology file is refused before any work
   return c;
+}
+
+Technology technology(const std::string& spec) {
+  try {
+    return load_technology(spec);
+  } catch (const TechnologyError& e) {
+    throw UsageError(e.what());
+  }
 }
 
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c) {

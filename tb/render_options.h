@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cost/technology.h"
 #include "machine/machine.h"
 #include "options.h"
 #include "scene/scene.h"
@@ -30,6 +31,8 @@ void apply_size(const std::string& size, Scene& scene);
 void apply_scene_options(const RenderOptions& opt, Scene& scene);
 /// The preset, then the configuration file, then --set, then the dedicated flags; validated.
 MachineConfig machine_config(const RenderOptions& opt);
+/// The technology `spec` names (the `tech` key's value); a bad file is a UsageError (exit 2).
+Technology technology(const std::string& spec);
 /// The waveform and progress options, checked against the configuration's PEs.
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c);
 

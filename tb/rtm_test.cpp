@@ -225,7 +225,7 @@ TEST(Cli, StatsConfigValuesHaveTheirKeysTypes) {
   ASSERT_FALSE(j.is_null());
   ASSERT_EQ(config.exit_code, 0) << config.err;
   // `key: value  # meaning (what it accepts)`, the accepted values last.
-  const std::regex line(R"(^(\w+): (\S+) +# .*\((an integer|a number|true or false|one of)[^()]*\)$)");
+  const std::regex line(R"(^(\w+): (\S+) +# .*\((an integer|a number|true or false|one of|a name or a path)[^()]*\)$)");
   std::istringstream lines(config.out);
   size_t keys = 0;
   for (std::string l; std::getline(lines, l);) {
@@ -276,16 +276,21 @@ TEST(Cli, ABadConfigFileExits2NamingFileAndLine) {
 // `rtm config --markdown --preset paper` (how paper differs); scripts/config-doc rewrites them.
 TEST(Cli, TheDocsTablesAreTheGeneratedOnes) {
   Tmp tmp;
-  const std::string doc = slurp(std::string(RTM_SOURCE_DIR) + "/docs/machine.md");
-  for (const auto& [marker, args] : {std::pair{"config-keys", ""}, std::pair{"preset-paper", " --preset paper"}}) {
-    const Proc r = run_rtm(std::string("config --markdown") + args, tmp);
+  struct Table {
+    const char *doc, *marker, *args;
+  };
+  for (const Table& t : {Table{"machine.md", "config-keys", "config --markdown"},
+                         Table{"machine.md", "preset-paper", "config --markdown --preset paper"},
+                         Table{"cost.md", "tech-entries", "tech --markdown"}}) {
+    const std::string doc = slurp(std::string(RTM_SOURCE_DIR) + "/docs/" + t.doc);
+    const Proc r = run_rtm(t.args, tmp);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const std::string begin = std::string("<!-- ") + marker + ":begin -->\n", end = std::string("<!-- ") + marker + ":end -->";
+    const std::string begin = std::string("<!-- ") + t.marker + ":begin -->\n", end = std::string("<!-- ") + t.marker + ":end -->";
     const size_t from = doc.find(begin), to = doc.find(end);
-    ASSERT_NE(from, std::string::npos) << marker;
-    ASSERT_NE(to, std::string::npos) << marker;
+    ASSERT_NE(from, std::string::npos) << t.marker;
+    ASSERT_NE(to, std::string::npos) << t.marker;
     EXPECT_EQ(doc.substr(from + begin.size(), to - from - begin.size()), r.out)
-        << "docs/machine.md's " << marker << " table is out of date: run scripts/config-doc";
+        << "docs/" << t.doc << "'s " << t.marker << " table is out of date: run scripts/config-doc";
   }
 }
 

@@ -84,7 +84,8 @@ nlohmann::json config_value(const ConfigKey& k, const MachineConfig& c) {
     case ConfigKey::Type::Integer: return std::stoll(v);
     case ConfigKey::Type::Number: return std::stod(v);
     case ConfigKey::Type::Flag: return v == "true";
-    case ConfigKey::Type::Choice: break;
+    case ConfigKey::Type::Choice:
+    case ConfigKey::Type::Text: break;
   }
   return v;
 }

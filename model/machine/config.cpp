@@ -225,6 +225,24 @@ ConfigKey enum_key(const char* name, const char* meaning, E M::*m) {
   return k;
 }
 
+/// A name or a file's path, as a plain YAML scalar reads it back: no spaces, quotes or '#'.
+ConfigKey text_key(const char* name, const char* meaning, std::string M::*m) {
+  ConfigKey k{name, ConfigKey::Type::Text, meaning, {}, {}, {}, {}, {}};
+  auto check = [name](const std::string& v) {
+    const bool plain = !v.empty() && v[0] != '-' && std::all_of(v.begin(), v.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || std::string("._-/+").find(ch) != std::string::npos;
+    });
+    if (!plain) bad(name, "expected a name or a path of letters, digits and . _ - / + (not starting with -), got '" + v + "'");
+  };
+  k.get = [m](const M& c) { return c.*m; };
+  k.set = [m, check](M& c, const std::string& v) {
+    check(v);
+    c.*m = v;
+  };
+  k.check = [m, check](const M& c) { check(c.*m); };
+  return k;
+}
+
 /// One cell of a Markdown table: a '|' would end it.
 std::string cell(const std::string& text) {
   std::string s;
@@ -262,6 +280,7 @@ std::string ConfigKey::accepted() const {
       return what + (range.above_min ? " > " : " >= ") + fmt(range.min);
     }
     case Type::Flag: return "true or false";
+    case Type::Text: return "a name or a path";
     case Type::Choice: {
       std::string s = "one of ";
       for (const std::string& v : values) s += (&v == &values.front() ? "" : ", ") + v;
@@ -441,6 +460,7 @@ const std::vector<ConfigKey>& config_keys() {
                &M::pe_simulation),
       enum_key("gather", "after_all (the host reads the frame buffers once every PE is done, as in the paper) or as_finished (each PE's as soon as it is done)",
                &M::gather),
+      text_key("tech", "the technology the cost is figured in: 45nm (built in) or a technology file (docs/cost.md)", &M::tech),
   };
   return keys;
 }

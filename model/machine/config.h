@@ -140,6 +140,10 @@ struct MachineConfig {
   enum class PeSimulation { Auto, Modules };
   PeSimulation pe_simulation = PeSimulation::Auto;  ///< machine/pe_engine.h
 
+  /// The technology the machine's cost is figured in: the built-in 45nm or a technology file
+  /// (cost/technology.h, docs/cost.md).
+  std::string tech = "45nm";
+
   /// Root-unit latency including the discriminant option's extra stage.
   int root_cycles() const {
     return root_latency + (discriminant == Discriminant::Fma ? fma_discriminant_cycles : 0) +
@@ -179,7 +183,7 @@ struct ConfigError : FileError {
 /// is declared once, in config_keys(); parsing, validate()'s range checks, `rtm config` and
 /// docs/machine.md's key table all read that declaration. Its default is MachineConfig{}'s.
 struct ConfigKey {
-  enum class Type { Integer, Number, Flag, Choice };
+  enum class Type { Integer, Number, Flag, Choice, Text };
   /// What a number may be: min..max, or above min when min itself is refused.
   struct Range {
     double min = 0;
@@ -197,7 +201,7 @@ struct ConfigKey {
   std::function<void(MachineConfig&, const std::string&)> set;  ///< parses and checks the range; throws std::invalid_argument
   std::function<void(const MachineConfig&)> check;              ///< throws std::invalid_argument if out of range
 
-  /// "an integer in 1..65536", "a number > 0", "true or false", "one of fast, clocked".
+  /// "an integer in 1..65536", "a number > 0", "true or false", "one of fast, clocked", "a name or a path".
   std::string accepted() const;
 };
 const std::vector<ConfigKey>& config_keys();

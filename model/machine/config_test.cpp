@@ -63,6 +63,9 @@ MachineConfig off_default() {
       case ConfigKey::Type::Choice:
         set_config(c, k.name, k.values.back() == d ? k.values.front() : k.values.back());
         break;
+      case ConfigKey::Type::Text:
+        set_config(c, k.name, "other/" + d + ".yaml");
+        break;
     }
   }
   return c;
@@ -74,7 +77,9 @@ TEST(ConfigKeys, NamesAreUniqueAndMeaningsOneLine) {
     EXPECT_TRUE(names.insert(k.name).second) << k.name;
     EXPECT_FALSE(k.meaning.empty()) << k.name;
     EXPECT_EQ(k.meaning.find('\n'), std::string::npos) << k.name;
-    EXPECT_EQ(k.values.empty(), k.type == ConfigKey::Type::Integer || k.type == ConfigKey::Type::Number) << k.name;
+    EXPECT_EQ(k.values.empty(), k.type == ConfigKey::Type::Integer || k.type == ConfigKey::Type::Number ||
+                                    k.type == ConfigKey::Type::Text)
+        << k.name;
   }
 }
 
@@ -135,6 +140,10 @@ TEST(ConfigKeys, EachRangeEndIsAcceptedAndOnePastItRefused) {
       EXPECT_NE(refused(text(std::nextafter(r.min, -HUGE_VAL))).find(k.accepted()), std::string::npos) << k.name;
       EXPECT_NE(refused(text(std::nextafter(r.max, HUGE_VAL))).find(k.accepted()), std::string::npos) << k.name;
       refused("inf");
+    } else if (k.type == ConfigKey::Type::Text) {
+      EXPECT_EQ(refusal(k.name, "tech/16nm-v2.yaml"), "") << k.name;
+      for (const std::string v : {"a b", "a#b", "-a", "'a'"})
+        EXPECT_NE(refused(v).find(k.accepted()), std::string::npos) << k.name;
     } else {
       for (const std::string& v : k.values) EXPECT_EQ(refusal(k.name, v), "") << k.name << " = " << v;
       EXPECT_NE(refused("bogus").find(k.accepted()), std::string::npos) << k.name;
