@@ -221,7 +221,7 @@ TEST(StiffFrames, NonFiniteOptionsAreRejectedWithAClearMessage) {
   struct Bad {
     std::string args, says;
   };
-  for (const Bad& b : {Bad{"--threshold nan", "threshold"}, Bad{"--spawn-offset nan", "spawn_offset"},
+  for (const Bad& b : {Bad{"--threshold nan", "threshold"}, Bad{"--spawn-offset nan", "--spawn-offset"},
                        Bad{"--set clock_ns=inf", "clock_ns"}, Bad{"--set discriminant=exact", "discriminant"},
                        Bad{"--set origin_latch=double", "origin_latch"}, Bad{"--set coef_scaling=pow3", "coef_scaling"},
                        Bad{"--set fma_discriminant_cycles=-1", "fma_discriminant_cycles"},
