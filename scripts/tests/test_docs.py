@@ -1,0 +1,98 @@
+"""The docs cannot drift: every link and heading reference resolves, every shown transcript is
+its docs/transcripts/*.t as cram runs it, and the README's Studies table is the study pages'."""
+
+import os
+import re
+import subprocess
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
+DOCS = [os.path.join(ROOT, "README.md")] + sorted(
+    os.path.join(d, f) for d, _, fs in os.walk(os.path.join(ROOT, "docs")) for f in fs if f.endswith(".md"))
+LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
+# Prose references to a section: docs/x.md, "Heading" and docs/x.md ("Heading"
+PROSE = re.compile(r"(docs/[\w/.-]+\.md),? \(?\"([^\"]+)\"")
+FENCE = re.compile(r"^```.*?^```", re.M | re.S)
+
+
+def text_of(path):
+    with open(path) as f:
+        return f.read()
+
+
+def prose(path):
+    """The file without its code blocks: commands and YAML are not links."""
+    return FENCE.sub("", text_of(path))
+
+
+def slug(heading):
+    """GitHub's anchor of a heading."""
+    s = re.sub(r"[^\w\- ]", "", heading.strip().lower().replace("`", ""))
+    return s.replace(" ", "-")
+
+
+def headings(path):
+    return [m.group(1).strip() for m in re.finditer(r"^#{1,6} (.+)$", prose(path), re.M)]
+
+
+def sections(path):
+    """What a prose reference may name: a heading (or its start) or a bold paragraph lead."""
+    leads = [m.group(1) for m in re.finditer(r"^(?:- )?\*\*([^*]+)\*\*", prose(path), re.M)]
+    return headings(path) + leads
+
+
+def names_section(path, ref):
+    return any(s == ref or s.startswith(ref + " ") or s.startswith(ref + ".") or s.startswith(ref + ":")
+               for s in sections(path))
+
+
+def rel(path):
+    return os.path.relpath(path, ROOT)
+
+
+@pytest.mark.parametrize("doc", DOCS, ids=rel)
+def test_links_resolve(doc):
+    bad = []
+    for target in LINK.findall(prose(doc)):
+        if re.match(r"[a-z]+:", target):
+            continue
+        file, _, anchor = target.partition("#")
+        path = os.path.normpath(os.path.join(os.path.dirname(doc), file)) if file else doc
+        if not os.path.exists(path):
+            bad.append(f"{target}: no such file")
+        elif anchor and anchor not in {slug(h) for h in headings(path)}:
+            bad.append(f"{target}: no heading #{anchor} in {rel(path)}")
+    assert not bad, f"{rel(doc)}: " + "; ".join(bad)
+
+
+@pytest.mark.parametrize("doc", DOCS, ids=rel)
+def test_section_references_resolve(doc):
+    bad = []
+    for file, ref in PROSE.findall(prose(doc)):
+        ref = " ".join(ref.split())
+        path = os.path.join(ROOT, file)
+        if not os.path.exists(path):
+            bad.append(f'{file}: no such file')
+        elif not names_section(path, ref):
+            bad.append(f'{file}, "{ref}": no such heading')
+    assert not bad, f"{rel(doc)}: " + "; ".join(bad)
+
+
+def test_a_renamed_heading_fails(tmp_path):
+    page = tmp_path / "a.md"
+    page.write_text("# Title\n\n## The engine\n\n**A lead.** text\n")
+    assert names_section(str(page), "The engine")
+    assert names_section(str(page), "A lead")
+    assert not names_section(str(page), "The PE engine")
+    assert slug("The host–PE interconnect (`link_topology`)") == "the-hostpe-interconnect-link_topology"
+
+
+def test_shown_transcripts_are_the_transcripts():
+    r = subprocess.run([os.path.join(ROOT, "scripts", "doc-transcripts"), "--check"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+
+
+def test_readme_studies_table_is_the_study_pages():
+    r = subprocess.run([os.path.join(ROOT, "scripts", "study-page"), "--readme", "--check"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
