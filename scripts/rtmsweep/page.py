@@ -38,20 +38,23 @@ def build_of(rtm):
     return text if out.returncode == 0 and text else NOT_RECORDED
 
 
-def run_time(seconds):
-    """`runs` line's time: the runs' own wall seconds, summed, in minutes."""
+def run_time(seconds, at_once=2):
+    """`runs` line's time: the runs' own seconds, summed, in minutes; AT_ONCE runs at a time
+    (a sweep runs one per core: two on 2 cores)."""
     minutes = seconds / 60
-    return f"{minutes:.1f} min of run time in all (about {minutes / 2:.0f} min on 2 cores)"
+    if at_once == 1:
+        return f"{minutes:.1f} min of run time in all, one run at a time"
+    return f"{minutes:.1f} min of run time in all (about {minutes / at_once:.0f} min on {at_once} cores)"
 
 
-def runs_line(rows):
+def runs_line(rows, key="wall_seconds", at_once=2):
     """The stamp's runs line from a study's rows (dicts): their count and their summed run time
-    (`wall_seconds`), saying how many have none recorded."""
-    walls = [r.get("wall_seconds") for r in rows]
+    (KEY), saying how many have none recorded."""
+    walls = [r.get(key) for r in rows]
     known = [float(w) for w in walls if w not in (None, "")]
     if not known:
         return f"{len(rows)}, run time not recorded"
-    line = f"{len(rows)}, {run_time(sum(known))}"
+    line = f"{len(rows)}, {run_time(sum(known), at_once)}"
     if len(known) < len(rows):
         line += f"; {len(rows) - len(known)} without a recorded time"
     return line
