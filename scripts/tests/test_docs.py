@@ -96,3 +96,11 @@ def test_shown_transcripts_are_the_transcripts():
 def test_readme_studies_table_is_the_study_pages():
     r = subprocess.run([os.path.join(ROOT, "scripts", "study-page"), "--readme", "--check"], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
+
+
+@pytest.mark.parametrize("doc", DOCS, ids=rel)
+def test_named_scene_files_exist(doc):
+    """A scene a doc names (in prose or a command) is in the repository."""
+    names = set(re.findall(r"\bscenes/[\w/.-]+\.(?:nff|yaml)\b", text_of(doc)))
+    missing = sorted(n for n in names if not os.path.isfile(os.path.join(ROOT, n)))
+    assert not missing, f"{rel(doc)}: no such scene file: {', '.join(missing)}"
