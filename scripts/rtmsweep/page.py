@@ -29,12 +29,13 @@ class PageError(Exception):
 
 
 def build_of(rtm):
-    """What `RTM --version` prints, or NOT_RECORDED when there is no such program."""
+    """What `RTM --version` prints (its lines joined by "; "), or NOT_RECORDED when there is no
+    such program."""
     try:
         out = subprocess.run([rtm, "--version"], capture_output=True, text=True, timeout=30)
-    except OSError:
+    except (OSError, subprocess.TimeoutExpired):
         return NOT_RECORDED
-    text = out.stdout.strip()
+    text = "; ".join(line.strip() for line in out.stdout.splitlines() if line.strip())
     return text if out.returncode == 0 and text else NOT_RECORDED
 
 

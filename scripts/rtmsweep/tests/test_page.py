@@ -62,7 +62,7 @@ def test_runs_line_sums_the_recorded_wall_time():
 
 def test_build_is_what_rtm_version_prints(tmp_path):
     fake = tmp_path / "rtm"
-    fake.write_text("#!/bin/sh\necho 'rtm 9.9 (abc1234)'\n")
+    fake.write_text("#!/bin/sh\necho 'rtm 9.9'\necho 'commit abc1234, tree modified'\n")
     fake.chmod(fake.stat().st_mode | stat.S_IXUSR)
-    assert page.build_of(str(fake)) == "rtm 9.9 (abc1234)"
+    assert page.build_of(str(fake)) == "rtm 9.9; commit abc1234, tree modified"
     assert page.build_of(str(tmp_path / "missing")) == page.NOT_RECORDED
