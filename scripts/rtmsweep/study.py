@@ -73,7 +73,12 @@ def spec_rows(args, default_spec, row_of):
         spec_path = os.path.join(work, name + "-spec.yaml")
         with open(spec_path, "w") as f:
             yaml.safe_dump(spec, f, sort_keys=False)
-    return [row_of(r, stats_of(work, r)) for r in sweep(spec_path, work, args)]
+    rows = []
+    for r in sweep(spec_path, work, args):
+        row = row_of(r, stats_of(work, r))
+        row.setdefault("wall_seconds", r.get("wall_seconds"))  # the page's run time; not a CSV column unless listed
+        rows.append(row)
+    return rows
 
 
 def write_page(args, who, text, rows):
