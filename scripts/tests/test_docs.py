@@ -42,9 +42,15 @@ def sections(path):
     return headings(path) + leads
 
 
+def plain(title):
+    """A title as prose and comments name it: case numbers ("13. ") off, dashes as hyphens."""
+    return re.sub(r"^\d+\. ", "", title).replace("–", "-")
+
+
 def names_section(path, ref):
+    ref = plain(ref)
     return any(s == ref or s.startswith(ref + " ") or s.startswith(ref + ".") or s.startswith(ref + ":")
-               for s in sections(path))
+               for s in map(plain, sections(path)))
 
 
 def rel(path):
@@ -79,12 +85,39 @@ def test_section_references_resolve(doc):
     assert not bad, f"{rel(doc)}: " + "; ".join(bad)
 
 
+SOURCES = sorted(os.path.join(d, f) for top in ("model", "tb", "scripts") for d, _, fs in os.walk(os.path.join(ROOT, top))
+                 for f in fs if f.endswith((".h", ".cpp", ".py", ".yaml")) or os.path.dirname(os.path.join(d, f)).endswith("scripts"))
+
+
+def test_sources_name_docs_and_sections_that_exist():
+    """The code's comments cite docs/x.md and docs/x.md, "Heading" too: a moved section fails here."""
+    bad = []
+    for src in SOURCES:
+        if src == os.path.realpath(__file__):
+            continue
+        try:
+            text = text_of(src)
+        except (UnicodeDecodeError, OSError):
+            continue
+        for file in set(re.findall(r"\bdocs/[\w/.-]+\.md\b", text)):
+            if not os.path.exists(os.path.join(ROOT, file)):
+                bad.append(f"{rel(src)}: {file}: no such file")
+        for file, ref in PROSE.findall(re.sub(r"\n\s*(#|//)+\s*", " ", text)):
+            path = os.path.join(ROOT, file)
+            if os.path.exists(path) and not names_section(path, " ".join(ref.split())):
+                bad.append(f'{rel(src)}: {file}, "{ref}": no such heading')
+    assert not bad, "; ".join(bad)
+
+
 def test_a_renamed_heading_fails(tmp_path):
     page = tmp_path / "a.md"
     page.write_text("# Title\n\n## The engine\n\n**A lead.** text\n")
     assert names_section(str(page), "The engine")
     assert names_section(str(page), "A lead")
     assert not names_section(str(page), "The PE engine")
+    page.write_text("### 13. Why a pixel differs: the map\n\n## The host–PE link\n")
+    assert names_section(str(page), "Why a pixel differs")
+    assert names_section(str(page), "The host-PE link")
     assert slug("The host–PE interconnect (`link_topology`)") == "the-hostpe-interconnect-link_topology"
 
 
