@@ -1,6 +1,6 @@
 """Random machine configurations for the scripts that try many (scripts/engine-vs-modules,
 scripts/stress-deadlock): every timing parameter, FIFO depth and unit count the PE loop has,
-drawn so that the loop cannot deadlock by design (docs/machine.md, "Flow control": FIFOs no
+drawn so that the loop cannot deadlock by design (docs/machine.md, "Front buffer": FIFOs no
 shallower than the search FIFO, loop credits within its depth). A seeded random.Random gives the
 same configurations on every run.
 """

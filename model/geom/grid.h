@@ -37,12 +37,12 @@ struct GridOptions {
 
 /// The automatic grid of the reference renderer run on its own: a CPU that crosses empty space in
 /// large steps can afford more voxels than a PE; SPD tree-11 traces fastest with voxels at most
-/// 3:1 (docs/benchmarks.md, "The grid").
+/// 3:1 (docs/benchmarks.md, "The reference renderer's grid").
 inline void size_for_cpu(GridOptions& g) {
   g.max_auto_axis = 1024;
   g.max_auto_cells = 6'000'000;
   g.max_auto_aspect = 3;
-  g.max_refs_per_primitive = 256;  // docs/benchmarks.md, "The grid": binds on SPD shells only
+  g.max_refs_per_primitive = 256;  // binds on SPD shells only (docs/benchmarks.md)
   g.exact_spheres = true;
 }
 

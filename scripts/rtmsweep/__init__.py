@@ -1,5 +1,5 @@
 """The sweep tooling: scripts/sweep, scripts/sweep-run and scripts/plot-sweep are thin commands
-over these modules (docs/sweeps.md, "How the tooling is organised").
+over these modules (docs/sweeps.md, "The tooling").
 
 columns   the results.csv columns, in order: the one list of the metrics
 spec      a sweep spec: parsing, validation, variants, the expansion into jobs and run ids

@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from . import columns  # noqa: E402
+from . import columns, page  # noqa: E402
 
 # Columns that are not configuration axes; anything else in front of the metrics (the spec's
 # `set` keys, `variant`) is one.
@@ -353,6 +353,7 @@ def write_table(configs, out, written):
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
     written.append(path)
+    return "\n".join(lines) + "\n"
 
 
 def main(argv=None):
@@ -361,6 +362,9 @@ def main(argv=None):
     ap.add_argument("outdir", help="folder for the plots (created)")
     ap.add_argument("--format", choices=FORMATS, default="png", help="the plots' file format (default png)")
     ap.add_argument("--quiet", "-q", action="store_true", help="print only problems")
+    ap.add_argument("--page", help="the study page (docs/studies/*.md) whose generated part to rewrite with scaling.md")
+    ap.add_argument("--part", default="scaling", help="the page's part: its markers name `scripts/plot-sweep PART`")
+    ap.add_argument("--rtm", help="the rtm that made the CSV: the page's stamp says what `RTM --version` prints")
     args = ap.parse_args(argv)
 
     try:
@@ -384,7 +388,13 @@ def main(argv=None):
         notes.append(out.file("load_imbalance") + ": skipped, no load_imbalance values")
     if not plot_phases(configs, out, written):
         notes.append(out.file("phases") + ": skipped, no phase columns")
-    write_table(configs, out, written)
+    table = write_table(configs, out, written)
+    if args.page:
+        build = page.build_of(args.rtm) if args.rtm else page.NOT_RECORDED
+        try:
+            page.update(args.page, "scripts/plot-sweep " + args.part, table, build, page.runs_line(rows))
+        except page.PageError as e:
+            sys.exit(f"plot-sweep: {e}")
 
     if not args.quiet:
         skipped = len(rows) - len(ok)

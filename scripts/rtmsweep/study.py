@@ -9,10 +9,11 @@ import subprocess
 
 import yaml
 
-from . import results
+from . import page, results
 from . import spec as spec_module
 
 SCRIPTS = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
+ROOT = os.path.dirname(SCRIPTS)
 
 
 class StudyError(Exception):
@@ -72,4 +73,21 @@ def spec_rows(args, default_spec, row_of):
         spec_path = os.path.join(work, name + "-spec.yaml")
         with open(spec_path, "w") as f:
             yaml.safe_dump(spec, f, sort_keys=False)
-    return [row_of(r, stats_of(work, r)) for r in sweep(spec_path, work, args)]
+    rows = []
+    for r in sweep(spec_path, work, args):
+        row = row_of(r, stats_of(work, r))
+        row.setdefault("wall_seconds", r.get("wall_seconds"))  # the page's run time; not a CSV column unless listed
+        rows.append(row)
+    return rows
+
+
+def write_page(args, who, text, rows):
+    """With --page, writes the study page's generated part: TEXT, stamped with the build that ran
+    the sweep and the rows' count and run time."""
+    if not getattr(args, "page", None):
+        return
+    rtm = args.rtm or os.path.join(ROOT, os.environ.get("RTM_BUILD_DIR", "build"), "rtm")
+    try:
+        page.update(args.page, who, text, page.build_of(rtm), page.runs_line(rows))
+    except page.PageError as e:
+        raise StudyError(str(e))

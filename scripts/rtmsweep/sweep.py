@@ -176,6 +176,9 @@ def parse_args(argv):
     ap.add_argument("--retry-failed", action="store_true",
                     help="drop the rows of failed, deadlocked and timed-out runs and run them again")
     ap.add_argument("--no-plots", action="store_true", help="don't run scripts/plot-sweep at the end")
+    ap.add_argument("--page", metavar="PAGE",
+                    help="the study page (docs/studies/*.md) whose generated part scripts/plot-sweep rewrites "
+                         "with the scaling table, stamped with the rtm's --version")
     ap.add_argument("--status", action="store_true",
                     help="only print how far the sweep in DIR is, after bringing results.csv up to date with the "
                          "runs' row files (exit 0 when every run has its row)")
@@ -366,7 +369,8 @@ def main(argv=None):
     plots_dir = None
     if not interrupted and not args.no_plots and any(r.get("status") == "ok" for r in rows.values()):
         plots_dir = os.path.join(out, "plots")
-        r = subprocess.run([PLOT_SWEEP, csv_path, plots_dir, "--quiet"])
+        page = ["--page", args.page, "--part", name, "--rtm", rtm] if args.page else []
+        r = subprocess.run([PLOT_SWEEP, csv_path, plots_dir, "--quiet"] + page)
         if r.returncode != 0:
             print("sweep: warning: plotting failed (scripts/plot-sweep)", file=sys.stderr)
             plots_dir = None

@@ -367,3 +367,17 @@ def test_bad_options_are_usage_errors(sweep, tmp_path, args, message):
     spec = write_spec(tmp_path / "spec.yaml", "scenes: [balls-1.nff]\n")
     r = sweep(spec, tmp_path / "out", *args)
     assert r.returncode == 2 and message in r.stderr, r.stderr
+
+
+def test_page_writes_the_study_page_with_the_scaling_table_and_the_build(sweep, rtm, tmp_path):
+    page = tmp_path / "tiny.md"
+    page.write_text("# Tiny\n\nThe question.\n\n<!-- begin: written by scripts/plot-sweep tiny, do not edit -->\n"
+                    "<!-- end: written by scripts/plot-sweep tiny -->\n\nThe findings.\n")
+    r = sweep(TINY, tmp_path / "tiny", "--jobs", "2", "--page", str(page))
+    assert r.returncode == 0, r.stdout + r.stderr
+    text = page.read_text()
+    version = subprocess.run([rtm, "--version"], capture_output=True, text=True).stdout.strip().splitlines()[0]
+    assert f"- build: `{version}" in text
+    assert "- runs: 6, " in text and "min of run time in all" in text
+    assert "| balls-1 | 1 | " in text and "| rings-1 | 4 | " in text  # the scaling table, one row per run
+    assert text.startswith("# Tiny\n\nThe question.\n") and text.endswith("\n\nThe findings.\n")
