@@ -8,23 +8,23 @@ The interconnect's topologies on one frame (docs/machine.md, "The host–PE inte
   >   build/rtm render scenes/spd/balls-1.nff --size 64x64 --pes 16 --set link_topology=$t | grep -E '^(cycles|interconnect):'
   > done
   link_topology=serial
-  cycles: 624703 (6.247 ms simulated at 10 ns)
-  interconnect: serial, 1 link: 1317056 bytes, busy 334064 cycles (53.5% of the frame)
+  cycles: 620409 (6.204 ms simulated at 10 ns a cycle)
+  interconnect: serial, 1 link: 1315904 bytes, busy 333776 cycles (53.8% of the frame)
   link_topology=serial --set broadcast=true
-  cycles: 356758 (3.568 ms simulated at 10 ns)
-  interconnect: serial, 1 link: 251276 bytes, busy 66119 cycles (18.5% of the frame)
+  cycles: 352734 (3.527 ms simulated at 10 ns a cycle)
+  interconnect: serial, 1 link: 251204 bytes, busy 66101 cycles (18.7% of the frame)
   link_topology=bus --set broadcast=true
-  cycles: 356758 (3.568 ms simulated at 10 ns)
-  interconnect: bus, 1 link: 251276 bytes, busy 66119 cycles (18.5% of the frame)
+  cycles: 352734 (3.527 ms simulated at 10 ns a cycle)
+  interconnect: bus, 1 link: 251204 bytes, busy 66101 cycles (18.7% of the frame)
   link_topology=star --set host_ports=4
-  cycles: 374710 (3.747 ms simulated at 10 ns)
-  interconnect: star, 16 links, 4 host ports: 1317056 bytes, busy 334064 cycles over all links; the busiest, pe0, 20879 (5.6% of the frame)
+  cycles: 370199 (3.702 ms simulated at 10 ns a cycle)
+  interconnect: star, 16 links, 4 host ports: 1315904 bytes, busy 333776 cycles over all links; the busiest, pe0, 20861 cycles (5.6% of the frame)
   link_topology=star --set host_ports=16 --set broadcast=true
-  cycles: 315014 (3.150 ms simulated at 10 ns)
-  interconnect: star, 16 links, 16 host ports: 1317056 bytes, busy 334064 cycles over all links; the busiest, pe0, 20879 (6.6% of the frame)
+  cycles: 310842 (3.108 ms simulated at 10 ns a cycle)
+  interconnect: star, 16 links, 16 host ports: 1315904 bytes, busy 333776 cycles over all links; the busiest, pe0, 20861 cycles (6.7% of the frame)
   link_topology=tree --set broadcast=true
-  cycles: 442542 (4.425 ms simulated at 10 ns)
-  interconnect: tree, 16 links, 1 host port: 1745088 bytes, busy 448672 cycles over all links; the busiest, pe0, 66119 (14.9% of the frame)
+  cycles: 438446 (4.384 ms simulated at 10 ns a cycle)
+  interconnect: tree, 16 links, 1 host port: 1743936 bytes, busy 448384 cycles over all links; the busiest, pe0, 66101 cycles (15.1% of the frame)
   link_topology=tree --set broadcast=true --set host_ports=4 --set tree_fanout=3
-  cycles: 339520 (3.395 ms simulated at 10 ns)
-  interconnect: tree, 16 links, 4 host ports: 1452224 bytes, busy 370256 cycles over all links; the busiest, pe0, 29927 (8.8% of the frame)
+  cycles: 335230 (3.352 ms simulated at 10 ns a cycle)
+  interconnect: tree, 16 links, 4 host ports: 1451072 bytes, busy 369968 cycles over all links; the busiest, pe0, 29909 cycles (8.9% of the frame)
