@@ -38,8 +38,8 @@ void EngineHostedPe::run() {
   finished_event.notify(sc_core::SC_ZERO_TIME);
 }
 
-std::vector<std::pair<std::string, const FifoStats*>> EngineHostedPe::fifo_stats() {
-  return engine_.fifo_stats(sc_core::sc_time_stamp().value());
+FifoStatsList EngineHostedPe::fifo_stats() {
+  return engine_.fifo_stats(sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds());
 }
 
 std::string EngineHostedPe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }

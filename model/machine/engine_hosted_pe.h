@@ -16,7 +16,7 @@ class EngineHostedPe : public Pe {
                  Timekeeper* keeper, EngineDriver& driver);
 
   bool finished() const override { return finished_; }
-  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
+  FifoStatsList fifo_stats() override;
   std::string occupancy_report() override;
   void trace(Waveform& wave) override;
 

@@ -9,7 +9,7 @@ FrontBufferModule::FrontBufferModule(sc_core::sc_module_name name, PeContext& ct
       mem_(mem),
       policy_(ctx, mem.rays_expected),
       finished_event_(finished),
-      pipe_(ctx.period.value(), &ctx.counters.front) {
+      pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::FrontBuffer, 0)) {
   SC_THREAD(run);
 }
 

@@ -11,8 +11,8 @@ IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& 
       root_sleep_(ctx.sleeper(UnitKind::Root, lane)),
       dispatcher_(dispatcher),
       root_fifo_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind),
-      mac_pipe_(ctx.period.value(), &ctx.counters.mac),
-      root_pipe_(ctx.period.value(), &ctx.counters.root) {
+      mac_pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Mac, lane)),
+      root_pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Root, lane)) {
   if (clock) {
     clocked_ = std::make_unique<ClockedMac>("mac", mac_.timing(), ctx.config.intersection_precision_in_force(), ctx.period);
     clocked_->clk(*clock);

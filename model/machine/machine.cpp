@@ -155,26 +155,24 @@ class Machine : public sc_core::sc_module {
   static constexpr double kMonitorStepCycles = 4096;
   static constexpr std::chrono::milliseconds kMeasureEvery{50};
 
-  /// An upper bound on the PE cycles any unit can spend on one item (a ray's pass through the
-  /// front buffer or a search unit, a MAC and root job on the fullest voxel, a shading) without
-  /// finishing it: the monitor calls the loop stalled only after twice this with nothing done.
+  /// An upper bound on the PE cycles a ray can spend in the units without any of them finishing
+  /// an item: each unit's longest item (units/unit_table.h) summed. The monitor calls the loop
+  /// stalled only after twice this with nothing done.
   static uint64_t longest_item_cycles(const Scene& s, const Grid& g, const MachineConfig& c) {
-    uint64_t fullest = 0;
-    for (size_t v = 0; v + 1 < g.start.size(); ++v) fullest = std::max<uint64_t>(fullest, g.start[v + 1] - g.start[v]);
-    uint64_t clips = 0;
-    for (const Primitive& p : s.primitives) clips = std::max<uint64_t>(clips, p.clips.size());
-    const uint64_t test = uint64_t(kMacProducts) * uint64_t(c.add_latency) +
-                          2 * uint64_t(c.mul_latency) + uint64_t(c.add_latency) + uint64_t(c.root_cycles()) +
-                          uint64_t(c.sort_cycles) + uint64_t(c.clip_cycles) * (clips + 1);
+    ItemBounds b;
+    for (size_t v = 0; v + 1 < g.start.size(); ++v)
+      b.fullest_voxel = std::max<uint64_t>(b.fullest_voxel, g.start[v + 1] - g.start[v]);
+    for (const Primitive& p : s.primitives) b.most_clips = std::max<uint64_t>(b.most_clips, p.clips.size());
+    b.lights = s.lights.size();
+    b.walk_voxels = uint64_t(g.n[0] + g.n[1] + g.n[2] + 3);
     // A local-memory access at its slowest: its largest record behind one of every requester's.
-    const uint64_t record = std::max<uint64_t>({kSpillRecordBytes, coef_record_bytes(Precision::Fp64), voxel_list_bytes(fullest + 2)});
-    const uint64_t access = uint64_t(c.search_units + c.intersection_units + 3) *
-                            (uint64_t(c.memory_latency) + record / uint64_t(c.memory_bytes_per_cycle) + 1);
-    const uint64_t walk = uint64_t(g.n[0] + g.n[1] + g.n[2] + 3) * (uint64_t(c.dda_step_cycles) + access);
-    const uint64_t shade =
-        uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles + c.accumulate_cycles) * (s.lights.size() + 3);
-    return (fullest + 1) * (test + access) + walk + shade + 3 * access + uint64_t(c.fb_dispatch_cycles) +
-           uint64_t(c.pe_ray_cycles);
+    const uint64_t record =
+        std::max<uint64_t>({kSpillRecordBytes, coef_record_bytes(Precision::Fp64), voxel_list_bytes(b.fullest_voxel + 2)});
+    b.access = uint64_t(c.search_units + c.intersection_units + 3) *
+               (uint64_t(c.memory_latency) + record / uint64_t(c.memory_bytes_per_cycle) + 1);
+    uint64_t cycles = 0;
+    for (const UnitSpec& u : unit_table()) cycles += u.longest_item(c, b);
+    return cycles;
   }
 
   /// Every few thousand cycles (ranked arbitration): a look, until the frame is done or a look
@@ -222,7 +220,7 @@ class Machine : public sc_core::sc_module {
       uint64_t rays = finished_rays_;
       for (size_t i = 0; i < active_.size();) {
         const PeCounters& k = active_[i]->ctx.counters;
-        const uint64_t w = k.front.items + k.search().items + k.mac.items + k.root.items + k.shade.items;
+        const uint64_t w = k.all().items;
         const uint64_t r = k.counts.total_rays();
         if (active_[i]->finished()) {
           finished_work_ += w;
@@ -513,8 +511,9 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     const PeCounters& k = pe->ctx.counters;
     r.counts.add(k.counts);
     r.mac_products += k.mac_products;
-    r.mac_busy_cycles += k.mac.busy_cycles;
-    r.mac_issue_cycles += k.mac.issue_cycles;
+    const UnitStats mac = k.total(UnitKind::Mac);
+    r.mac_busy_cycles += mac.busy_cycles;
+    r.mac_issue_cycles += mac.issue_cycles;
     r.spills += k.spills;
     r.per_pe.push_back(k);
     pe->ctx.memory->end_of_frame();

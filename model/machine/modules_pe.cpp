@@ -1,7 +1,8 @@
 #include "machine/modules_pe.h"
 
 #include <set>
-#include <sstream>
+
+#include "units/fifo_report.h"
 
 namespace rtm {
 ModulesPe::ModulesPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
@@ -14,27 +15,17 @@ ModulesPe::ModulesPe(sc_core::sc_module_name name, int index, const MachineConfi
     else
       ends_ = std::make_unique<MeteredFifo<RayEnd>>(f.name, c.*f.depth, f.kind);
   }
-  // In this order: the kernel's order among processes runnable together follows it
+  // In the unit table's order: the kernel's order among processes runnable together follows it
   // (arbitration = kernel).
-  front_ = std::make_unique<FrontBufferModule>("front_buffer", ctx, memory, finished_event);
-  shading_ = std::make_unique<ShadingModule>("shading", ctx, memory);
-  search_dispatch_ = std::make_unique<Dispatcher>("search_dispatch", *rays_[size_t(FifoId::Search)], c.search_units);
-  for (int k = 0; k < c.search_units; ++k)
-    search_.push_back(
-        std::make_unique<SearchModule>(("search" + std::to_string(k)).c_str(), ctx, k, *search_dispatch_));
-  intersect_dispatch_ =
-      std::make_unique<Dispatcher>("intersect_dispatch", *rays_[size_t(FifoId::Intersect)], c.intersection_units);
-  for (int k = 0; k < c.intersection_units; ++k)
-    intersection_.push_back(std::make_unique<IntersectionModule>(("intersection" + std::to_string(k)).c_str(), ctx,
-                                                                 c.timing == Timing::Clocked ? clock : nullptr,
-                                                                 *intersect_dispatch_, k));
+  for (const UnitSpec& u : unit_table())
+    for (int k = 0, n = unit_count(u.kind, c); k < n; ++k) create(u.kind, k, c.timing == Timing::Clocked ? clock : nullptr);
 
   for (const FifoSpec& f : fifo_table()) {
     if (f.per_lane || !units.has(f)) continue;
     std::set<UnitModule*> ends;  // a module running several units binds each FIFO once
     for (const auto* kinds : {&f.writers, &f.readers})
       for (UnitKind k : *kinds)
-        for (UnitModule* m : modules_of(k)) ends.insert(m);
+        for (UnitModule* m : modules_[size_t(k)]) ends.insert(m);
     for (UnitModule* m : ends) {
       if (f.payload == Payload::Ray)
         m->bind(f.id, *rays_[size_t(f.id)]);
@@ -44,51 +35,44 @@ ModulesPe::ModulesPe(sc_core::sc_module_name name, int index, const MachineConfi
   }
 }
 
-std::vector<UnitModule*> ModulesPe::modules_of(UnitKind k) {
-  switch (k) {
-    case UnitKind::FrontBuffer: return {front_.get()};
-    case UnitKind::Shading: return {shading_.get()};
-    case UnitKind::Search: {
-      std::vector<UnitModule*> v;
-      for (auto& s : search_) v.push_back(s.get());
-      return v;
-    }
+void ModulesPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
+  const MachineConfig& c = ctx.config;
+  std::vector<UnitModule*>& of = modules_[size_t(kind)];
+  switch (kind) {
+    case UnitKind::FrontBuffer:
+      front_ = std::make_unique<FrontBufferModule>(unit_name(kind), ctx, memory, finished_event);
+      return of.push_back(front_.get());
+    case UnitKind::Shading:
+      shading_ = std::make_unique<ShadingModule>(unit_name(kind), ctx, memory);
+      return of.push_back(shading_.get());
+    case UnitKind::Search:
+      if (k == 0) search_dispatch_ = std::make_unique<Dispatcher>("search_dispatch", *rays_[size_t(FifoId::Search)], c.search_units);
+      search_.push_back(std::make_unique<SearchModule>((unit_name(kind) + std::to_string(k)).c_str(), ctx, k, *search_dispatch_));
+      return of.push_back(search_.back().get());
     case UnitKind::Mac:
-    case UnitKind::Root: {
-      std::vector<UnitModule*> v;
-      for (auto& x : intersection_) v.push_back(x.get());
-      return v;
-    }
+      // An intersection unit runs its lane's MAC and root unit.
+      if (k == 0)
+        intersect_dispatch_ = std::make_unique<Dispatcher>("intersect_dispatch", *rays_[size_t(FifoId::Intersect)], c.intersection_units);
+      intersection_.push_back(std::make_unique<IntersectionModule>(("intersection" + std::to_string(k)).c_str(), ctx,
+                                                                   clock, *intersect_dispatch_, k));
+      return of.push_back(intersection_.back().get());
+    case UnitKind::Root: return of.push_back(intersection_.at(size_t(k)).get());
   }
-  return {};
 }
 
-std::vector<std::pair<std::string, const FifoStats*>> ModulesPe::fifo_stats() {
-  std::vector<std::pair<std::string, const FifoStats*>> out;
-  for (const FifoSpec& f : fifo_table()) {
-    if (f.per_lane)
-      for (auto& x : intersection_) out.emplace_back(f.name, &x->root_fifo().stats());
-    else if (f.payload == Payload::Ray && rays_[size_t(f.id)])
-      out.emplace_back(f.name, &rays_[size_t(f.id)]->stats());
-    else if (f.payload == Payload::End)
-      out.emplace_back(f.name, &ends_->stats());
-  }
-  return out;
+FifoMeter& ModulesPe::meter(const FifoSpec& f, int lane) {
+  if (f.per_lane) return intersection_[size_t(lane)]->root_fifo().meter();
+  return f.payload == Payload::End ? ends_->meter() : rays_[size_t(f.id)]->meter();
+}
+
+FifoStatsList ModulesPe::fifo_stats() {
+  return rtm::fifo_stats(ctx, sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds(),
+                         [&](const FifoSpec& f, int lane) -> FifoMeter& { return meter(f, lane); });
 }
 
 std::string ModulesPe::occupancy_report() {
-  std::ostringstream s;
-  s << name() << ": " << front_->policy().waiting() << " rays waiting in the front buffer, "
-    << front_->policy().in_flight() << " past it;";
-  for (const FifoSpec& f : fifo_table()) {
-    if (f.per_lane)
-      for (auto& x : intersection_) s << " " << f.name << " " << x->root_fifo().occupancy() << "/" << ctx.config.*f.depth;
-    else if (f.payload == Payload::Ray && rays_[size_t(f.id)])
-      s << " " << f.name << " " << rays_[size_t(f.id)]->occupancy() << "/" << ctx.config.*f.depth;
-    else if (f.payload == Payload::End)
-      s << " " << f.name << " " << ends_->occupancy() << "/" << ctx.config.*f.depth;
-  }
-  return s.str();
+  return std::string(name()) + ": " +
+         rtm::occupancy_report(ctx, front_->policy(), [&](const FifoSpec& f, int lane) -> FifoMeter& { return meter(f, lane); });
 }
 
 void ModulesPe::trace(Waveform& wave) {

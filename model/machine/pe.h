@@ -18,6 +18,7 @@
 
 #include "machine/local_memory.h"
 #include "machine/metered_fifo.h"
+#include "units/fifo_report.h"
 
 namespace rtm {
 
@@ -29,7 +30,7 @@ class Pe : public sc_core::sc_module {
 
   virtual bool finished() const = 0;
   /// Every FIFO, in the FIFO table's order (units/fifo_table.h), for statistics.
-  virtual std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() = 0;
+  virtual FifoStatsList fifo_stats() = 0;
   /// The front buffer's state and every FIFO's occupancy, for deadlock reports.
   virtual std::string occupancy_report() = 0;
   virtual void trace(Waveform& wave) = 0;

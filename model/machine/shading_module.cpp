@@ -4,7 +4,7 @@ namespace rtm {
 
 ShadingModule::ShadingModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
     : UnitModule(name, ctx, {UnitKind::Shading}), unit_(ctx), sleep_(ctx.sleeper(UnitKind::Shading)), mem_(mem),
-      pipe_(ctx.period.value(), &ctx.counters.shade) {
+      pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Shading, 0)) {
   if (ctx.units.shadow_rays) generators_[size_t(RayKind::Shadow)] = std::make_unique<SpawnUnit>("shadow_rays");
   if (ctx.units.reflection) generators_[size_t(RayKind::Reflected)] = std::make_unique<SpawnUnit>("reflection");
   if (ctx.units.refraction) generators_[size_t(RayKind::Transmitted)] = std::make_unique<SpawnUnit>("refraction");
