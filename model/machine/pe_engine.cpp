@@ -189,6 +189,19 @@ struct PeEngine::Ops {
   const Held& head() { return pipe().head().item; }
   int index() const { return place.index; }
 
+  void woke(uint64_t) {
+    // Whatever woke it, a unit decides again whether it waits for input.
+    if constexpr (K == UnitKind::FrontBuffer) {
+      e.front_.woke(now);
+    } else if constexpr (K == UnitKind::Search) {
+      e.waiting_search_.busy(index());
+    } else if constexpr (K == UnitKind::Mac) {
+      e.waiting_macs_.busy(index());
+    } else {
+      place.waiting = false;
+    }
+  }
+
   bool write_head(uint64_t) {
     const Held& h = head();
     if constexpr (K == UnitKind::FrontBuffer) {
@@ -204,7 +217,8 @@ struct PeEngine::Ops {
     } else if constexpr (K == UnitKind::Root) {
       return e.emit(h.out, e.results_[h.item].r, kNoSlot, UnitKind::Root, index(), now);
     } else {
-      return e.write_shading(now);
+      ShadingOps ops{e, h.item, now};
+      return e.shading_writer_.write(e.shading_, ops);
     }
   }
 
@@ -213,7 +227,7 @@ struct PeEngine::Ops {
     if constexpr (K == UnitKind::Shading) {
       e.free_slots_.push_back(h.item);
       e.shading_.retired();
-      e.shade_next_ = 0;
+      e.shading_writer_.retired();
     } else if constexpr (K == UnitKind::Root) {
       e.free_results_.push_back(h.item);
     }
@@ -221,7 +235,8 @@ struct PeEngine::Ops {
 
   bool accept(uint64_t) {
     if constexpr (K == UnitKind::FrontBuffer) {
-      return e.front_decide(now);
+      FrontOps ops{e, now};
+      return e.front_.carry_out(now, e.cycle_, ops);
     } else if constexpr (K == UnitKind::Search) {
         Fifo& in = e.fifo(FifoId::Search);
         if (!in.visible()) return false;
@@ -263,9 +278,9 @@ struct PeEngine::Ops {
     }
   }
 
-  void wait_for_input() {
+  bool wait_for_input() {
     if constexpr (K == UnitKind::FrontBuffer) {
-      e.front_.wait(now);
+      return e.front_.wait(now);
     } else if constexpr (K == UnitKind::Search) {
       e.waiting_search_.idle(index());
     } else if constexpr (K == UnitKind::Mac) {
@@ -273,81 +288,62 @@ struct PeEngine::Ops {
     } else {
       place.waiting = true;
     }
+    return true;
   }
 
   void want(uint64_t t) { e.want(u, t); }
 };
 
 void PeEngine::wake(size_t unit, uint64_t now) {
-  // Whatever woke it, a unit decides again whether it waits for input; then one instance of the
-  // step per kind of unit: its operations inline, no switch per call.
+  // One instance of the step per kind of unit: its operations inline, no switch per call.
   Place& place = places_[unit];
   auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, pe_.memory.get(), ops); };
   switch (place.kind) {
-    case UnitKind::FrontBuffer:
-      front_.woke(now);
-      return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
-    case UnitKind::Search:
-      waiting_search_.busy(place.index);
-      return step(Ops<UnitKind::Search>{*this, unit, now, place});
-    case UnitKind::Mac:
-      waiting_macs_.busy(place.index);
-      return step(Ops<UnitKind::Mac>{*this, unit, now, place});
-    case UnitKind::Root:
-      place.waiting = false;
-      return step(Ops<UnitKind::Root>{*this, unit, now, place});
-    case UnitKind::Shading:
-      place.waiting = false;
-      return step(Ops<UnitKind::Shading>{*this, unit, now, place});
+    case UnitKind::FrontBuffer: return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
+    case UnitKind::Search: return step(Ops<UnitKind::Search>{*this, unit, now, place});
+    case UnitKind::Mac: return step(Ops<UnitKind::Mac>{*this, unit, now, place});
+    case UnitKind::Root: return step(Ops<UnitKind::Root>{*this, unit, now, place});
+    case UnitKind::Shading: return step(Ops<UnitKind::Shading>{*this, unit, now, place});
   }
 }
 
-bool PeEngine::front_decide(uint64_t now) {
-  auto d = front_.decide(now, cycle_, [&] {
-    Fifo& ends = fifo(FifoId::Ends);
-    while (ends.visible()) {
-      ends.read(now);
-      front_.ended();
-    }
-    for (const auto& [in, returns_credit] : front_inputs_)
-      while (in->visible()) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
-  });
-  using D = FrontBufferPolicy<uint32_t>::Decision;
-  switch (d.kind) {
-    case D::Queued: dispatch(d.queued, d.cycles, d.from, now, std::move(d.wait)); return true;
-    case D::Primary:
-      dispatch(new_ray(primary_ray(pe_, rays_, d.primary)), d.cycles, d.from, now, std::move(d.wait));
-      return true;
-    case D::Align: want(place(UnitKind::FrontBuffer), d.at); return false;
-    case D::None: return false;
-  }
-  return false;
-}
+/// The front buffer's operations for FrontBufferPolicy::carry_out.
+struct PeEngine::FrontOps {
+  PeEngine& e;
+  uint64_t now;
 
-void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait) {
-  front_.dispatched(now, slots_[slot].id, cycles, from);
-  places_[place(UnitKind::FrontBuffer)].pipe.accept({slot, {}}, now, cycles, front_.interval(cycles), std::move(wait));
-}
-
-bool PeEngine::write_shading(uint64_t now) {
-  // The oldest shaded ray's outputs in order; a spawned ray is made (numbered) before it waits
-  // for room, as in the module.
-  const uint32_t ray = places_[place(UnitKind::Shading)].pipe.head().item.item;
-  for (; shade_next_ < shading_.outputs(); ++shade_next_) {
-    const Output o = shading_.output(shade_next_);
-    if (shade_next_ == 0) {
-      if (!emit(o, slots_[ray], kNoSlot, UnitKind::Shading, 0, now)) return false;
-      continue;
-    }
-    if (!shade_child_made_) {
-      shade_child_ = new_ray(shading_.spawn(slots_[ray], shade_next_));
-      shade_child_made_ = true;
-    }
-    if (!emit(o, slots_[shade_child_], shade_child_, UnitKind::Shading, 0, now)) return false;
-    shade_child_made_ = false;
+  bool read_end() {
+    Fifo& ends = e.fifo(FifoId::Ends);
+    if (!ends.visible()) return false;
+    ends.read(now);
+    return true;
   }
-  return true;
-}
+  bool read(FifoId id, uint32_t& slot) {
+    Fifo& in = e.fifo(id);
+    if (!in.visible()) return false;
+    slot = in.read(now);
+    return true;
+  }
+  void drained() {}
+  uint32_t primary(size_t n) { return e.new_ray(primary_ray(e.pe_, e.rays_, n)); }
+  void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, MemoryWait&& wait) {
+    e.front_.dispatched(now, e.slots_[slot].id, cycles, from);
+    e.places_[e.place(UnitKind::FrontBuffer)].pipe.accept({slot, {}}, now, cycles, e.front_.interval(cycles), std::move(wait));
+  }
+  void want(uint64_t t) { e.want(e.place(UnitKind::FrontBuffer), t); }
+  void finished() {}
+};
+
+/// Shading's operations for ShadingWriter: `ray` is the oldest shaded ray's slot.
+struct PeEngine::ShadingOps {
+  PeEngine& e;
+  uint32_t ray;
+  uint64_t now;
+
+  bool write_end(const Output& o) { return e.emit(o, e.slots_[ray], kNoSlot, UnitKind::Shading, 0, now); }
+  uint32_t make(size_t k) { return e.new_ray(e.shading_.spawn(e.slots_[ray], k)); }
+  bool write(const Output& o, uint32_t child) { return e.emit(o, e.slots_[child], child, UnitKind::Shading, 0, now); }
+};
 
 // ---- statistics ----
 

@@ -134,6 +134,8 @@ class PeEngine {
   };
   template <UnitKind K>
   struct Ops;  // a kind of unit's operations for step_unit (units/unit_step.h)
+  struct FrontOps;    // the front buffer's for FrontBufferPolicy::carry_out
+  struct ShadingOps;  // shading's for ShadingWriter
 
   /// The place of unit `index` of kind k: places are in the unit table's order, each kind's by number.
   size_t place(UnitKind k, size_t index = 0) const { return first_place_[size_t(k)] + index; }
@@ -154,10 +156,6 @@ class PeEngine {
   bool emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now);
   static constexpr uint32_t kNoSlot = UINT32_MAX;
 
-  /// Carries out the front buffer's decision when it can hand out a ray: true when it did.
-  bool front_decide(uint64_t now);
-  void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait);
-  bool write_shading(uint64_t now);
 
   PeState& pe_;
   std::vector<PixelSum>& frame_;
@@ -195,9 +193,7 @@ class PeEngine {
   ShadingUnit shading_;
   LaneDispatcher waiting_search_;      ///< search units waiting for a ray: the lowest-numbered takes it
   LaneDispatcher waiting_macs_;
-  size_t shade_next_ = 0;  ///< the oldest shaded ray's next output to write
-  uint32_t shade_child_ = 0;
-  bool shade_child_made_ = false;
+  ShadingWriter<uint32_t> shading_writer_;
 };
 
 }  // namespace rtm
