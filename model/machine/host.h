@@ -15,7 +15,7 @@
 
 #include "machine/pe.h"
 #include "net/interconnect.h"
-#include "units/memory_layout.h"
+#include "memory/memory_layout.h"
 
 namespace rtm {
 

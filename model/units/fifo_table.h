@@ -9,7 +9,7 @@
 #include <initializer_list>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "units/unit_kind.h"
 
 namespace rtm {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "geom/mac_schedule.h"
-#include "machine/config.h"
+#include "config/config.h"
 
 namespace rtm {
 

@@ -7,13 +7,13 @@
 #include <memory>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "render/reference.h"
 #include "render/shade.h"
 #include "units/event_log.h"
 #include "units/pe_memory.h"
 #include "units/pipeline.h"
-#include "units/scene_image.h"
+#include "memory/scene_image.h"
 #include "units/unit_table.h"
 
 namespace rtm {
@@ -77,7 +77,7 @@ struct PeState {
   uint32_t next_ray_id = 0;
   EventLog* log = nullptr;  ///< null: no event log
   /// Rays the front buffer can hold: on chip, and in the spill area local memory leaves over
-  /// (units/memory_layout.h); and the most rays one ray's end can spawn (a shadow ray per light,
+  /// (memory/memory_layout.h); and the most rays one ray's end can spawn (a shadow ray per light,
   /// a reflected and a transmitted ray), which new primary rays must leave room for.
   uint64_t spill_rays = UINT64_MAX;
   uint64_t spawn_fanout = 0;

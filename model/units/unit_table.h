@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "units/fifo_table.h"
 #include "units/unit_kind.h"
 

@@ -25,6 +25,10 @@ enum class FlowControl { Credits, None };
 /// How a PE's local memory orders the requests issued in one cycle (memory/local_memory_timing.h).
 enum class MemoryArbitration { RoundRobin, FixedPriority, Fcfs };
 
+/// The most replicated units of one kind a PE may have (search_units' bound); the lane dispatcher
+/// (units/lane_dispatcher.h) holds as many.
+inline constexpr int kMaxUnitsOfAKind = 256;
+
 /// The preset of MachineConfig{} itself: no key changed.
 inline constexpr const char* kDefaultPreset = "default";
 
