@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "byte_size.h"
-#include "machine/pe_engine.h"
+#include "engine/pe_engine.h"
 #include "render/pixel_sum.h"
 #include "render/reference.h"
 #include "render_options.h"

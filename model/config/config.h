@@ -142,7 +142,7 @@ struct MachineConfig {
   Arbitration arbitration = Arbitration::Ranked;  ///< machine/timekeeper.h
 
   enum class PeSimulation { Auto, Modules };
-  PeSimulation pe_simulation = PeSimulation::Auto;  ///< machine/pe_engine.h
+  PeSimulation pe_simulation = PeSimulation::Auto;  ///< engine/pe_engine.h
 
   /// The technology the machine's cost is figured in: the built-in 45nm or a technology file
   /// (cost/technology.h, docs/cost.md).

@@ -10,8 +10,8 @@
 
 #include <systemc>
 
-#include "machine/pe_engine.h"
-#include "machine/worker_pool.h"
+#include "engine/pe_engine.h"
+#include "engine/worker_pool.h"
 
 namespace rtm {
 

@@ -5,7 +5,7 @@
 
 #include "machine/engine_driver.h"
 #include "machine/pe.h"
-#include "machine/pe_engine.h"
+#include "engine/pe_engine.h"
 
 namespace rtm {
 

@@ -7,7 +7,7 @@
 
 #include "machine/frame_stats.h"
 #include "machine/host.h"
-#include "machine/worker_pool.h"
+#include "engine/worker_pool.h"
 #include "memory/memory_layout.h"
 #include "units/pe_memory.h"
 #include "render/scene_needs.h"

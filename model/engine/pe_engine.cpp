@@ -1,4 +1,4 @@
-#include "machine/pe_engine.h"
+#include "engine/pe_engine.h"
 
 #include <algorithm>
 
