@@ -1,8 +1,8 @@
 #include "machine/machine.h"
 
-#include "machine/engine_hosted_pe.h"
+#include "machine/engine_pe.h"
 #include "machine/gtkw.h"
-#include "machine/modules_pe.h"
+#include "machine/modular_pe.h"
 #include "machine/partition.h"
 #include "machine/sim_time.h"
 #include "render/atomic_file.h"
@@ -79,9 +79,9 @@ class Machine : public sc_core::sc_module {
       const std::string pe = "pe" + std::to_string(i);
       const size_t pixels = parts[size_t(i)].size();
       if (engine_unsupported.empty())
-        pes.push_back(std::make_unique<EngineHostedPe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
+        pes.push_back(std::make_unique<EnginePe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
       else
-        pes.push_back(std::make_unique<ModulesPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
+        pes.push_back(std::make_unique<ModularPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
       PeState& st = pes.back()->ctx;
       st.spill_rays = memory[size_t(i)].spill_rays();
@@ -317,7 +317,7 @@ std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, 
 
 /// The SystemC threads a configuration elaborates, known before elaborating it: the host, the
 /// monitor and the timekeeper; with the PEs on the engine, its driver and per PE one thread, else
-/// (modules_pe.cpp) per PE the front buffer, the shading unit, each search unit, and per
+/// (modular_pe.cpp) per PE the front buffer, the shading unit, each search unit, and per
 /// intersection lane the MAC and root threads plus the clocked MAC. run_machine counts again once
 /// elaborated.
 size_t expected_threads(const MachineConfig& c, bool tracing) {
@@ -525,7 +525,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   r.scene_bytes = top.scene_bytes;
   r.memory = top.memory;
   r.units = top.units;
-  for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, "spawn_fifo"},
+  for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, fifo_spec(FifoId::Spawn).name},
                             {top.units.shadow_rays, "shading.shadow_rays"},
                             {top.units.reflection, "shading.reflection"},
                             {top.units.refraction, "shading.refraction"}})

@@ -1,7 +1,7 @@
 // A processing element as the host and the machine see it, however its pipeline is simulated:
 // local memory on the host's link, the units' counters, and an event when its part of the frame
-// is done. Two kinds: a PE as SystemC modules, one per block of paper Fig. 1 (modules_pe.h), and
-// a PE whose units the PE engine schedules on its own event loop (engine_hosted_pe.h).
+// is done. Two kinds: a PE as SystemC modules, one per block of paper Fig. 1 (modular_pe.h), and
+// a PE whose units the PE engine schedules on its own event loop (engine_pe.h).
 //
 //   front buffer ─► search units (K) ─┬─► intersection units (M: MAC ► root/sort) ─┬─► shading
 //        ▲  ▲  ▲                      │ empty voxel                      │ no hit   │ spawned rays

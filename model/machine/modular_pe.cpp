@@ -1,11 +1,11 @@
-#include "machine/modules_pe.h"
+#include "machine/modular_pe.h"
 
 #include <set>
 
 #include "units/fifo_report.h"
 
 namespace rtm {
-ModulesPe::ModulesPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+ModularPe::ModularPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
                      size_t pixels, sc_core::sc_clock* clock, Timekeeper* keeper)
     : Pe(name, index, c, units, pixels, keeper) {
   for (const FifoSpec& f : fifo_table()) {
@@ -35,7 +35,7 @@ ModulesPe::ModulesPe(sc_core::sc_module_name name, int index, const MachineConfi
   }
 }
 
-void ModulesPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
+void ModularPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
   const MachineConfig& c = ctx.config;
   std::vector<UnitModule*>& of = modules_[size_t(kind)];
   switch (kind) {
@@ -60,22 +60,22 @@ void ModulesPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
   }
 }
 
-FifoMeter& ModulesPe::meter(const FifoSpec& f, int lane) {
+FifoMeter& ModularPe::meter(const FifoSpec& f, int lane) {
   if (f.per_lane) return intersection_[size_t(lane)]->root_fifo().meter();
   return f.payload == Payload::End ? ends_->meter() : rays_[size_t(f.id)]->meter();
 }
 
-FifoStatsList ModulesPe::fifo_stats() {
+FifoStatsList ModularPe::fifo_stats() {
   return rtm::fifo_stats(ctx, sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds(),
                          [&](const FifoSpec& f, int lane) -> FifoMeter& { return meter(f, lane); });
 }
 
-std::string ModulesPe::occupancy_report() {
+std::string ModularPe::occupancy_report() {
   return std::string(name()) + ": " +
          rtm::occupancy_report(ctx, front_->policy(), [&](const FifoSpec& f, int lane) -> FifoMeter& { return meter(f, lane); });
 }
 
-void ModulesPe::trace(Waveform& wave) {
+void ModularPe::trace(Waveform& wave) {
   for (const FifoSpec& f : fifo_table())
     if (f.payload == Payload::Ray && rays_[size_t(f.id)])
       rays_[size_t(f.id)]->trace(wave, std::string(rays_[size_t(f.id)]->name()) + ".occupancy", &ctx.window);

@@ -9,10 +9,10 @@
 
 namespace rtm {
 
-class EngineHostedPe : public Pe {
+class EnginePe : public Pe {
  public:
-  SC_HAS_PROCESS(EngineHostedPe);
-  EngineHostedPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+  SC_HAS_PROCESS(EnginePe);
+  EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
                  Timekeeper* keeper, EngineDriver& driver);
 
   bool finished() const override { return finished_; }

@@ -13,9 +13,9 @@
 
 namespace rtm {
 
-class ModulesPe : public Pe {
+class ModularPe : public Pe {
  public:
-  ModulesPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+  ModularPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
             sc_core::sc_clock* clock, Timekeeper* keeper);
 
   bool finished() const override { return front_->policy().finished(); }
