@@ -9,8 +9,8 @@
 #include <systemc>
 
 #include "build_info.h"
-#include "machine/config.h"
-#include "machine/nearest_name.h"
+#include "config/config.h"
+#include "config/nearest_name.h"
 #include "options.h"
 #include "pov_export.h"
 #include "reference_cache.h"
@@ -129,7 +129,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--preset", r.preset, preset_help);
   render->add_option("--config", r.config_file, "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
-  // --pes and --search-units are checked as their configuration keys (machine/config.cpp).
+  // --pes and --search-units are checked as their configuration keys (config/config.cpp).
   render->add_option("--pes", r.pes, "Processing elements");
   render->add_option("--timing", r.timing,
                      "fast (default: the MAC by formula, the PEs on the PE engine) or clocked (the MAC on a clock, every unit a SystemC process); the same cycles either way");

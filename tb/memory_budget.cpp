@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "byte_size.h"
-#include "machine/pe_engine.h"
+#include "engine/pe_engine.h"
 #include "render/pixel_sum.h"
 #include "render/reference.h"
 #include "render_options.h"
@@ -24,7 +24,7 @@ namespace {
 // engine about 16 KiB, one as modules about 110 KiB, besides its FIFOs.
 constexpr double kProcessBytes = 160.0 * (1 << 20);
 constexpr double kEnginePeBytes = 24.0 * 1024;
-constexpr double kModulesPeBytes = 128.0 * 1024;
+constexpr double kModularPeBytes = 128.0 * 1024;
 /// A FIFO place: the engine queues 4-byte slot numbers; a module's sc_fifo holds whole payloads
 /// (a MachineRay; a MAC result, a ray with its schedule and sums, about 400 bytes).
 constexpr double kEnginePlaceBytes = 4, kMacResultBytes = 512;
@@ -113,7 +113,7 @@ std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const Mac
                               : f.payload == Payload::Ray ? double(sizeof(MachineRay))
                                                           : 8.0);
   }
-  const double pe_bytes = (engine ? kEnginePeBytes : kModulesPeBytes) + fifo_bytes;
+  const double pe_bytes = (engine ? kEnginePeBytes : kModularPeBytes) + fifo_bytes;
   parts.push_back({"the PEs", double(c->pes) * pe_bytes,
                    std::to_string(c->pes) + " PEs at " + format_bytes(pe_bytes) + " each (" + str(places) +
                        " FIFO places" + (engine ? " on the PE engine" : " as modules") + ")"});

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "scene/scene.h"
 
 namespace rtm {

@@ -33,7 +33,8 @@ void print_files(const RenderFiles& files) {
 /// One share per unit, as the stats name them.
 void print_units(const char* over, const UnitShares& u) {
   std::printf("utilisation %s: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading %.1f%%", over,
-              100 * u.front_buffer, 100 * u.search, 100 * u.mac, 100 * u.root, 100 * u.shading);
+              100 * u[UnitKind::FrontBuffer], 100 * u[UnitKind::Search], 100 * u[UnitKind::Mac], 100 * u[UnitKind::Root],
+              100 * u[UnitKind::Shading]);
 }
 
 /// The PE's arithmetic: `precision`, and each unit whose own key says otherwise.

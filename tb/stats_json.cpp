@@ -26,7 +26,10 @@ nlohmann::json counts_json(const TraceCounts& c) {
 }
 
 nlohmann::json utilisation_json(const UnitShares& u) {
-  return {{"front_buffer", u.front_buffer}, {"search", u.search}, {"mac", u.mac}, {"root", u.root}, {"shading", u.shading}};
+  nlohmann::json j = nlohmann::json::object();
+  for (const UnitSpec& s : unit_table())
+    if (s.in_utilisation) j[s.name] = u[s.kind];
+  return j;
 }
 
 nlohmann::json pe_utilisation_json(const FrameProfile& f) {
@@ -37,8 +40,10 @@ nlohmann::json pe_utilisation_json(const FrameProfile& f) {
 
 /// One PE's figure `of` per unit (replicated units: summed).
 nlohmann::json unit_figures(const PeCounters& p, uint64_t UnitStats::*of) {
-  return {{"front_buffer", p.front.*of}, {"search", p.search().*of}, {"mac", p.mac.*of}, {"root", p.root.*of},
-          {"shading", p.shade.*of}};
+  nlohmann::json j = nlohmann::json::object();
+  for (const UnitSpec& s : unit_table())
+    if (s.in_utilisation) j[s.name] = p.total(s.kind).*of;
+  return j;
 }
 
 nlohmann::json phases_json(const FrameProfile& f) {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "scene/file_error.h"
 
 namespace rtm {

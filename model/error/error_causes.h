@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "geom/grid.h"
-#include "machine/config.h"
+#include "config/config.h"
 #include "render/ray_result.h"
 #include "render/reference.h"
 #include "scene/scene.h"

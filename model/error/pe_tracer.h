@@ -6,7 +6,7 @@
 // pixel exactly: the error attribution checks that it does.
 #pragma once
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "render/ray_result.h"
 #include "units/intersection.h"
 #include "units/pe_state.h"

@@ -60,7 +60,7 @@ enum class HitRefine : uint8_t {
   Newton,  ///< one Newton step on the primitive's local quadric, in fp64, first (render/shade.h)
 };
 
-/// The numerical options of one machine (model/machine/config.h has the keys). The reference
+/// The numerical options of one machine (model/config/config.h has the keys). The reference
 /// renderer uses the defaults, so a machine with defaults and fp64 arithmetic reproduces it bit
 /// for bit (in fp64 the machine and wide latches give the same bits). docs/numerics.md says why
 /// these are the defaults; the paper's machine is plain / none / machine with recentre off.

@@ -5,7 +5,20 @@
 #include <utility>
 #include <vector>
 
+#include "units/unit_table.h"
+
 namespace rtm {
+
+const std::vector<std::string>& bottleneck_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = {"host_preprocessing", "interconnect", "memory"};
+    for (const UnitSpec& u : unit_table())
+      if (u.in_utilisation) n.push_back(u.name);
+    for (const char* verdict : {"loop_credits", "load_imbalance", "latency"}) n.push_back(verdict);
+    return n;
+  }();
+  return names;
+}
 
 namespace {
 
@@ -28,10 +41,11 @@ Bottleneck bottleneck(const FrameProfile& p) {
                           percent(p.memory_wait) + " of the PEs' working windows (summed over the units); the busiest port busy " +
                           percent(p.memory_port) + " of the frame"};
 
-  const UnitShares& u = p.issue;
-  const std::vector<std::pair<double, const char*>> units = {
-      {u.mac, "mac"}, {u.search, "search"}, {u.root, "root"}, {u.shading, "shading"}, {u.front_buffer, "front_buffer"}};
-  const auto [share, unit] = *std::max_element(units.begin(), units.end());
+  // The unit whose entry is taken most (of equal ones, the first in the unit table).
+  double share = -1;
+  const char* unit = "";
+  for (const UnitSpec& s : unit_table())
+    if (s.in_utilisation && p.issue[s.kind] > share) share = p.issue[s.kind], unit = s.name;
   if (share >= 0.6) return {unit, "its entry taken " + percent(share) + " of the PEs' working windows"};
 
   // Nothing saturated: the reason says how close the busiest unit came.

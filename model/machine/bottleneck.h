@@ -3,12 +3,18 @@
 
 #include <array>
 #include <string>
+#include <vector>
+
+#include "units/unit_kind.h"
 
 namespace rtm {
 
-/// A fraction per kind of PE unit (replicated units: per unit, so 1 is every unit, all the time).
+/// A fraction per kind of PE unit, by UnitKind (replicated units: per unit, so 1 is every unit,
+/// all the time). Only the kinds the unit table counts towards utilisation are filled in.
 struct UnitShares {
-  double front_buffer = 0, search = 0, mac = 0, root = 0, shading = 0;
+  std::array<double, kUnitKinds> of{};
+  double& operator[](UnitKind k) { return of[size_t(k)]; }
+  double operator[](UnitKind k) const { return of[size_t(k)]; }
 };
 
 struct FrameProfile {
@@ -29,20 +35,17 @@ struct FrameProfile {
   double imbalance = 1;         ///< max / mean PE working window
 };
 
-/// Every verdict bottleneck() gives, declared once: docs/stats.schema.json's enum is tested
-/// against this list.
-inline constexpr std::array<const char*, 11> kBottleneckNames = {
-    "host_preprocessing",  // voxel and primary-ray generation on the host
-    "interconnect",        // the link: the scene and rays to the PEs, frame buffers back
-    "memory",          // the PEs' local memory: results waiting for their data
-    "search", "mac", "root", "shading", "front_buffer",  // a PE unit whose entry is nearly always taken
-    "loop_credits",    // too few rays allowed in flight: back-pressure
-    "load_imbalance",  // one PE works much longer than the mean
-    "latency",         // nothing saturated: the loop's latency with the rays available
-};
+/// Every verdict bottleneck() gives: host_preprocessing (voxel and primary-ray generation on the
+/// host), interconnect (the link: the scene and rays to the PEs, frame buffers back), memory (the
+/// PEs' local memory: results waiting for their data), each unit of the unit table that counts
+/// towards utilisation (a PE unit whose entry is nearly always taken), loop_credits (too few rays
+/// allowed in flight: back-pressure), load_imbalance (one PE works much longer than the mean),
+/// latency (nothing saturated: the loop's latency with the rays available).
+/// docs/stats.schema.json's enum is tested against this list.
+const std::vector<std::string>& bottleneck_names();
 
 struct Bottleneck {
-  std::string name;    ///< one of kBottleneckNames
+  std::string name;    ///< one of bottleneck_names()
   std::string reason;  ///< one line: the figures that decided it
 };
 

@@ -1,5 +1,7 @@
 #include "machine/bottleneck.h"
 
+#include "units/unit_table.h"
+
 #include <set>
 #include <string>
 #include <vector>
@@ -15,8 +17,8 @@ FrameProfile busy_pes() {
   p.host_preprocess = 50;
   p.transfer = 20;
   p.gather = 10;
-  p.issue.mac = 0.3;
-  p.issue.search = 0.2;
+  p.issue[UnitKind::Mac] = 0.3;
+  p.issue[UnitKind::Search] = 0.2;
   return p;
 }
 
@@ -36,21 +38,21 @@ TEST(Bottleneck, HostOrLinkTakingHalfTheFrame) {
 
 TEST(Bottleneck, TheBusiestUnitWhenItIsSaturated) {
   FrameProfile p = busy_pes();
-  p.issue.mac = 0.92;
+  p.issue[UnitKind::Mac] = 0.92;
   EXPECT_EQ(bottleneck(p).name, "mac");
-  p.issue.mac = 0.5;
-  p.issue.search = 0.7;
+  p.issue[UnitKind::Mac] = 0.5;
+  p.issue[UnitKind::Search] = 0.7;
   EXPECT_EQ(bottleneck(p).name, "search");
-  p.issue.search = 0.1;
-  p.issue.shading = 0.65;
+  p.issue[UnitKind::Search] = 0.1;
+  p.issue[UnitKind::Shading] = 0.65;
   EXPECT_EQ(bottleneck(p).name, "shading");
 }
 
 TEST(Bottleneck, APipelinedUnitHoldingItemsAllTheTimeIsNotSaturated) {
   FrameProfile p = busy_pes();
-  p.busy.root = 0.98;  // a long latency, items inside nearly always ...
-  p.issue.root = 0.2;  // ... but its entry mostly free
-  p.issue.mac = 0.7;
+  p.busy[UnitKind::Root] = 0.98;  // a long latency, items inside nearly always ...
+  p.issue[UnitKind::Root] = 0.2;  // ... but its entry mostly free
+  p.issue[UnitKind::Mac] = 0.7;
   EXPECT_EQ(bottleneck(p).name, "mac");
 }
 
@@ -69,9 +71,9 @@ TEST(Bottleneck, BackPressureImbalanceAndLatency) {
 
 TEST(Bottleneck, TheReasonGivesTheFiguresThatDecidedIt) {
   FrameProfile p = busy_pes();
-  p.issue.mac = 0.875;
+  p.issue[UnitKind::Mac] = 0.875;
   EXPECT_EQ(bottleneck(p).reason, "its entry taken 87.5% of the PEs' working windows");
-  p.issue.mac = 0.41;
+  p.issue[UnitKind::Mac] = 0.41;
   EXPECT_EQ(bottleneck(p).reason, "no unit saturated (the busiest, mac, 41.0%)");
   p.imbalance = 1.5;
   EXPECT_EQ(bottleneck(p).reason, "the longest PE works 1.50 x the mean; no unit saturated (the busiest, mac, 41.0%)");
@@ -89,7 +91,7 @@ TEST(Bottleneck, TheReasonGivesTheFiguresThatDecidedIt) {
 // wait for data half the working window, even with a unit's entry nearly always taken.
 TEST(Bottleneck, LocalMemoryWhenReadsOrWaitsDominate) {
   FrameProfile p = busy_pes();
-  p.issue.mac = 0.9;
+  p.issue[UnitKind::Mac] = 0.9;
   p.memory_access = 0.6;
   p.memory_port = 0.25;
   EXPECT_EQ(bottleneck(p).name, "memory");
@@ -105,11 +107,11 @@ TEST(Bottleneck, LocalMemoryWhenReadsOrWaitsDominate) {
 // Each declared name is the verdict of some profile, and every verdict is a declared name.
 TEST(Bottleneck, EveryDeclaredNameIsAVerdict) {
   std::vector<FrameProfile> profiles;
-  for (double UnitShares::*unit : {&UnitShares::search, &UnitShares::mac, &UnitShares::root, &UnitShares::shading,
-                                   &UnitShares::front_buffer}) {
+  for (const UnitSpec& u : unit_table()) {
+    if (!u.in_utilisation) continue;
     FrameProfile p = busy_pes();
     p.issue = {};
-    p.issue.*unit = 0.9;
+    p.issue[u.kind] = 0.9;
     profiles.push_back(p);
   }
   FrameProfile p = busy_pes();
@@ -130,7 +132,7 @@ TEST(Bottleneck, EveryDeclaredNameIsAVerdict) {
   profiles.push_back(p);
   std::set<std::string> verdicts;
   for (const FrameProfile& q : profiles) verdicts.insert(bottleneck(q).name);
-  EXPECT_EQ(verdicts, std::set<std::string>(kBottleneckNames.begin(), kBottleneckNames.end()));
+  EXPECT_EQ(verdicts, std::set<std::string>(bottleneck_names().begin(), bottleneck_names().end()));
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Runs the PE engines of one simulated instant side by side on a WorkerPool. Once a PE holds all
 // its primary rays nothing from outside reaches it until it finishes, so its engine may run ahead
-// of SystemC time (engine_hosted_pe.cpp), and the engines of different PEs share no state: those
+// of SystemC time (engine_pe.cpp), and the engines of different PEs share no state: those
 // asked to advance at the same instant run in parallel, each exactly as it would alone. Every
 // figure is the same whatever the number of threads (tb/engine_test.cpp, EngineOnThreads).
 #pragma once
@@ -10,8 +10,8 @@
 
 #include <systemc>
 
-#include "machine/pe_engine.h"
-#include "machine/worker_pool.h"
+#include "engine/pe_engine.h"
+#include "engine/worker_pool.h"
 
 namespace rtm {
 

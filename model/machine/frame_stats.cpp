@@ -12,18 +12,14 @@ namespace {
 /// Each unit's figure `of` (a UnitStats member), summed over the PEs and per replicated unit.
 UnitShares sum(const MachineResult& m, const MachineConfig& c, uint64_t UnitStats::*of) {
   UnitShares u;
-  for (const PeCounters& p : m.per_pe) {
-    u.front_buffer += double(p.front.*of);
-    u.search += double(p.search().*of) / c.search_units;
-    u.mac += double(p.mac.*of) / c.intersection_units;
-    u.root += double(p.root.*of) / c.intersection_units;
-    u.shading += double(p.shade.*of);
-  }
+  for (const PeCounters& p : m.per_pe)
+    for (const UnitSpec& s : unit_table())
+      if (s.in_utilisation && unit_count(s.kind, c) > 0) u[s.kind] += double(p.total(s.kind).*of) / unit_count(s.kind, c);
   return u;
 }
 
 UnitShares divided(UnitShares u, double by) {
-  for (double* x : {&u.front_buffer, &u.search, &u.mac, &u.root, &u.shading}) *x = by > 0 ? *x / by : 0;
+  for (double& x : u.of) x = by > 0 ? x / by : 0;
   return u;
 }
 
@@ -35,7 +31,7 @@ double working_window(const PeCounters& p, const sc_core::sc_time& period) {
 std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p, const sc_core::sc_time& period) {
   const double w = working_window(p, period);
   std::vector<SearchUnitShares> shares;
-  for (const UnitStats& u : p.search_units)
+  for (const UnitStats& u : p.units[size_t(UnitKind::Search)])
     shares.push_back(w > 0 ? SearchUnitShares{double(u.busy_cycles) / w, double(u.issue_cycles) / w} : SearchUnitShares{});
   return shares;
 }
@@ -58,8 +54,7 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
     window += w;
     longest = std::max(longest, w);
     stall += sc_core::sc_time::from_value(p.credit_stall) / period;
-    held += double(p.front.held_cycles + p.search().held_cycles + p.mac.held_cycles + p.root.held_cycles +
-                   p.shade.held_cycles);
+    held += double(p.all().held_cycles);
     if (i >= m.memory_use.size()) continue;
     memory_wait += double(m.memory_use[i].wait_cycles());
     memory_access += double(m.memory_use[i].access_cycles());

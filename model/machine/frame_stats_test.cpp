@@ -40,26 +40,28 @@ struct TwoPes {
     m.host.gathered = at(1200);
     m.per_pe.resize(2);
     PeCounters& a = m.per_pe[0];
+    a.size_for(config);
     a.start = ticks(150);
     a.finish = ticks(1150);
     a.credit_stall = ticks(90);
-    a.front.busy_cycles = 300;
+    a.unit(UnitKind::FrontBuffer, 0).busy_cycles = 300;
     // The four search units: busy 2000 cycles together, issue 600, held 6000, starved 1200.
-    a.search_units = {search_unit(800, 300, 2000, 0), search_unit(600, 150, 2000, 200),
+    a.units[size_t(UnitKind::Search)] = {search_unit(800, 300, 2000, 0), search_unit(600, 150, 2000, 200),
                       search_unit(400, 100, 1000, 400), search_unit(200, 50, 1000, 600)};
-    a.mac.busy_cycles = 1600;
-    a.root.busy_cycles = 400;
-    a.shade.busy_cycles = 240;
+    a.unit(UnitKind::Mac, 0).busy_cycles = 1600;
+    a.unit(UnitKind::Root, 0).busy_cycles = 400;
+    a.unit(UnitKind::Shading, 0).busy_cycles = 240;
     PeCounters& b = m.per_pe[1];
+    b.size_for(config);
     b.start = ticks(150);
     b.finish = ticks(650);
     b.credit_stall = ticks(60);
-    b.front.busy_cycles = 150;
-    b.search_units = {search_unit(400, 0, 0, 0), search_unit(300, 0, 0, 0), search_unit(200, 0, 0, 0),
+    b.unit(UnitKind::FrontBuffer, 0).busy_cycles = 150;
+    b.units[size_t(UnitKind::Search)] = {search_unit(400, 0, 0, 0), search_unit(300, 0, 0, 0), search_unit(200, 0, 0, 0),
                       search_unit(100, 0, 0, 0)};
-    b.mac.busy_cycles = 400;
-    b.root.busy_cycles = 200;
-    b.shade.busy_cycles = 60;
+    b.unit(UnitKind::Mac, 0).busy_cycles = 400;
+    b.unit(UnitKind::Root, 0).busy_cycles = 200;
+    b.unit(UnitKind::Shading, 0).busy_cycles = 60;
   }
 };
 
@@ -67,11 +69,11 @@ TEST(FrameStats, UtilisationOverTheFramePerUnit) {
   const TwoPes t;
   const FrameUtilisation u = frame_stats(t.result, t.config).utilisation;
   // Busy cycles over the PEs' 2 x 1200 cycles; search over 4 units, MAC and root over 2 lanes.
-  EXPECT_DOUBLE_EQ(u.front_buffer, 450.0 / 2400);
-  EXPECT_DOUBLE_EQ(u.search, 750.0 / 2400);
-  EXPECT_DOUBLE_EQ(u.mac, 1000.0 / 2400);
-  EXPECT_DOUBLE_EQ(u.root, 300.0 / 2400);
-  EXPECT_DOUBLE_EQ(u.shading, 300.0 / 2400);
+  EXPECT_DOUBLE_EQ(u[UnitKind::FrontBuffer], 450.0 / 2400);
+  EXPECT_DOUBLE_EQ(u[UnitKind::Search], 750.0 / 2400);
+  EXPECT_DOUBLE_EQ(u[UnitKind::Mac], 1000.0 / 2400);
+  EXPECT_DOUBLE_EQ(u[UnitKind::Root], 300.0 / 2400);
+  EXPECT_DOUBLE_EQ(u[UnitKind::Shading], 300.0 / 2400);
 }
 
 TEST(FrameStats, ProfileOverTheWorkingWindows) {
@@ -83,15 +85,15 @@ TEST(FrameStats, ProfileOverTheWorkingWindows) {
   EXPECT_DOUBLE_EQ(f.pe, 1000);
   EXPECT_DOUBLE_EQ(f.gather, 50);
   // The working windows add up to 1500 cycles.
-  EXPECT_DOUBLE_EQ(f.busy.front_buffer, 450.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.busy.search, 750.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.busy.mac, 1000.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.busy.root, 300.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.busy.shading, 300.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy[UnitKind::FrontBuffer], 450.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy[UnitKind::Search], 750.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy[UnitKind::Mac], 1000.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy[UnitKind::Root], 300.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.busy[UnitKind::Shading], 300.0 / 1500);
   // A pipelined unit: its entry, the items inside it and its starvation, per search unit.
-  EXPECT_DOUBLE_EQ(f.issue.search, 150.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.occupancy.search, 1500.0 / 1500);
-  EXPECT_DOUBLE_EQ(f.starved.search, 300.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.issue[UnitKind::Search], 150.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.occupancy[UnitKind::Search], 1500.0 / 1500);
+  EXPECT_DOUBLE_EQ(f.starved[UnitKind::Search], 300.0 / 1500);
   EXPECT_DOUBLE_EQ(f.credit_stall, 150.0 / 1500);
   EXPECT_DOUBLE_EQ(f.imbalance, 1000.0 / 750);
 }
@@ -144,13 +146,13 @@ TEST(FrameStats, APeThatNeverWorkedHasNoSearchUnitShares) {
 
 TEST(FrameStats, TheBottleneckOfTheProfile) {
   TwoPes t;
-  t.result.per_pe[0].mac.issue_cycles = 1600;
-  t.result.per_pe[1].mac.issue_cycles = 400;
+  t.result.per_pe[0].unit(UnitKind::Mac, 0).issue_cycles = 1600;
+  t.result.per_pe[1].unit(UnitKind::Mac, 0).issue_cycles = 400;
   FrameStats s = frame_stats(t.result, t.config);
   EXPECT_EQ(s.bottleneck.name, "mac") << "the MAC lanes' entries are taken 2/3 of the working windows";
   EXPECT_EQ(s.bottleneck.reason, bottleneck(s.profile).reason);
-  t.result.per_pe[0].mac.issue_cycles = 600;
-  t.result.per_pe[1].mac.issue_cycles = 200;
+  t.result.per_pe[0].unit(UnitKind::Mac, 0).issue_cycles = 600;
+  t.result.per_pe[1].unit(UnitKind::Mac, 0).issue_cycles = 200;
   s = frame_stats(t.result, t.config);
   EXPECT_EQ(s.bottleneck.name, "load_imbalance") << "nothing saturated, PE 0 works 1.33 x the mean";
 }
@@ -173,8 +175,8 @@ TEST(FrameStats, AnEmptyRunHasNoUtilisationAndNoImbalance) {
   const MachineConfig c;
   const MachineResult m;
   const FrameStats s = frame_stats(m, c);
-  EXPECT_DOUBLE_EQ(s.utilisation.mac, 0);
-  EXPECT_DOUBLE_EQ(s.profile.busy.mac, 0);
+  EXPECT_DOUBLE_EQ(s.utilisation[UnitKind::Mac], 0);
+  EXPECT_DOUBLE_EQ(s.profile.busy[UnitKind::Mac], 0);
   EXPECT_DOUBLE_EQ(s.profile.imbalance, 1);
   EXPECT_EQ(s.bottleneck.name, "latency");
 }

@@ -22,18 +22,14 @@ class FrontBufferModule : public UnitModule {
 
  private:
   struct Ops;
+  struct FrontOps;
   void run();
-  void drain();
-  /// Carries out the policy's decision when it can hand out a ray; true when it handed one out.
-  bool decide(uint64_t now);
-  void dispatch(const MachineRay& r, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait);
 
   std::unique_ptr<Sleeper> sleep_;
   LocalMemory& mem_;
   FrontBufferPolicy<MachineRay> policy_;
   sc_core::sc_event& finished_event_;
   Pipeline<MachineRay> pipe_;
-  bool finish_told_ = false;  ///< finished_event_ notified
   UnitProbe probe_;
   int traced_waiting_ = 0;
 };

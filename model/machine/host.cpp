@@ -89,73 +89,95 @@ void Host::host_work(sc_time t) {
   host_sleep_until(now() + t.value());
 }
 
-void Host::run() {
-  const sc_time host_cycle(config_.host_clock_ns, sc_core::SC_NS);
-  const int n = int(pes_.size());
+sc_time Host::host_cycle() const { return sc_time(config_.host_clock_ns, sc_core::SC_NS); }
 
+void Host::run() {
+  preprocess();
+  distribute();
+  host_sleep_until(net_.idle_at());  // every transfer over
+  times.transfer = sc_core::sc_time_stamp();
+  gather_all();
+  host_sleep_until(net_.idle_at());
+  times.gathered = sc_core::sc_time_stamp();
+  for (const LinkUse& l : net_.links()) times.link_busy += sc_time::from_value(l.busy_ticks);
+  done = true;
+  sc_core::sc_stop();  // in clocked timing the clock would run on forever
+}
+
+void Host::preprocess() {
   // Pre-processing 0: every primitive, light and the camera into the grid's frame, in fp64 (the
   // simulator framed them before simulation, as it built the grid).
   if (config_.pe_frame == PeFrame::Grid)
-    host_work(checked_periods(host_cycle, double(uint64_t(config_.host_frame_cycles) * (scene_.primitives.size() + scene_.lights.size() + 1)),
+    host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_frame_cycles) * (scene_.primitives.size() + scene_.lights.size() + 1)),
                               "the host's change of frame"));
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
   // host is charged per primitive reference it registers).
-  host_work(checked_periods(host_cycle, double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+  host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
                             "the host's voxel-data generation"));
   times.voxels = sc_core::sc_time_stamp();
+}
 
+std::vector<Ray> Host::rays_of(int pe, size_t from, size_t count) const {
   const PrimaryRays camera(scene_.camera);
-  auto rays_of = [&](int pe, size_t from, size_t count) {
-    std::vector<Ray> rays;
-    const auto& px = parts_[size_t(pe)];
-    for (size_t i = from; i < from + count && i < px.size(); ++i)
-      rays.push_back(camera.at(int(px[i] % uint32_t(scene_.camera.width)), int(px[i] / uint32_t(scene_.camera.width))));
-    return rays;
-  };
-  // Each transfer is asked of the interconnect when the host issues it; its data lands in the
-  // PE's memory when the interconnect says it arrives, and the host goes on once it has a free
-  // port (on one medium: once the transfer is over, as the original link had it).
-  const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
-  auto send_rays = [&](int pe, std::vector<Ray> rays) {
-    if (rays.empty()) return;
-    // With ray generation on the PEs only the camera and the PE's share of the screen travel;
-    // the simulator still hands over the rays the PE will generate.
-    const uint64_t bytes = pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes;
-    const TransferTimes t = timed([&] { return net_.send(pe, bytes, now()); });
-    auto data = std::make_shared<std::vector<Ray>>(std::move(rays));
-    deliver_at(t.arrive, [this, pe, data, d = t.end - t.arrive] {
-      transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase, reinterpret_cast<unsigned char*>(data->data()),
-                data->size() * sizeof(Ray), sc_time::from_value(d));
-    });
-    wait_for_a_port();
-  };
-  auto deliver_scene = [&](int pe, const TransferTimes& t) {
-    deliver_at(t.arrive, [this, pe, d = t.end - t.arrive] {
-      SceneImageExtension ext;
-      ext.image = image_;
-      unsigned char unused = 0;  // the image travels in the extension; its size times the transfer
-      transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kSceneBase, &unused, 1, sc_time::from_value(d), &ext);
-    });
-  };
-  auto send_scene = [&](int pe) {
-    deliver_scene(pe, timed([&] { return net_.send(pe, image_->bytes, now()); }));
-    wait_for_a_port();
-  };
-  auto send_scene_to_all = [&]() {
-    if (!config_.broadcast) {
-      for (int pe = 0; pe < n; ++pe) send_scene(pe);
-      return;
-    }
-    const std::vector<TransferTimes> t = timed([&] { return net_.broadcast(image_->bytes, now()); });
-    for (int pe = 0; pe < n; ++pe) deliver_scene(pe, t[size_t(pe)]);
-    wait_for_a_port();
-  };
+  std::vector<Ray> rays;
+  const auto& px = parts_[size_t(pe)];
+  for (size_t i = from; i < from + count && i < px.size(); ++i)
+    rays.push_back(camera.at(int(px[i] % uint32_t(scene_.camera.width)), int(px[i] / uint32_t(scene_.camera.width))));
+  return rays;
+}
 
+// Each transfer is asked of the interconnect when the host issues it; its data lands in the PE's
+// memory when the interconnect says it arrives, and the host goes on once it has a free port (on
+// one medium: once the transfer is over, as the original link had it).
+
+void Host::send_rays(int pe, std::vector<Ray> rays) {
+  if (rays.empty()) return;
+  // With ray generation on the PEs only the camera and the PE's share of the screen travel; the
+  // simulator still hands over the rays the PE will generate.
+  const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
+  const uint64_t bytes = pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes;
+  const TransferTimes t = timed([&] { return net_.send(pe, bytes, now()); });
+  auto data = std::make_shared<std::vector<Ray>>(std::move(rays));
+  deliver_at(t.arrive, [this, pe, data, d = t.end - t.arrive] {
+    transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase, reinterpret_cast<unsigned char*>(data->data()),
+              data->size() * sizeof(Ray), sc_time::from_value(d));
+  });
+  wait_for_a_port();
+}
+
+void Host::deliver_scene(int pe, const TransferTimes& t) {
+  deliver_at(t.arrive, [this, pe, d = t.end - t.arrive] {
+    SceneImageExtension ext;
+    ext.image = image_;
+    unsigned char unused = 0;  // the image travels in the extension; its size times the transfer
+    transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kSceneBase, &unused, 1, sc_time::from_value(d), &ext);
+  });
+}
+
+void Host::send_scene(int pe) {
+  deliver_scene(pe, timed([&] { return net_.send(pe, image_->bytes, now()); }));
+  wait_for_a_port();
+}
+
+void Host::send_scene_to_all() {
+  const int n = int(pes_.size());
+  if (!config_.broadcast) {
+    for (int pe = 0; pe < n; ++pe) send_scene(pe);
+    return;
+  }
+  const std::vector<TransferTimes> t = timed([&] { return net_.broadcast(image_->bytes, now()); });
+  for (int pe = 0; pe < n; ++pe) deliver_scene(pe, t[size_t(pe)]);
+  wait_for_a_port();
+}
+
+void Host::distribute() {
+  const int n = int(pes_.size());
+  const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
   if (config_.ray_block == 0 || pe_rays) {
     // The paper's flow: all pre-processing first, then every PE's data in turn.
     if (!pe_rays)
-      host_work(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * pixels),
+      host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_ray_cycles) * pixels),
                                 "the host's primary-ray generation"));
     times.rays = sc_core::sc_time_stamp();
     if (config_.broadcast) send_scene_to_all();
@@ -163,80 +185,77 @@ void Host::run() {
       if (!config_.broadcast) send_scene(pe);
       send_rays(pe, rays_of(pe, 0, parts_[size_t(pe)].size()));
     }
-  } else {
-    // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs' work.
-    send_scene_to_all();
-    for (size_t from = 0;; from += size_t(config_.ray_block)) {
-      bool any = false;
-      for (int pe = 0; pe < n; ++pe) {
-        std::vector<Ray> rays = rays_of(pe, from, size_t(config_.ray_block));
-        if (rays.empty()) continue;
-        any = true;
-        host_work(checked_periods(host_cycle, double(uint64_t(config_.host_ray_cycles) * rays.size()),
-                                  "the host's primary-ray generation"));
-        send_rays(pe, std::move(rays));
-      }
-      if (!any) break;
-    }
-    times.rays = sc_core::sc_time_stamp();
+    return;
   }
-  host_sleep_until(net_.idle_at());  // every transfer over
-  times.transfer = sc_core::sc_time_stamp();
-
-  auto gather = [&](int pe) {
-    const auto& px = parts_[size_t(pe)];
-    std::vector<PixelSum> frame(px.size());
-    std::vector<int32_t> ids(px.size());
-    const TransferTimes t = timed([&] { return net_.gather(pe, px.size() * kPixelRecordBytes, now()); });
-    // The PE is done, so its frame buffer no longer changes: read at once, the interconnect
-    // timing the transfer. The ids travel in the same 16 bytes a pixel.
-    const sc_time d = sc_time::from_value(t.end - t.arrive);
-    transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase, reinterpret_cast<unsigned char*>(frame.data()),
-              frame.size() * sizeof(PixelSum), d);
-    transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase, reinterpret_cast<unsigned char*>(ids.data()),
-              ids.size() * sizeof(int32_t), sc_core::SC_ZERO_TIME);
-    for (size_t i = 0; i < px.size(); ++i) {
-      image.rgb[px[i]] = frame[i].value();
-      image.ids[px[i]] = ids[i];
+  // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs' work.
+  send_scene_to_all();
+  for (size_t from = 0;; from += size_t(config_.ray_block)) {
+    bool any = false;
+    for (int pe = 0; pe < n; ++pe) {
+      std::vector<Ray> rays = rays_of(pe, from, size_t(config_.ray_block));
+      if (rays.empty()) continue;
+      any = true;
+      host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_ray_cycles) * rays.size()),
+                                "the host's primary-ray generation"));
+      send_rays(pe, std::move(rays));
     }
-    wait_for_a_port();
-  };
+    if (!any) break;
+  }
+  times.rays = sc_core::sc_time_stamp();
+}
+
+void Host::gather(int pe) {
+  const auto& px = parts_[size_t(pe)];
+  std::vector<PixelSum> frame(px.size());
+  std::vector<int32_t> ids(px.size());
+  const TransferTimes t = timed([&] { return net_.gather(pe, px.size() * kPixelRecordBytes, now()); });
+  // The PE is done, so its frame buffer no longer changes: read at once, the interconnect timing
+  // the transfer. The ids travel in the same 16 bytes a pixel.
+  const sc_time d = sc_time::from_value(t.end - t.arrive);
+  transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase, reinterpret_cast<unsigned char*>(frame.data()),
+            frame.size() * sizeof(PixelSum), d);
+  transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase, reinterpret_cast<unsigned char*>(ids.data()),
+            ids.size() * sizeof(int32_t), sc_core::SC_ZERO_TIME);
+  for (size_t i = 0; i < px.size(); ++i) {
+    image.rgb[px[i]] = frame[i].value();
+    image.ids[px[i]] = ids[i];
+  }
+  wait_for_a_port();
+}
+
+void Host::gather_all() {
+  const int n = int(pes_.size());
   if (config_.gather == MachineConfig::Gather::AfterAll) {
     for (Pe* pe : pes_)
       if (!pe->finished()) sc_core::wait(pe->finished_event);
     times.pes_done = sc_core::sc_time_stamp();
     for (int pe = 0; pe < n; ++pe) gather(pe);
-  } else {
-    // Whichever PEs are done, in PE order; then wait for the next to finish. A gather waits for
-    // its links and a host port, so PEs finishing meanwhile queue up.
-    std::vector<bool> gathered(size_t(n), false);
-    for (int left = n; left > 0;) {
-      int ready = -1;
-      sc_core::sc_event_or_list pending;
-      for (int pe = 0; pe < n && ready < 0; ++pe) {
-        if (gathered[size_t(pe)]) continue;
-        if (pes_[size_t(pe)]->finished())
-          ready = pe;
-        else
-          pending |= pes_[size_t(pe)]->finished_event;
-      }
-      if (ready < 0) {
-        sc_core::wait(pending);
-        continue;
-      }
-      gather(ready);  // takes time: look again from the first PE afterwards
-      gathered[size_t(ready)] = true;
-      --left;
-    }
-    // The frame's PE phase ends with the last PE, whatever the link was doing then.
-    for (Pe* pe : pes_)
-      times.pes_done = std::max(times.pes_done, sc_core::sc_time::from_value(pe->ctx.counters.finish));
+    return;
   }
-  host_sleep_until(net_.idle_at());
-  times.gathered = sc_core::sc_time_stamp();
-  for (const LinkUse& l : net_.links()) times.link_busy += sc_time::from_value(l.busy_ticks);
-  done = true;
-  sc_core::sc_stop();  // in clocked timing the clock would run on forever
+  // Whichever PEs are done, in PE order; then wait for the next to finish. A gather waits for its
+  // links and a host port, so PEs finishing meanwhile queue up.
+  std::vector<bool> gathered(size_t(n), false);
+  for (int left = n; left > 0;) {
+    int ready = -1;
+    sc_core::sc_event_or_list pending;
+    for (int pe = 0; pe < n && ready < 0; ++pe) {
+      if (gathered[size_t(pe)]) continue;
+      if (pes_[size_t(pe)]->finished())
+        ready = pe;
+      else
+        pending |= pes_[size_t(pe)]->finished_event;
+    }
+    if (ready < 0) {
+      sc_core::wait(pending);
+      continue;
+    }
+    gather(ready);  // takes time: look again from the first PE afterwards
+    gathered[size_t(ready)] = true;
+    --left;
+  }
+  // The frame's PE phase ends with the last PE, whatever the link was doing then.
+  for (Pe* pe : pes_)
+    times.pes_done = std::max(times.pes_done, sc_core::sc_time::from_value(pe->ctx.counters.finish));
 }
 
 }  // namespace rtm

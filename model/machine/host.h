@@ -15,7 +15,7 @@
 
 #include "machine/pe.h"
 #include "net/interconnect.h"
-#include "units/memory_layout.h"
+#include "memory/memory_layout.h"
 
 namespace rtm {
 
@@ -59,7 +59,22 @@ class Host : public sc_core::sc_module {
   void wait_for_a_port();
   /// The host's own work for `t`, counted in times.work.
   void host_work(sc_core::sc_time t);
+  /// The host's thread: pre-processing, then every PE's data, then the gather.
   void run();
+  sc_core::sc_time host_cycle() const;
+  void preprocess();
+  /// Sends every PE its scene and primary rays, all at once or block by block (ray_block).
+  void distribute();
+  /// PE `pe`'s primary rays `from`.. (`count` of them, fewer at the end of its pixels).
+  std::vector<Ray> rays_of(int pe, size_t from, size_t count) const;
+  void send_rays(int pe, std::vector<Ray> rays);
+  void deliver_scene(int pe, const TransferTimes& t);
+  void send_scene(int pe);
+  void send_scene_to_all();
+  /// Reads PE `pe`'s frame buffer into the image.
+  void gather(int pe);
+  /// Gathers every PE's frame buffer: after all are done, or each as it finishes (gather).
+  void gather_all();
 
   MachineConfig config_;
   const Scene& scene_;

@@ -11,8 +11,8 @@ IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& 
       root_sleep_(ctx.sleeper(UnitKind::Root, lane)),
       dispatcher_(dispatcher),
       root_fifo_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind),
-      mac_pipe_(ctx.period.value(), &ctx.counters.mac),
-      root_pipe_(ctx.period.value(), &ctx.counters.root) {
+      mac_pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Mac, lane)),
+      root_pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Root, lane)) {
   if (clock) {
     clocked_ = std::make_unique<ClockedMac>("mac", mac_.timing(), ctx.config.intersection_precision_in_force(), ctx.period);
     clocked_->clk(*clock);
@@ -65,8 +65,6 @@ void take_clocked(std::vector<Abg<Real>>& fast, const ClockedMac::Done& clocked,
 
 struct IntersectionModule::MacOps {
   IntersectionModule& x;
-  bool waiting = false;
-  sc_core::sc_event_or_list either;
   bool checked = false;  ///< the head job's clocked sums were checked
 
   void woke(uint64_t) { x.dispatcher_.woke(x.mac_.lane()); }
@@ -112,23 +110,21 @@ struct IntersectionModule::MacOps {
     x.mac_pipe_.accept(h, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
-  void wait_for_input() {
-    waiting = true;
+  bool wait_for_input() {
     x.dispatcher_.wait(x.mac_.lane());
+    return true;
   }
   void want(uint64_t t) { x.mac_sleep_->want(t); }
 };
 
 void IntersectionModule::mac_thread() {
-  MacOps ops{*this, false, {}, false};
-  ops.either = dispatcher_.event(mac_.lane()) | mac_sleep_->event();
-  run_unit(mac_pipe_, ops, *mac_sleep_);
+  MacOps ops{*this, false};
+  const sc_core::sc_event_or_list either = dispatcher_.event(mac_.lane()) | mac_sleep_->event();
+  run_unit(mac_pipe_, ops, *mac_sleep_, either);
 }
 
 struct IntersectionModule::RootOps {
   IntersectionModule& x;
-  bool waiting = false;
-  sc_core::sc_event_or_list either;
 
   void woke(uint64_t) {}
   bool write_head(uint64_t) {
@@ -147,14 +143,14 @@ struct IntersectionModule::RootOps {
     x.root_pipe_.accept(h, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
-  void wait_for_input() { waiting = true; }
+  bool wait_for_input() { return true; }
   void want(uint64_t t) { x.root_sleep_->want(t); }
 };
 
 void IntersectionModule::root_thread() {
-  RootOps ops{*this, false, {}};
-  ops.either = root_fifo_.data_written_event() | root_sleep_->event();
-  run_unit(root_pipe_, ops, *root_sleep_);
+  RootOps ops{*this};
+  const sc_core::sc_event_or_list either = root_fifo_.data_written_event() | root_sleep_->event();
+  run_unit(root_pipe_, ops, *root_sleep_, either);
 }
 
 void IntersectionModule::trace(Waveform& wave) {

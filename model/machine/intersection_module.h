@@ -9,7 +9,7 @@
 
 #include <systemc>
 
-#include "machine/mac.h"
+#include "machine/clocked_mac.h"
 #include "machine/unit_module.h"
 #include "units/intersection.h"
 

@@ -1,10 +1,11 @@
 #include "machine/machine.h"
 
-#include "machine/engine_hosted_pe.h"
+#include "machine/engine_pe.h"
 #include "machine/gtkw.h"
-#include "machine/modules_pe.h"
+#include "machine/modular_pe.h"
 #include "machine/partition.h"
 #include "machine/sim_time.h"
+#include "machine/watchdog.h"
 #include "render/atomic_file.h"
 #include "render/image_io.h"
 #include "render/partial_files.h"
@@ -40,6 +41,8 @@ class Machine : public sc_core::sc_module {
   PeUnits units;
   uint64_t scene_bytes = 0;
   std::vector<MemoryLayout> memory;  ///< per PE
+  std::unique_ptr<ProgressDisplay> progress_display;  ///< null: none
+  std::unique_ptr<Watchdog> watchdog;
 
   SC_HAS_PROCESS(Machine);
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
@@ -48,10 +51,7 @@ class Machine : public sc_core::sc_module {
           bool tracing, uint64_t max_memory, uint64_t max_rays, WorkerPool* pool, int sim_threads)
       : sc_module(name),
         engine_unsupported(rtm::engine_unsupported(c, tracing)),
-        config_(c),
-        progress_(progress),
-        max_memory_(max_memory),
-        max_rays_(max_rays) {
+        config_(c) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
@@ -79,26 +79,20 @@ class Machine : public sc_core::sc_module {
       const std::string pe = "pe" + std::to_string(i);
       const size_t pixels = parts[size_t(i)].size();
       if (engine_unsupported.empty())
-        pes.push_back(std::make_unique<EngineHostedPe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
+        pes.push_back(std::make_unique<EnginePe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
       else
-        pes.push_back(std::make_unique<ModulesPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
+        pes.push_back(std::make_unique<ModularPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
       raw.push_back(pes.back().get());
       PeState& st = pes.back()->ctx;
       st.spill_rays = memory[size_t(i)].spill_rays();
       st.memory = std::make_shared<PeMemory>(c, *image, pixels);
       st.spawn_fanout = (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
     }
-    total_pixels_ = uint64_t(s.camera.width) * uint64_t(s.camera.height);
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
-    // The clock, and units retrying writes into full FIFOs, keep a simulation alive even when
-    // the loop has stalled; and any frame's time must stay below the horizon: watch for both.
-    const double quiet_cycles = std::max(8.0 * kMonitorStepCycles, 2.0 * double(longest_item_cycles(s, g, c)));
-    quiet_window_ = sc_time::from_value(
-        uint64_t(std::min(quiet_cycles * double(period.value()), double(kTimeHorizonTicks))));
-    base_step_ = period * kMonitorStepCycles;
-    longest_step_ = std::max(base_step_, quiet_window_ / 8.0);
-    for (auto& pe : pes) active_.push_back(pe.get());
+    if (progress) progress_display = std::make_unique<ProgressDisplay>(uint64_t(s.camera.width) * uint64_t(s.camera.height));
+    for (auto& pe : pes) watched_.push_back(pe.get());
+    watchdog = std::make_unique<Watchdog>(s, g, c, watched_, *host, max_memory, max_rays, progress_display.get());
     // With arbitration = kernel a monitor process's wake-ups would take part in SystemC's
     // same-time order, and so in the figures: there the monitor looks from outside, between
     // slices of the simulation (run()).
@@ -114,12 +108,12 @@ class Machine : public sc_core::sc_module {
       sc_core::sc_start();
       return;
     }
-    sc_time step = base_step_;
+    sc_time step = watchdog->base_step();
     for (;;) {
       sc_core::sc_start(step);
       // The host stops the simulation when the frame is gathered; no activity left is a deadlock.
       if (host->done || !sc_core::sc_pending_activity()) return;
-      if (!look(step)) {
+      if (!watchdog->look(step)) {
         sc_core::sc_stop();
         return;
       }
@@ -152,149 +146,21 @@ class Machine : public sc_core::sc_module {
   }
 
  private:
-  static constexpr double kMonitorStepCycles = 4096;
-  static constexpr std::chrono::milliseconds kMeasureEvery{50};
-
-  /// An upper bound on the PE cycles any unit can spend on one item (a ray's pass through the
-  /// front buffer or a search unit, a MAC and root job on the fullest voxel, a shading) without
-  /// finishing it: the monitor calls the loop stalled only after twice this with nothing done.
-  static uint64_t longest_item_cycles(const Scene& s, const Grid& g, const MachineConfig& c) {
-    uint64_t fullest = 0;
-    for (size_t v = 0; v + 1 < g.start.size(); ++v) fullest = std::max<uint64_t>(fullest, g.start[v + 1] - g.start[v]);
-    uint64_t clips = 0;
-    for (const Primitive& p : s.primitives) clips = std::max<uint64_t>(clips, p.clips.size());
-    const uint64_t test = uint64_t(kMacProducts) * uint64_t(c.add_latency) +
-                          2 * uint64_t(c.mul_latency) + uint64_t(c.add_latency) + uint64_t(c.root_cycles()) +
-                          uint64_t(c.sort_cycles) + uint64_t(c.clip_cycles) * (clips + 1);
-    // A local-memory access at its slowest: its largest record behind one of every requester's.
-    const uint64_t record = std::max<uint64_t>({kSpillRecordBytes, coef_record_bytes(Precision::Fp64), voxel_list_bytes(fullest + 2)});
-    const uint64_t access = uint64_t(c.search_units + c.intersection_units + 3) *
-                            (uint64_t(c.memory_latency) + record / uint64_t(c.memory_bytes_per_cycle) + 1);
-    const uint64_t walk = uint64_t(g.n[0] + g.n[1] + g.n[2] + 3) * (uint64_t(c.dda_step_cycles) + access);
-    const uint64_t shade =
-        uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles + c.accumulate_cycles) * (s.lights.size() + 3);
-    return (fullest + 1) * (test + access) + walk + shade + 3 * access + uint64_t(c.fb_dispatch_cycles) +
-           uint64_t(c.pe_ray_cycles);
-  }
-
   /// Every few thousand cycles (ranked arbitration): a look, until the frame is done or a look
   /// says stop.
   void monitor() {
-    sc_time step = base_step_;
+    sc_time step = watchdog->base_step();
     while (!host->done) {
       sc_core::wait(step);
-      if (!look(step)) {
+      if (!watchdog->look(step)) {
         sc_core::sc_stop();
         return;
       }
     }
   }
 
-  /// One look of the monitor at the simulation, now: returns false, with the reason set (stalled,
-  /// overran, over_budget, over_rays), when it must stop; else sets when to look next. It stops a
-  /// simulation whose time passes the horizon, whose process holds more than the memory budget
-  /// (read every 50 ms of wall time) or whose PEs traced more rays than the work budget, and one
-  /// in which nothing has moved for longer than any unit takes over one item (a deadlock the
-  /// clock would otherwise hide); and redraws the progress line (at most twice a second of wall
-  /// time). While nothing moves it looks less and less often, and across a long host phase not
-  /// at all, so a long simulated time costs few looks.
-  bool look(sc_time& step) {
-    const sc_time at = sc_core::sc_time_stamp();
-    if (at.value() >= kTimeHorizonTicks) {
-      overran = true;
-      return false;
-    }
-    // Rays waiting in the front buffers grow with the ray tree: hold the process to the budget.
-    if (const auto wall = std::chrono::steady_clock::now(); max_memory_ && wall - last_measured_ > kMeasureEvery) {
-      last_measured_ = wall;
-      if (const uint64_t rss = resident_bytes(); rss > max_memory_) {
-        over_budget = rss;
-        return false;
-      }
-    }
-    // The host's own phase (sending every PE its scene, say) is no stall: look again when it
-    // ends, without summing every PE's counters on each transfer.
-    const bool host_busy = at < host->busy_until;
-    uint64_t work = last_work_;
-    if (!host_busy) {
-      // A finished PE's counters no longer change: add them once and look at it no more.
-      work = finished_work_;
-      uint64_t rays = finished_rays_;
-      for (size_t i = 0; i < active_.size();) {
-        const PeCounters& k = active_[i]->ctx.counters;
-        const uint64_t w = k.front.items + k.search().items + k.mac.items + k.root.items + k.shade.items;
-        const uint64_t r = k.counts.total_rays();
-        if (active_[i]->finished()) {
-          finished_work_ += w;
-          finished_rays_ += r;
-          active_[i] = active_.back();
-          active_.pop_back();
-        } else {
-          ++i;
-        }
-        work += w;
-        rays += r;
-      }
-      if (max_rays_ && rays > max_rays_) {
-        over_rays = rays;
-        return false;
-      }
-    }
-    const bool moved = work != last_work_;
-    last_work_ = work;
-    if (moved) {
-      quiet_since_ = at;
-      step = base_step_;
-    } else if (host_busy) {
-      quiet_since_ = host->busy_until;
-      step = std::max(base_step_, host->busy_until - at);
-    } else if (at >= quiet_since_ && at - quiet_since_ >= quiet_window_) {
-      stalled = true;
-      return false;
-    } else {
-      step = std::min(step * 2.0, longest_step_);
-    }
-    if (!progress_) return true;
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_draw_ < std::chrono::milliseconds(500) || now - start_ < std::chrono::seconds(1)) return true;
-    last_draw_ = now;
-    Progress p;
-    bool all_done = true;
-    for (auto& pe : pes) {
-      p.pixels_started += pe->ctx.counters.counts.rays[0];
-      all_done = all_done && pe->finished();
-    }
-    const bool generated = host->times.rays != sc_core::SC_ZERO_TIME;  // the host's primary rays
-    p.phase = all_done ? "gather" : p.pixels_started ? "PEs" : generated ? "transfer" : "host";
-    p.pixels = total_pixels_;
-    p.seconds = std::chrono::duration<double>(now - start_).count();
-    p.resident_bytes = resident_bytes();
-    std::fprintf(stderr, "\r%-79s", progress_line(p).c_str());
-    std::fflush(stderr);
-    drew = true;
-    return true;
-  }
-
- public:
-  bool stalled = false;  ///< the monitor stopped a simulation in which nothing moved
-  bool overran = false;  ///< the monitor stopped a simulation whose time passed the horizon
-  bool drew = false;     ///< a progress line is on the terminal
-  uint64_t over_budget = 0;  ///< the resident size the monitor stopped the simulation at; 0: it did not
-  uint64_t over_rays = 0;    ///< the rays traced when the monitor stopped it at the work budget; 0: it did not
-
- private:
-  sc_time quiet_window_;  ///< this long with nothing done (and the host idle) is a stall
   MachineConfig config_;
-  bool progress_;
-  uint64_t max_memory_, max_rays_;
-  uint64_t total_pixels_ = 0;
-  // The monitor's own state from one look to the next.
-  sc_time base_step_, longest_step_;  ///< how often it looks while things move, and at least
-  sc_time quiet_since_ = sc_core::SC_ZERO_TIME;
-  uint64_t last_work_ = ~0ull, finished_work_ = 0, finished_rays_ = 0;
-  std::vector<Pe*> active_;  ///< the PEs not yet finished
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_draw_ = start_,
-                                        last_measured_ = start_;
+  std::vector<Pe*> watched_;  ///< the PEs, as the watchdog sees them
 };
 
 std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, sc_time end) {
@@ -319,7 +185,7 @@ std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, 
 
 /// The SystemC threads a configuration elaborates, known before elaborating it: the host, the
 /// monitor and the timekeeper; with the PEs on the engine, its driver and per PE one thread, else
-/// (modules_pe.cpp) per PE the front buffer, the shading unit, each search unit, and per
+/// (modular_pe.cpp) per PE the front buffer, the shading unit, each search unit, and per
 /// intersection lane the MAC and root threads plus the clocked MAC. run_machine counts again once
 /// elaborated.
 size_t expected_threads(const MachineConfig& c, bool tracing) {
@@ -461,21 +327,21 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   }
 
   top.run();
-  if (top.drew) std::fprintf(stderr, "\r%80s\r", "");
+  if ((top.progress_display && top.progress_display->drew())) std::fprintf(stderr, "\r%80s\r", "");
 
-  if (top.over_budget || top.over_rays) {
+  if (top.watchdog->over_budget || top.watchdog->over_rays) {
     uint64_t rays = 0;
     for (auto& pe : top.pes) rays += pe->ctx.counters.counts.total_rays();
     std::ostringstream why;
     why << "the simulation stopped ";
-    if (top.over_budget)
-      why << "holding " << bytes_text(top.over_budget) << ", more than its memory budget of "
+    if (top.watchdog->over_budget)
+      why << "holding " << bytes_text(top.watchdog->over_budget) << ", more than its memory budget of "
           << bytes_text(opt.max_memory) << " (--max-memory)";
     else
       why << "at its work budget of " << opt.max_rays << " rays (--max-rays)";
     why << ", at cycle " << uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS)) << " with "
         << rays << " rays traced: ";
-    if (top.over_budget)
+    if (top.watchdog->over_budget)
       why << "the rays waiting in the front buffers grow with the ray tree (max_depth " << s.max_depth
           << ", threshold " << s.threshold << ")";
     else
@@ -491,7 +357,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
           std::to_string(top.memory[pe].spill_rays()) + " its spill area holds (" + std::to_string(top.memory[pe].spill_bytes()) +
           " bytes of local_memory_bytes " + std::to_string(c.local_memory_bytes) +
           "); a larger local memory, a higher threshold or a lower max_depth fits");
-  if (top.overran)
+  if (top.watchdog->overran)
     throw std::runtime_error("the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
                              std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
                              ", the most a frame may take (SystemC counts time in 64-bit picoseconds); a shorter "
@@ -507,14 +373,15 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
       r.deadlock_report += pe->occupancy_report() + "\n";
     }
   }
-  if (!top.host->done || top.stalled) r.deadlock = true;
+  if (!top.host->done || top.watchdog->stalled) r.deadlock = true;
   r.image = top.host->image;
   for (auto& pe : top.pes) {
     const PeCounters& k = pe->ctx.counters;
     r.counts.add(k.counts);
     r.mac_products += k.mac_products;
-    r.mac_busy_cycles += k.mac.busy_cycles;
-    r.mac_issue_cycles += k.mac.issue_cycles;
+    const UnitStats mac = k.total(UnitKind::Mac);
+    r.mac_busy_cycles += mac.busy_cycles;
+    r.mac_issue_cycles += mac.issue_cycles;
     r.spills += k.spills;
     r.per_pe.push_back(k);
     pe->ctx.memory->end_of_frame();
@@ -526,7 +393,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   r.scene_bytes = top.scene_bytes;
   r.memory = top.memory;
   r.units = top.units;
-  for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, "spawn_fifo"},
+  for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, fifo_spec(FifoId::Spawn).name},
                             {top.units.shadow_rays, "shading.shadow_rays"},
                             {top.units.reflection, "shading.reflection"},
                             {top.units.refraction, "shading.refraction"}})

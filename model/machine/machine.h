@@ -7,8 +7,8 @@
 
 #include "machine/frame_stats.h"
 #include "machine/host.h"
-#include "machine/worker_pool.h"
-#include "units/memory_layout.h"
+#include "engine/worker_pool.h"
+#include "memory/memory_layout.h"
 #include "units/pe_memory.h"
 #include "render/scene_needs.h"
 
@@ -54,7 +54,7 @@ struct MachineResult {
   HostTimes host;
   std::vector<LinkUse> links;   ///< the interconnect's links: busy time and bytes of each (net/interconnect.h)
   uint64_t scene_bytes = 0;     ///< one PE's copy of the scene as the link carries it
-  std::vector<MemoryLayout> memory;  ///< each PE's local memory (units/memory_layout.h)
+  std::vector<MemoryLayout> memory;  ///< each PE's local memory (memory/memory_layout.h)
   std::vector<MemoryUse> memory_use;  ///< what each PE's local memory did (units/pe_memory.h)
   sc_core::sc_time end;
   uint64_t cycles = 0;          ///< the frame's simulated time in PE cycles

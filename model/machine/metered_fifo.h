@@ -12,41 +12,9 @@
 
 #include "machine/trace_window.h"
 #include "machine/waveform.h"
+#include "units/fifo_meter.h"
 
 namespace rtm {
-
-struct FifoStats {
-  std::string kind;        ///< e.g. "search", for grouping across PEs
-  int depth = 0;
-  int peak = 0;
-  double occupancy_time = 0;  ///< ∫ occupancy dt, in seconds
-};
-
-/// A FIFO's occupancy as it changes over time, and the statistics it gives; times in SystemC
-/// time-resolution units. Shared by MeteredFifo and the PE engine's FIFOs.
-struct FifoMeter {
-  FifoStats stats;
-  int occupancy = 0;
-  uint64_t last_change = 0;
-  uint64_t area = 0;  ///< ∫ occupancy dt
-
-  FifoMeter(const char* kind, int depth) {
-    stats.kind = kind;
-    stats.depth = depth;
-  }
-  void change(int delta, uint64_t now) {
-    area += uint64_t(occupancy) * (now - last_change);
-    last_change = now;
-    occupancy += delta;
-    if (occupancy > stats.peak) stats.peak = occupancy;
-  }
-  /// The statistics, with the time integral closed at `now`.
-  const FifoStats& close(uint64_t now) {
-    change(0, now);
-    stats.occupancy_time = double(area) * sc_core::sc_get_time_resolution().to_seconds();
-    return stats;
-  }
-};
 
 template <class T>
 class MeteredFifo : public sc_core::sc_fifo<T> {
@@ -81,8 +49,11 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
   }
 
   int occupancy() const { return meter_.occupancy; }
+  FifoMeter& meter() { return meter_; }
   /// Closes the time integral at the end of simulation.
-  const FifoStats& stats() { return meter_.close(sc_core::sc_time_stamp().value()); }
+  const FifoStats& stats() {
+    return meter_.close(sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds());
+  }
   /// Traces the occupancy; only changes inside the waveform window reach the file.
   void trace(Waveform& wave, const std::string& name, const TraceWindow* window) {
     window_ = window;

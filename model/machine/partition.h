@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 
 namespace rtm {
 

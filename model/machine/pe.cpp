@@ -10,7 +10,7 @@ PeContext make_context(int index, const MachineConfig& c, const PeUnits& units, 
   ctx.config = c;
   ctx.period = sc_core::sc_time(c.clock_ns, sc_core::SC_NS);
   ctx.cycle = ctx.period.value();
-  ctx.counters.search_units.resize(size_t(c.search_units));
+  ctx.counters.size_for(c);
   return ctx;
 }
 

@@ -1,7 +1,7 @@
 // A processing element as the host and the machine see it, however its pipeline is simulated:
 // local memory on the host's link, the units' counters, and an event when its part of the frame
-// is done. Two kinds: a PE as SystemC modules, one per block of paper Fig. 1 (modules_pe.h), and
-// a PE whose units the PE engine schedules on its own event loop (engine_hosted_pe.h).
+// is done. Two kinds: a PE as SystemC modules, one per block of paper Fig. 1 (modular_pe.h), and
+// a PE whose units the PE engine schedules on its own event loop (engine_pe.h).
 //
 //   front buffer ─► search units (K) ─┬─► intersection units (M: MAC ► root/sort) ─┬─► shading
 //        ▲  ▲  ▲                      │ empty voxel                      │ no hit   │ spawned rays
@@ -18,6 +18,7 @@
 
 #include "machine/local_memory.h"
 #include "machine/metered_fifo.h"
+#include "units/fifo_report.h"
 
 namespace rtm {
 
@@ -29,7 +30,7 @@ class Pe : public sc_core::sc_module {
 
   virtual bool finished() const = 0;
   /// Every FIFO, in the FIFO table's order (units/fifo_table.h), for statistics.
-  virtual std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() = 0;
+  virtual FifoStatsList fifo_stats() = 0;
   /// The front buffer's state and every FIFO's occupancy, for deadlock reports.
   virtual std::string occupancy_report() = 0;
   virtual void trace(Waveform& wave) = 0;

@@ -13,8 +13,6 @@ SearchModule::SearchModule(sc_core::sc_module_name name, PeContext& ctx, int ind
 
 struct SearchModule::Ops {
   SearchModule& m;
-  bool waiting = false;
-  sc_core::sc_event_or_list either;
 
   void woke(uint64_t) { m.dispatcher_.woke(m.unit_.index()); }
   bool write_head(uint64_t) {
@@ -33,17 +31,17 @@ struct SearchModule::Ops {
     m.pipe_.accept(h, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
-  void wait_for_input() {
-    waiting = true;
+  bool wait_for_input() {
     m.dispatcher_.wait(m.unit_.index());
+    return true;
   }
   void want(uint64_t t) { m.sleep_->want(t); }
 };
 
 void SearchModule::run() {
-  Ops ops{*this, false, {}};
-  ops.either = dispatcher_.event(unit_.index()) | sleep_->event();
-  run_unit(pipe_, ops, *sleep_);
+  Ops ops{*this};
+  const sc_core::sc_event_or_list either = dispatcher_.event(unit_.index()) | sleep_->event();
+  run_unit(pipe_, ops, *sleep_, either);
 }
 
 }  // namespace rtm

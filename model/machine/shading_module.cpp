@@ -4,7 +4,7 @@ namespace rtm {
 
 ShadingModule::ShadingModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
     : UnitModule(name, ctx, {UnitKind::Shading}), unit_(ctx), sleep_(ctx.sleeper(UnitKind::Shading)), mem_(mem),
-      pipe_(ctx.period.value(), &ctx.counters.shade) {
+      pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Shading, 0)) {
   if (ctx.units.shadow_rays) generators_[size_t(RayKind::Shadow)] = std::make_unique<SpawnUnit>("shadow_rays");
   if (ctx.units.reflection) generators_[size_t(RayKind::Reflected)] = std::make_unique<SpawnUnit>("reflection");
   if (ctx.units.refraction) generators_[size_t(RayKind::Transmitted)] = std::make_unique<SpawnUnit>("refraction");
@@ -17,34 +17,30 @@ void ShadingModule::trace(Waveform& wave) {
     if (g) g->probe.trace(wave, g->name(), &ctx_.window);
 }
 
+/// Shading's operations for ShadingWriter: `r` is the oldest shaded ray.
+struct ShadingModule::WriteOps {
+  ShadingModule& m;
+  const MachineRay& r;
+
+  bool write_end(const Output& o) { return m.try_write(o, r, UnitKind::Shading, 0); }
+  MachineRay make(size_t k) {
+    if (auto& g = m.generators_[size_t(m.unit_.spawned_kind(k - 1))]) g->probe.begin(r.id);
+    return m.unit_.spawn(r, k);
+  }
+  bool write(const Output& o, const MachineRay& child) { return m.try_write(o, child, UnitKind::Shading, 0); }
+};
+
 struct ShadingModule::Ops {
   ShadingModule& m;
-  bool waiting = false;
-  sc_core::sc_event_or_list either;
 
   void woke(uint64_t) {}
   bool write_head(uint64_t) {
-    // The end first, then each spawned ray, made (numbered) before it waits for room.
-    const MachineRay& r = m.pipe_.head().item;
-    for (; m.next_output_ < m.unit_.outputs(); ++m.next_output_) {
-      const Output o = m.unit_.output(m.next_output_);
-      if (m.next_output_ == 0) {
-        if (!m.try_write(o, r, UnitKind::Shading, 0)) return false;
-        continue;
-      }
-      if (!m.child_made_) {
-        if (auto& g = m.generators_[size_t(m.unit_.spawned_kind(m.next_output_ - 1))]) g->probe.begin(r.id);
-        m.child_ = m.unit_.spawn(r, m.next_output_);
-        m.child_made_ = true;
-      }
-      if (!m.try_write(o, m.child_, UnitKind::Shading, 0)) return false;
-      m.child_made_ = false;
-    }
-    return true;
+    WriteOps ops{m, m.pipe_.head().item};
+    return m.writer_.write(m.unit_, ops);
   }
   void retired(const MachineRay&) {
     m.unit_.retired();
-    m.next_output_ = 0;
+    m.writer_.retired();
     if (!m.pipe_.empty()) return;
     m.probe_.end();
     for (auto& g : m.generators_)
@@ -58,14 +54,14 @@ struct ShadingModule::Ops {
     m.pipe_.accept(r, now, w.cycles, w.interval, std::move(w.wait));
     return true;
   }
-  void wait_for_input() { waiting = true; }
+  bool wait_for_input() { return true; }
   void want(uint64_t t) { m.sleep_->want(t); }
 };
 
 void ShadingModule::run() {
-  Ops ops{*this, false, {}};
-  ops.either = rays_in(FifoId::Shade)->data_written_event() | sleep_->event();
-  run_unit(pipe_, ops, *sleep_);
+  Ops ops{*this};
+  const sc_core::sc_event_or_list either = rays_in(FifoId::Shade)->data_written_event() | sleep_->event();
+  run_unit(pipe_, ops, *sleep_, either);
 }
 
 }  // namespace rtm

@@ -28,15 +28,14 @@ class ShadingModule : public UnitModule {
 
  private:
   struct Ops;
+  struct WriteOps;
   void run();
 
   ShadingUnit unit_;
   std::unique_ptr<Sleeper> sleep_;
   LocalMemory& mem_;
   Pipeline<MachineRay> pipe_;
-  size_t next_output_ = 0;  ///< the oldest ray's next output to write
-  MachineRay child_;        ///< that output's ray, once made
-  bool child_made_ = false;
+  ShadingWriter<MachineRay> writer_;
   UnitProbe probe_;
   std::unique_ptr<SpawnUnit> generators_[kRayKinds];  ///< by RayKind; none for primary rays
 };

@@ -62,17 +62,14 @@ class UnitModule : public sc_core::sc_module {
   /// Writes a unit's output for ray `r` and records it; false (nothing written) when its FIFO is full.
   bool try_write(const Output& o, const MachineRay& r, UnitKind kind, int index);
 
-  /// Runs a unit forever: each wake-up is units/unit_step.h's step_unit with `ops`, which also
-  /// has `bool waiting` (set by its wait_for_input) and `either` (its input's events | the
-  /// sleeper's), and `woke(now)`, called first on every wake-up.
+  /// Runs a unit forever: each wake-up is units/unit_step.h's step_unit with `ops`; a unit that
+  /// waits for input sleeps until `either` (its input's events | the sleeper's: a list, built
+  /// once; the expression `a | b` itself would be freed after its first wait).
   template <class Item, class Ops>
-  [[noreturn]] void run_unit(Pipeline<Item>& pipe, Ops& ops, Sleeper& sleep) {
+  [[noreturn]] void run_unit(Pipeline<Item>& pipe, Ops& ops, Sleeper& sleep, const sc_core::sc_event_or_list& either) {
     for (;;) {
-      const uint64_t now = PeContext::now();
-      ops.woke(now);
-      ops.waiting = false;
-      step_unit(pipe, now, ctx_.period.value(), ctx_.memory.get(), ops);
-      sleep.wait(ops.waiting ? &ops.either : nullptr);
+      const bool waiting = step_unit(pipe, PeContext::now(), ctx_.period.value(), ctx_.memory.get(), ops);
+      sleep.wait(waiting ? &either : nullptr);
     }
   }
 

@@ -49,7 +49,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "memory/booked_cycles.h"
 
 namespace rtm {

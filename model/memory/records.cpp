@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "units/scene_image.h"
+#include "memory/scene_image.h"
 
 namespace rtm {
 

@@ -1,7 +1,7 @@
 // The bytes each memory request moves, and the address it names: the records a PE's local memory
 // holds, record by record. The sections they lie in, and the records the host's transfers move
 // (kRayRecordBytes, kCameraRecordBytes, kPixelRecordBytes, kSpillRecordBytes), are those of
-// units/memory_layout.h; this adds what the units read and write of them, and where each record
+// memory/memory_layout.h; this adds what the units read and write of them, and where each record
 // starts, so the memory timing's banks see the strides the data really has. A number is a machine
 // word: 4 bytes in fp32, 8 in fp64 (the MAC, root unit and clip arithmetic); offsets and ids are
 // 4 bytes. The sums are SceneImage's and memory_layout's own (tested).
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "geom/mac_schedule.h"
-#include "machine/config.h"
-#include "units/memory_layout.h"
+#include "config/config.h"
+#include "memory/memory_layout.h"
 
 namespace rtm {
 

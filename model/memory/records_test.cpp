@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "units/scene_image.h"
+#include "memory/scene_image.h"
 
 namespace rtm {
 namespace {

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "memory/resident_set.h"
 
 namespace rtm {

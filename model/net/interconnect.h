@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 
 namespace rtm {
 

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "geom/vec.h"
+#include "scene/ray_depth.h"
 
 namespace rtm {
 
@@ -23,9 +24,7 @@ struct Ray {
   RayKind kind = RayKind::Primary;
 };
 
-/// The deepest generation a ray can have: what Ray::depth holds. A scene's max_depth is checked
-/// against it (scene/scene.cpp), so a child's depth + 1 never wraps round to 0.
-constexpr int kMaxRayDepth = std::numeric_limits<decltype(Ray::depth)>::max();
-static_assert(kMaxRayDepth == 255, "docs/scene-format.md and rtm render --help give 255");
+static_assert(std::numeric_limits<decltype(Ray::depth)>::max() == kMaxRayDepth,
+              "Ray::depth holds every generation, and docs/scene-format.md and rtm render --help give 255");
 
 }  // namespace rtm

@@ -2,7 +2,7 @@
 #include "scene/scene_checks.h"
 #include "scene/mesh.h"
 
-#include "render/ray.h"
+#include "scene/ray_depth.h"
 
 #include <algorithm>
 #include <cctype>

@@ -25,7 +25,7 @@ void write_event_log(std::ostream& out, std::vector<EventLog>& pes, uint64_t cyc
     out << e.time / cycle;
     if (const uint64_t frac = e.time % cycle) out << "+" << frac << "t";  // off the PE clock (host arrivals)
     out << " pe" << pe << " " << unit_name(e.unit);
-    if (e.unit == UnitKind::Mac || e.unit == UnitKind::Root) out << e.index;
+    if (unit_spec(e.unit).logged_by_number) out << e.index;
     out << " ray" << e.ray;
     if (e.what == UnitEvent::What::Take) {
       out << " take " << e.cycles;

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "units/fifo_table.h"
-#include "units/unit_kind.h"
+#include "units/unit_table.h"
 
 namespace rtm {
 
@@ -45,8 +45,8 @@ class EventLog {
   void put(uint64_t time, UnitKind u, int index, uint32_t ray, FifoId fifo) {
     events_.push_back({time, u, logged(u, index), ray, UnitEvent::What::Put, 0, fifo, 0});
   }
-  /// The number the log gives a unit: its lane, or none for the interchangeable search units.
-  static uint16_t logged(UnitKind u, int index) { return u == UnitKind::Mac || u == UnitKind::Root ? uint16_t(index) : 0; }
+  /// The number the log gives a unit (UnitSpec::logged_by_number).
+  static uint16_t logged(UnitKind u, int index) { return unit_spec(u).logged_by_number ? uint16_t(index) : 0; }
   std::vector<UnitEvent>& events() { return events_; }
 
  private:

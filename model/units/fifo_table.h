@@ -1,5 +1,5 @@
 // Every FIFO of a PE, once: its name, what it carries, its depth's configuration key, and which
-// units write and read it. The modules (machine/modules_pe.cpp) build their channels from it, the
+// units write and read it. The modules (machine/modular_pe.cpp) build their channels from it, the
 // PE engine its queues, statistics and deadlock reports list FIFOs in its order, and the units
 // name their outputs by it.
 #pragma once
@@ -9,7 +9,7 @@
 #include <initializer_list>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "units/unit_kind.h"
 
 namespace rtm {

@@ -35,7 +35,10 @@ class FrontBufferPolicy {
   };
 
   FrontBufferPolicy(PeState& pe, size_t rays_expected)
-      : pe_(pe), credits_(pe.config.loop_credits_in_force()), rays_expected_(rays_expected) {}
+      : pe_(pe), credits_(pe.config.loop_credits_in_force()), rays_expected_(rays_expected) {
+    for (FifoId id : inputs(UnitKind::FrontBuffer))
+      if (const FifoSpec& f = fifo_spec(id); f.payload == Payload::Ray && pe.units.has(f)) ray_inputs_.push_back(&f);
+  }
 
   // What arrived on the inputs.
   void ended() { --in_flight_; }  ///< a ray left the loop: its credit comes back
@@ -161,6 +164,42 @@ class FrontBufferPolicy {
     return d;
   }
 
+  /// Decides at `now` and carries the decision out with the scheduler's operations, the same
+  /// under both schedulers (units/unit_step.h's accept); true when it handed out a ray:
+  ///   bool read_end()                  takes a ray's end from its input; false when there is none
+  ///   bool read(FifoId, Item&)         takes a ray from that input; false when there is none
+  ///   void drained()                   the inputs are drained
+  ///   Item primary(size_t n)           primary ray n, made (numbered) now
+  ///   void dispatch(Item&&, cycles, from, MemoryWait&&)  the ray goes into the front buffer's pipeline
+  ///   void want(t)                     wake me at t
+  ///   void finished()                  every ray has ended (called once)
+  template <class Ops>
+  bool carry_out(uint64_t now, uint64_t cycle, Ops& ops) {
+    Decision d = decide(now, cycle, [&] { drain(ops); });
+    switch (d.kind) {
+      case Decision::Queued: ops.dispatch(std::move(d.queued), d.cycles, d.from, std::move(d.wait)); return true;
+      case Decision::Primary: ops.dispatch(ops.primary(d.primary), d.cycles, d.from, std::move(d.wait)); return true;
+      case Decision::Align: ops.want(d.at); return false;
+      case Decision::None:
+        if (finished_ && !finish_told_) {
+          finish_told_ = true;
+          ops.finished();
+        }
+        return false;
+    }
+    return false;
+  }
+  /// What arrived on the inputs, handed to the policy: rays' ends first, then the rays in the FIFO
+  /// table's order.
+  template <class Ops>
+  void drain(Ops& ops) {
+    while (ops.read_end()) ended();
+    Item r;
+    for (const FifoSpec* f : ray_inputs_)
+      while (ops.read(f->id, r)) f->returns_credit ? returned(r) : spawned(r);
+    ops.drained();
+  }
+
   /// After a decision of None: whether the front buffer now waits for input (not when it is
   /// aligning or finished), starting its stall accounting (only credits hold back rays it has).
   bool wait(uint64_t now) {
@@ -229,7 +268,8 @@ class FrontBufferPolicy {
   RingQueue<Item> queue_;
   size_t next_primary_ = 0, primaries_ = 0;
   int in_flight_ = 0;
-  bool finished_ = false;
+  bool finished_ = false, finish_told_ = false;
+  std::vector<const FifoSpec*> ray_inputs_;  ///< the rays' inputs the PE has, in the FIFO table's order
   enum class State { Deciding, Waiting, Aligning } state_ = State::Deciding;
   bool stalled_ = false;
   uint64_t waiting_since_ = 0;

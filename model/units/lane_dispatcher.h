@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "config/config.h"
+
 namespace rtm {
 
 /// Replicated units waiting for a ray (the search units, the intersection units): each ray that
@@ -14,7 +16,7 @@ namespace rtm {
 class LaneDispatcher {
  public:
   /// The most replicated units of a kind (search_units' bound).
-  static constexpr int kMaxLanes = 256;
+  static constexpr int kMaxLanes = kMaxUnitsOfAKind;
 
   /// `lanes` waiting at first; the lanes numbered later must lie below kMaxLanes too (the
   /// configuration bounds search_units and intersection_units by it).

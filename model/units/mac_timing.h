@@ -1,5 +1,5 @@
 // The MAC unit's cycle model (paper §5.2, Fig. 2), by formula: when each product issues and when
-// each primitive's α, β, γ leave the adder. machine/mac.h's ClockedMac runs the same schedule on
+// each primitive's α, β, γ leave the adder. machine/clocked_mac.h's ClockedMac runs the same schedule on
 // a clock and must agree with it exactly.
 //
 // Products issue in schedule order, one every add_latency cycles (each add depends on the
@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "geom/mac_schedule.h"
-#include "machine/config.h"
+#include "config/config.h"
 
 namespace rtm {
 

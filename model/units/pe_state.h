@@ -2,17 +2,19 @@
 // in local memory and the memory's timing, the counters they fill in, ray numbering, and the event log.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "render/reference.h"
 #include "render/shade.h"
 #include "units/event_log.h"
 #include "units/pe_memory.h"
 #include "units/pipeline.h"
-#include "units/scene_image.h"
+#include "memory/scene_image.h"
+#include "units/unit_table.h"
 
 namespace rtm {
 
@@ -23,25 +25,24 @@ struct PeCounters {
   uint64_t mac_products_saved = 0;  ///< skipped by sparse schedules, against the paper's 28 per test
   uint64_t mac_cycles_saved = 0;    ///< cycles of the MAC's entry (its jobs' intervals) saved by sparse schedules
   uint64_t spills = 0;
-  UnitStats front, mac, root, shade;  ///< the MAC and root lanes: summed
-  /// One per search unit (sized to the configuration's search_units before any pipeline counts
-  /// into it): each unit's own figures, which search() sums.
-  std::vector<UnitStats> search_units;
-  UnitStats search() const {
+  /// Per kind of unit (units/unit_table.h), one per unit, each counted by its own pipeline
+  /// (sized by size_for() before any pipeline counts into them).
+  std::array<std::vector<UnitStats>, kUnitKinds> units;
+  void size_for(const MachineConfig& c) {
+    for (const UnitSpec& u : unit_table()) units[size_t(u.kind)].resize(size_t(unit_count(u.kind, c)));
+  }
+  UnitStats& unit(UnitKind k, int index) { return units[size_t(k)].at(size_t(index)); }
+  /// Kind k's figures summed over its units.
+  UnitStats total(UnitKind k) const {
     UnitStats s;
-    for (const UnitStats& u : search_units) s += u;
+    for (const UnitStats& u : units[size_t(k)]) s += u;
     return s;
   }
-  /// Where unit `index` of kind k counts (the index picks a search unit; the lanes share theirs).
-  UnitStats& unit(UnitKind k, int index) {
-    switch (k) {
-      case UnitKind::FrontBuffer: return front;
-      case UnitKind::Search: return search_units.at(size_t(index));
-      case UnitKind::Mac: return mac;
-      case UnitKind::Root: return root;
-      case UnitKind::Shading: break;
-    }
-    return shade;
+  /// Every unit's figures summed.
+  UnitStats all() const {
+    UnitStats s;
+    for (const UnitSpec& u : unit_table()) s += total(u.kind);
+    return s;
   }
   uint64_t start = 0;         ///< the first primary ray handed out
   uint64_t finish = 0;        ///< the last ray ended
@@ -76,7 +77,7 @@ struct PeState {
   uint32_t next_ray_id = 0;
   EventLog* log = nullptr;  ///< null: no event log
   /// Rays the front buffer can hold: on chip, and in the spill area local memory leaves over
-  /// (units/memory_layout.h); and the most rays one ray's end can spawn (a shadow ray per light,
+  /// (memory/memory_layout.h); and the most rays one ray's end can spawn (a shadow ray per light,
   /// a reflected and a transmitted ray), which new primary rays must leave room for.
   uint64_t spill_rays = UINT64_MAX;
   uint64_t spawn_fanout = 0;

@@ -99,6 +99,7 @@ struct Harness {
     written[pipe.head().item] = now;
     return true;
   }
+  void woke(uint64_t) { waiting = false; }
   void retired(int) {}
   bool accept(uint64_t now) {
     if (next == arrivals.size() || arrivals[next] > now) return false;
@@ -107,7 +108,7 @@ struct Harness {
     pipe.accept(i, now, latency[size_t(i)], interval ? interval : latency[size_t(i)]);
     return true;
   }
-  void wait_for_input() { waiting = true; }
+  bool wait_for_input() { return waiting = true; }
   void want(uint64_t t) { wakeups.want(t, 0); }
 
   void run() {
@@ -115,7 +116,6 @@ struct Harness {
       const bool woken = wakeups.next().first == now || (waiting && next < arrivals.size() && arrivals[next] == now);
       if (!woken && now > 0) continue;
       wakeups.fired(now);
-      waiting = false;
       step_unit(pipe, now, 1, nullptr, *this);
     }
   }

@@ -41,4 +41,41 @@ class ShadingUnit {
   size_t head_ = 0, taken_ = 0;
 };
 
+/// Writes the oldest shaded ray's outputs in their one order, the same under both schedulers:
+/// the end first, then each spawned ray, made (numbered) once, when first tried, before it waits
+/// for room. A write that finds its FIFO full is tried again from where it stopped. `Child`: how
+/// the scheduler holds a spawned ray. The scheduler's operations:
+///   bool write_end(const Output&)                the ray's end; false when its FIFO is full
+///   Child make(size_t k)                         output k's ray (k > 0), made now
+///   bool write(const Output&, const Child&)      a spawned ray; false when its FIFO is full
+template <class Child>
+class ShadingWriter {
+ public:
+  /// True when every output of the oldest ray is written.
+  template <class Ops>
+  bool write(const ShadingUnit& unit, Ops& ops) {
+    for (; next_ < unit.outputs(); ++next_) {
+      const Output o = unit.output(next_);
+      if (next_ == 0) {
+        if (!ops.write_end(o)) return false;
+        continue;
+      }
+      if (!made_) {
+        child_ = ops.make(next_);
+        made_ = true;
+      }
+      if (!ops.write(o, child_)) return false;
+      made_ = false;
+    }
+    return true;
+  }
+  /// The oldest ray has left: the next one's outputs start from its end.
+  void retired() { next_ = 0; }
+
+ private:
+  size_t next_ = 0;  ///< the oldest ray's next output to write
+  Child child_{};    ///< that output's ray, once made
+  bool made_ = false;
+};
+
 }  // namespace rtm

@@ -2,26 +2,16 @@
 // act in this order (arbitration = ranked, machine/timekeeper.h), units of one kind in the order
 // they took their work, so which of the replicated search units holds a ray never matters. Root
 // units rank by their lane (Root + lane): each takes only its own MAC's results, so no work order
-// could rank them. The modules and the PE engine both follow it.
+// could rank them. The modules and the PE engine both follow it. What each kind is, is the unit
+// table's (units/unit_table.h).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace rtm {
 
 enum class UnitKind : uint8_t { FrontBuffer, Shading, Search, Mac, Root };
-
-/// The unit's name in the object hierarchy, waveforms and the event log (with its number for
-/// replicated units: search0, mac1, ...).
-inline const char* unit_name(UnitKind k) {
-  switch (k) {
-    case UnitKind::FrontBuffer: return "front_buffer";
-    case UnitKind::Shading: return "shading";
-    case UnitKind::Search: return "search";
-    case UnitKind::Mac: return "mac";
-    case UnitKind::Root: return "root";
-  }
-  return "?";
-}
+constexpr size_t kUnitKinds = 5;
 
 }  // namespace rtm

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "scene/mesh.h"
 #include "scene/scene.h"
 

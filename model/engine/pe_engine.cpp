@@ -1,7 +1,6 @@
-#include "machine/pe_engine.h"
+#include "engine/pe_engine.h"
 
 #include <algorithm>
-#include <sstream>
 
 namespace rtm {
 
@@ -34,35 +33,26 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
       cycle_(pe.cycle),
       front_(pe, rays_expected),
       shading_(pe),
-      lanes_(size_t(pe.config.intersection_units)),
-      mac0_(kSearch + size_t(pe.config.search_units)),
-      root0_(mac0_ + lanes_),
       waiting_search_(0),
       waiting_macs_(0) {
-  for (const FifoSpec& f : fifo_table()) {
-    if (!pe.units.has(f)) continue;
-    const int depth = pe.config.*f.depth;
-    if (f.per_lane) {
-      for (size_t lane = 0; lane < lanes_; ++lane) in_order_.push_back(&root_fifo_.emplace_back(f, depth, &phase_));
-    } else {
-      Fifo* fifo = fifos_by_id_[size_t(f.id)] = &fifos_.emplace_back(f, depth, &phase_);
-      in_order_.push_back(fifo);
-      fifo->feeds_front = std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer) > 0;
-      if (f.payload == Payload::Ray && fifo->feeds_front) front_inputs_.emplace_back(fifo, f.returns_credit);
-    }
-  }
-  for (size_t u = 0; u < root0_ + lanes_; ++u) {
-    const UnitKind k = kind_at(u);
-    const size_t first = k == UnitKind::Root ? root0_ : k == UnitKind::Mac ? mac0_ : k == UnitKind::Search ? kSearch : u;
-    places_.emplace_back(cycle_, &pe.counters.unit(k, int(u - first)), k, int(u - first));
+  for_each_fifo(pe, [&](const FifoSpec& f, int lane) {
+    if (lane == 0) first_fifo_[size_t(f.id)] = fifos_.size();
+    Fifo& fifo = fifos_.emplace_back(f, pe.config.*f.depth, &phase_);
+    fifo.feeds_front = std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer) > 0;
+  });
+  for (const FifoSpec& f : fifo_table())  // their places no longer move
+    if (pe.units.has(f) && f.payload == Payload::Ray && !f.per_lane && fifo(f.id).feeds_front)
+      front_inputs_.emplace_back(&fifo(f.id), f.returns_credit);
+  for (const UnitSpec& u : unit_table()) {
+    first_place_[size_t(u.kind)] = places_.size();
+    for (int i = 0, n = unit_count(u.kind, pe.config); i < n; ++i)
+      places_.emplace_back(cycle_, &pe.counters.unit(u.kind, i), u.kind, i);
   }
   due_at_.assign(places_.size(), kNever);
   due_now_.assign(places_.size(), 0);
-  for (int k = 0; k < pe.config.search_units; ++k) search_.emplace_back(pe, k);
-  for (size_t lane = 0; lane < lanes_; ++lane) {
-    macs_.emplace_back(pe, int(lane));
-    roots_.emplace_back(pe, int(lane));
-  }
+  for (int k = 0; k < unit_count(UnitKind::Search, pe.config); ++k) search_.emplace_back(pe, k);
+  for (int lane = 0; lane < unit_count(UnitKind::Mac, pe.config); ++lane) macs_.emplace_back(pe, lane);
+  for (int lane = 0; lane < unit_count(UnitKind::Root, pe.config); ++lane) roots_.emplace_back(pe, lane);
   for (size_t u = 0; u < places_.size(); ++u) wake(u, 0);
 }
 
@@ -135,7 +125,7 @@ void PeEngine::step(uint64_t now) {
   // A unit waits only after finding its input empty, and what is visible grows only here, by what
   // was written: with nothing written in the instant no waiting unit has an input to take.
   if (written) take_inputs(now);
-  if (front_.waiting_for_input() && poked) wake(kFront, now);
+  if (front_.waiting_for_input() && poked) wake(place(UnitKind::FrontBuffer), now);
   // Places freed by reads are there for the next instant's writers.
   next_phase();
 }
@@ -148,12 +138,14 @@ void PeEngine::next_phase() {
 void PeEngine::take_inputs(uint64_t now) {
   // Replicated units: the lowest-numbered waiting one takes each ray.
   Fifo& search_in = fifo(FifoId::Search);
-  while (waiting_search_.any_idle() && search_in.visible()) wake(kSearch + size_t(waiting_search_.take()), now);
+  while (waiting_search_.any_idle() && search_in.visible())
+    wake(place(UnitKind::Search, size_t(waiting_search_.take())), now);
   Fifo& mac_in = fifo(FifoId::Intersect);
-  while (waiting_macs_.any_idle() && mac_in.visible()) wake(mac0_ + size_t(waiting_macs_.take()), now);
-  for (size_t lane = 0; lane < lanes_; ++lane)
-    if (places_[root0_ + lane].waiting && root_fifo_[lane].visible()) wake(root0_ + lane, now);
-  if (places_[kShading].waiting && fifo(FifoId::Shade).visible()) wake(kShading, now);
+  while (waiting_macs_.any_idle() && mac_in.visible()) wake(place(UnitKind::Mac, size_t(waiting_macs_.take())), now);
+  for (size_t lane = 0; lane < roots_.size(); ++lane)
+    if (places_[place(UnitKind::Root, lane)].waiting && fifo(FifoId::Root, lane).visible())
+      wake(place(UnitKind::Root, lane), now);
+  if (places_[place(UnitKind::Shading)].waiting && fifo(FifoId::Shade).visible()) wake(place(UnitKind::Shading), now);
 }
 
 // ---- rays ----
@@ -197,6 +189,19 @@ struct PeEngine::Ops {
   const Held& head() { return pipe().head().item; }
   int index() const { return place.index; }
 
+  void woke(uint64_t) {
+    // Whatever woke it, a unit decides again whether it waits for input.
+    if constexpr (K == UnitKind::FrontBuffer) {
+      e.front_.woke(now);
+    } else if constexpr (K == UnitKind::Search) {
+      e.waiting_search_.busy(index());
+    } else if constexpr (K == UnitKind::Mac) {
+      e.waiting_macs_.busy(index());
+    } else {
+      place.waiting = false;
+    }
+  }
+
   bool write_head(uint64_t) {
     const Held& h = head();
     if constexpr (K == UnitKind::FrontBuffer) {
@@ -204,7 +209,7 @@ struct PeEngine::Ops {
     } else if constexpr (K == UnitKind::Search) {
       return e.emit(h.out, e.slots_[h.item], h.item, UnitKind::Search, index(), now);
     } else if constexpr (K == UnitKind::Mac) {
-      Fifo& out = e.root_fifo_[size_t(index())];
+      Fifo& out = e.fifo(FifoId::Root, size_t(index()));
       if (out.full()) return false;
       out.write(h.item, now);
       record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r.id, h.out);
@@ -212,7 +217,8 @@ struct PeEngine::Ops {
     } else if constexpr (K == UnitKind::Root) {
       return e.emit(h.out, e.results_[h.item].r, kNoSlot, UnitKind::Root, index(), now);
     } else {
-      return e.write_shading(now);
+      ShadingOps ops{e, h.item, now};
+      return e.shading_writer_.write(e.shading_, ops);
     }
   }
 
@@ -221,7 +227,7 @@ struct PeEngine::Ops {
     if constexpr (K == UnitKind::Shading) {
       e.free_slots_.push_back(h.item);
       e.shading_.retired();
-      e.shade_next_ = 0;
+      e.shading_writer_.retired();
     } else if constexpr (K == UnitKind::Root) {
       e.free_results_.push_back(h.item);
     }
@@ -229,7 +235,8 @@ struct PeEngine::Ops {
 
   bool accept(uint64_t) {
     if constexpr (K == UnitKind::FrontBuffer) {
-      return e.front_decide(now);
+      FrontOps ops{e, now};
+      return e.front_.carry_out(now, e.cycle_, ops);
     } else if constexpr (K == UnitKind::Search) {
         Fifo& in = e.fifo(FifoId::Search);
         if (!in.visible()) return false;
@@ -254,7 +261,7 @@ struct PeEngine::Ops {
         pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
         return true;
     } else if constexpr (K == UnitKind::Root) {
-        Fifo& in = e.root_fifo_[size_t(index())];
+        Fifo& in = e.fifo(FifoId::Root, size_t(index()));
         if (!in.visible()) return false;
         const uint32_t result = in.read(now);
         Work w = e.roots_[size_t(index())].take(e.results_[result], now);
@@ -271,9 +278,9 @@ struct PeEngine::Ops {
     }
   }
 
-  void wait_for_input() {
+  bool wait_for_input() {
     if constexpr (K == UnitKind::FrontBuffer) {
-      e.front_.wait(now);
+      return e.front_.wait(now);
     } else if constexpr (K == UnitKind::Search) {
       e.waiting_search_.idle(index());
     } else if constexpr (K == UnitKind::Mac) {
@@ -281,95 +288,71 @@ struct PeEngine::Ops {
     } else {
       place.waiting = true;
     }
+    return true;
   }
 
   void want(uint64_t t) { e.want(u, t); }
 };
 
 void PeEngine::wake(size_t unit, uint64_t now) {
-  // Whatever woke it, a unit decides again whether it waits for input; then one instance of the
-  // step per kind of unit: its operations inline, no switch per call.
+  // One instance of the step per kind of unit: its operations inline, no switch per call.
   Place& place = places_[unit];
   auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, pe_.memory.get(), ops); };
   switch (place.kind) {
-    case UnitKind::FrontBuffer:
-      front_.woke(now);
-      return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
-    case UnitKind::Search:
-      waiting_search_.busy(place.index);
-      return step(Ops<UnitKind::Search>{*this, unit, now, place});
-    case UnitKind::Mac:
-      waiting_macs_.busy(place.index);
-      return step(Ops<UnitKind::Mac>{*this, unit, now, place});
-    case UnitKind::Root:
-      place.waiting = false;
-      return step(Ops<UnitKind::Root>{*this, unit, now, place});
-    case UnitKind::Shading:
-      place.waiting = false;
-      return step(Ops<UnitKind::Shading>{*this, unit, now, place});
+    case UnitKind::FrontBuffer: return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
+    case UnitKind::Search: return step(Ops<UnitKind::Search>{*this, unit, now, place});
+    case UnitKind::Mac: return step(Ops<UnitKind::Mac>{*this, unit, now, place});
+    case UnitKind::Root: return step(Ops<UnitKind::Root>{*this, unit, now, place});
+    case UnitKind::Shading: return step(Ops<UnitKind::Shading>{*this, unit, now, place});
   }
 }
 
-bool PeEngine::front_decide(uint64_t now) {
-  auto d = front_.decide(now, cycle_, [&] {
-    Fifo& ends = fifo(FifoId::Ends);
-    while (ends.visible()) {
-      ends.read(now);
-      front_.ended();
-    }
-    for (const auto& [in, returns_credit] : front_inputs_)
-      while (in->visible()) returns_credit ? front_.returned(in->read(now)) : front_.spawned(in->read(now));
-  });
-  using D = FrontBufferPolicy<uint32_t>::Decision;
-  switch (d.kind) {
-    case D::Queued: dispatch(d.queued, d.cycles, d.from, now, std::move(d.wait)); return true;
-    case D::Primary:
-      dispatch(new_ray(primary_ray(pe_, rays_, d.primary)), d.cycles, d.from, now, std::move(d.wait));
-      return true;
-    case D::Align: want(kFront, d.at); return false;
-    case D::None: return false;
-  }
-  return false;
-}
+/// The front buffer's operations for FrontBufferPolicy::carry_out.
+struct PeEngine::FrontOps {
+  PeEngine& e;
+  uint64_t now;
 
-void PeEngine::dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait) {
-  front_.dispatched(now, slots_[slot].id, cycles, from);
-  places_[kFront].pipe.accept({slot, {}}, now, cycles, front_.interval(cycles), std::move(wait));
-}
-
-bool PeEngine::write_shading(uint64_t now) {
-  // The oldest shaded ray's outputs in order; a spawned ray is made (numbered) before it waits
-  // for room, as in the module.
-  const uint32_t ray = places_[kShading].pipe.head().item.item;
-  for (; shade_next_ < shading_.outputs(); ++shade_next_) {
-    const Output o = shading_.output(shade_next_);
-    if (shade_next_ == 0) {
-      if (!emit(o, slots_[ray], kNoSlot, UnitKind::Shading, 0, now)) return false;
-      continue;
-    }
-    if (!shade_child_made_) {
-      shade_child_ = new_ray(shading_.spawn(slots_[ray], shade_next_));
-      shade_child_made_ = true;
-    }
-    if (!emit(o, slots_[shade_child_], shade_child_, UnitKind::Shading, 0, now)) return false;
-    shade_child_made_ = false;
+  bool read_end() {
+    Fifo& ends = e.fifo(FifoId::Ends);
+    if (!ends.visible()) return false;
+    ends.read(now);
+    return true;
   }
-  return true;
-}
+  bool read(FifoId id, uint32_t& slot) {
+    Fifo& in = e.fifo(id);
+    if (!in.visible()) return false;
+    slot = in.read(now);
+    return true;
+  }
+  void drained() {}
+  uint32_t primary(size_t n) { return e.new_ray(primary_ray(e.pe_, e.rays_, n)); }
+  void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, MemoryWait&& wait) {
+    e.front_.dispatched(now, e.slots_[slot].id, cycles, from);
+    e.places_[e.place(UnitKind::FrontBuffer)].pipe.accept({slot, {}}, now, cycles, e.front_.interval(cycles), std::move(wait));
+  }
+  void want(uint64_t t) { e.want(e.place(UnitKind::FrontBuffer), t); }
+  void finished() {}
+};
+
+/// Shading's operations for ShadingWriter: `ray` is the oldest shaded ray's slot.
+struct PeEngine::ShadingOps {
+  PeEngine& e;
+  uint32_t ray;
+  uint64_t now;
+
+  bool write_end(const Output& o) { return e.emit(o, e.slots_[ray], kNoSlot, UnitKind::Shading, 0, now); }
+  uint32_t make(size_t k) { return e.new_ray(e.shading_.spawn(e.slots_[ray], k)); }
+  bool write(const Output& o, uint32_t child) { return e.emit(o, e.slots_[child], child, UnitKind::Shading, 0, now); }
+};
 
 // ---- statistics ----
 
-std::vector<std::pair<std::string, const FifoStats*>> PeEngine::fifo_stats(uint64_t now) {
-  std::vector<std::pair<std::string, const FifoStats*>> out;
-  for (Fifo* f : in_order_) out.emplace_back(f->name, &f->meter.close(now));
-  return out;
+FifoStatsList PeEngine::fifo_stats(uint64_t now, double seconds_per_tick) {
+  return rtm::fifo_stats(pe_, now, seconds_per_tick, [&](const FifoSpec& f, int lane) -> FifoMeter& { return fifo(f.id, size_t(lane)).meter; });
 }
 
-std::string PeEngine::occupancy_report() const {
-  std::ostringstream s;
-  s << front_.waiting() << " rays waiting in the front buffer, " << front_.in_flight() << " past it;";
-  for (const Fifo* f : in_order_) s << " " << f->name << " " << f->meter.occupancy << "/" << f->meter.stats.depth;
-  return s.str();
+std::string PeEngine::occupancy_report() {
+  return rtm::occupancy_report(pe_, front_, [&](const FifoSpec& f, int lane) -> FifoMeter& { return fifo(f.id, size_t(lane)).meter; });
 }
 
 }  // namespace rtm

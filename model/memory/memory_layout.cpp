@@ -1,6 +1,6 @@
-#include "units/memory_layout.h"
+#include "memory/memory_layout.h"
 
-#include "units/scene_image.h"
+#include "memory/scene_image.h"
 
 namespace rtm {
 

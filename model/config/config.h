@@ -25,6 +25,10 @@ enum class FlowControl { Credits, None };
 /// How a PE's local memory orders the requests issued in one cycle (memory/local_memory_timing.h).
 enum class MemoryArbitration { RoundRobin, FixedPriority, Fcfs };
 
+/// The most replicated units of one kind a PE may have (search_units' bound); the lane dispatcher
+/// (units/lane_dispatcher.h) holds as many.
+inline constexpr int kMaxUnitsOfAKind = 256;
+
 /// The preset of MachineConfig{} itself: no key changed.
 inline constexpr const char* kDefaultPreset = "default";
 
@@ -138,7 +142,7 @@ struct MachineConfig {
   Arbitration arbitration = Arbitration::Ranked;  ///< machine/timekeeper.h
 
   enum class PeSimulation { Auto, Modules };
-  PeSimulation pe_simulation = PeSimulation::Auto;  ///< machine/pe_engine.h
+  PeSimulation pe_simulation = PeSimulation::Auto;  ///< engine/pe_engine.h
 
   /// The technology the machine's cost is figured in: the built-in 45nm or a technology file
   /// (cost/technology.h, docs/cost.md).

@@ -1,4 +1,4 @@
-#include "units/scene_image.h"
+#include "memory/scene_image.h"
 
 #include "memory/records.h"
 

@@ -1,8 +1,8 @@
-#include "machine/engine_hosted_pe.h"
+#include "machine/engine_pe.h"
 
 namespace rtm {
 
-EngineHostedPe::EngineHostedPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+EnginePe::EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
                                size_t pixels, Timekeeper* keeper, EngineDriver& driver)
     : Pe(name, index, c, units, pixels, keeper),
       engine_(ctx, memory.frame, memory.ids, memory.rays, pixels),
@@ -10,7 +10,7 @@ EngineHostedPe::EngineHostedPe(sc_core::sc_module_name name, int index, const Ma
   SC_THREAD(run);
 }
 
-void EngineHostedPe::run() {
+void EnginePe::run() {
   // Only the host's rays reach a PE from outside, and they land in local memory: until all have
   // arrived the engine keeps behind SystemC time; afterwards it runs one to two quanta ahead, on
   // quantum boundaries shared by every PE, so that the driver runs the PEs side by side.
@@ -38,13 +38,13 @@ void EngineHostedPe::run() {
   finished_event.notify(sc_core::SC_ZERO_TIME);
 }
 
-std::vector<std::pair<std::string, const FifoStats*>> EngineHostedPe::fifo_stats() {
-  return engine_.fifo_stats(sc_core::sc_time_stamp().value());
+FifoStatsList EnginePe::fifo_stats() {
+  return engine_.fifo_stats(sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds());
 }
 
-std::string EngineHostedPe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }
+std::string EnginePe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }
 
-void EngineHostedPe::trace(Waveform&) {
+void EnginePe::trace(Waveform&) {
   SC_REPORT_ERROR("rtm/pe", "a PE on the engine has no signals to trace (waveforms select the modules)");
 }
 

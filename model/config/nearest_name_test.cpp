@@ -1,4 +1,4 @@
-#include "machine/nearest_name.h"
+#include "config/nearest_name.h"
 
 #include <chrono>
 

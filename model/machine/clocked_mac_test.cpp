@@ -1,6 +1,6 @@
 // The clocked MAC against the schedule and MacTiming: the same sums, bit for bit, and the same
 // cycle counts, on random jobs (one simulation in this process).
-#include "machine/mac.h"
+#include "machine/clocked_mac.h"
 
 #include <random>
 

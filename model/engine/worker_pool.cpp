@@ -1,4 +1,4 @@
-#include "machine/worker_pool.h"
+#include "engine/worker_pool.h"
 
 #include <algorithm>
 

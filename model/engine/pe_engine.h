@@ -25,7 +25,7 @@
 #include <utility>
 #include <vector>
 
-#include "machine/metered_fifo.h"
+#include "units/fifo_report.h"
 #include "units/front_buffer.h"
 #include "units/intersection.h"
 #include "units/search_unit.h"
@@ -58,8 +58,8 @@ class PeEngine {
   bool idle() const;
 
   /// Every FIFO's statistics, closed at time `now`, named and ordered as the modules report them.
-  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats(uint64_t now);
-  std::string occupancy_report() const;
+  FifoStatsList fifo_stats(uint64_t now, double seconds_per_tick);
+  std::string occupancy_report();
 
  private:
   static constexpr uint64_t kNever = UINT64_MAX;
@@ -128,19 +128,17 @@ class PeEngine {
     int index;      ///< among the units of its kind
     uint64_t rank;  ///< its same-instant rank, shifted into `order`
     Place(uint64_t cycle, UnitStats* stats, UnitKind k, int i)
-        : pipe(cycle, stats), kind(k), index(i), rank(uint64_t(k) + (k == UnitKind::Root ? uint64_t(i) : 0)) {}
+        : pipe(cycle, stats), kind(k), index(i), rank(uint64_t(k) + (unit_spec(k).ranked_by_lane ? uint64_t(i) : 0)) {}
     /// Its order for a wake-up it asked for as the seq-th: by rank, then by when it asked.
     uint64_t ranked(uint64_t seq) const { return rank << 48 | seq; }
   };
   template <UnitKind K>
   struct Ops;  // a kind of unit's operations for step_unit (units/unit_step.h)
+  struct FrontOps;    // the front buffer's for FrontBufferPolicy::carry_out
+  struct ShadingOps;  // shading's for ShadingWriter
 
-  // Places: the front buffer, shading, then the search units, the MACs and the root units.
-  static constexpr size_t kFront = 0, kShading = 1, kSearch = 2;
-  UnitKind kind_at(size_t place) const {
-    return place >= root0_ ? UnitKind::Root : place >= mac0_ ? UnitKind::Mac : place >= kSearch ? UnitKind::Search
-         : place == kFront ? UnitKind::FrontBuffer : UnitKind::Shading;
-  }
+  /// The place of unit `index` of kind k: places are in the unit table's order, each kind's by number.
+  size_t place(UnitKind k, size_t index = 0) const { return first_place_[size_t(k)] + index; }
 
   /// The next instant, with the units due then in due_now_ (due_count_ of them).
   uint64_t next_instant();
@@ -150,7 +148,7 @@ class PeEngine {
   /// Wakes a unit (units/unit_step.h).
   void wake(size_t unit, uint64_t now);
   void take_inputs(uint64_t now);
-  Fifo& fifo(FifoId id, size_t lane = 0) { return id == FifoId::Root ? root_fifo_[lane] : *fifos_by_id_[size_t(id)]; }
+  Fifo& fifo(FifoId id, size_t lane = 0) { return fifos_[first_fifo_[size_t(id)] + lane]; }
 
   uint32_t new_ray(const MachineRay& r);
   /// Writes a search or root unit's output for ray `r` (held in `slot`, or kNoSlot: in a MAC
@@ -158,10 +156,6 @@ class PeEngine {
   bool emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now);
   static constexpr uint32_t kNoSlot = UINT32_MAX;
 
-  /// Carries out the front buffer's decision when it can hand out a ray: true when it did.
-  bool front_decide(uint64_t now);
-  void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, uint64_t now, MemoryWait&& wait);
-  bool write_shading(uint64_t now);
 
   PeState& pe_;
   std::vector<PixelSum>& frame_;
@@ -175,14 +169,15 @@ class PeEngine {
   std::vector<uint32_t> free_results_;
 
   Phase phase_;
-  std::deque<Fifo> fifos_;      ///< the PE's FIFOs (a deque: they must not move)
-  std::array<Fifo*, kFifoCount> fifos_by_id_{};  ///< the per-PE ones
-  std::deque<Fifo> root_fifo_;  ///< one per intersection unit
-  std::vector<Fifo*> in_order_; ///< in the FIFO table's order, as statistics report them
+  /// The PE's FIFOs as for_each_fifo (units/fifo_report.h) lists them; each FIFO's first (a
+  /// per-lane FIFO's lanes follow it).
+  std::vector<Fifo> fifos_;
+  std::array<size_t, kFifoCount> first_fifo_{};
   /// The front buffer's ray inputs, in the table's order, and whether each returns a credit.
   std::vector<std::pair<Fifo*, bool>> front_inputs_;
 
   std::vector<Place> places_;
+  std::array<size_t, kUnitKinds> first_place_{};
   std::vector<uint64_t> due_at_;  ///< each place's earliest wake-up (kNever: none), packed: scanned every instant
   std::vector<size_t> due_now_;  ///< the first due_count_ are the units due at the next instant
   size_t due_count_ = 0;
@@ -196,12 +191,9 @@ class PeEngine {
   std::vector<MacUnit> macs_;
   std::vector<RootUnit> roots_;
   ShadingUnit shading_;
-  const size_t lanes_, mac0_, root0_;  ///< intersection units; where their MACs and root units are in places_
   LaneDispatcher waiting_search_;      ///< search units waiting for a ray: the lowest-numbered takes it
   LaneDispatcher waiting_macs_;
-  size_t shade_next_ = 0;  ///< the oldest shaded ray's next output to write
-  uint32_t shade_child_ = 0;
-  bool shade_child_made_ = false;
+  ShadingWriter<uint32_t> shading_writer_;
 };
 
 }  // namespace rtm

@@ -5,18 +5,18 @@
 
 #include "machine/engine_driver.h"
 #include "machine/pe.h"
-#include "machine/pe_engine.h"
+#include "engine/pe_engine.h"
 
 namespace rtm {
 
-class EngineHostedPe : public Pe {
+class EnginePe : public Pe {
  public:
-  SC_HAS_PROCESS(EngineHostedPe);
-  EngineHostedPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+  SC_HAS_PROCESS(EnginePe);
+  EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
                  Timekeeper* keeper, EngineDriver& driver);
 
   bool finished() const override { return finished_; }
-  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
+  FifoStatsList fifo_stats() override;
   std::string occupancy_report() override;
   void trace(Waveform& wave) override;
 

@@ -1,7 +1,7 @@
-// The threads that run the PE engines side by side (machine/worker_pool.h): every job once, on
+// The threads that run the PE engines side by side (engine/worker_pool.h): every job once, on
 // several threads, batch after batch, and a job's failure reported the same way whatever the
 // threads' timing.
-#include "machine/worker_pool.h"
+#include "engine/worker_pool.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "machine/mac.h"
+#include "machine/clocked_mac.h"
 
 #include <algorithm>
 #include <deque>

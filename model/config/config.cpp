@@ -1,4 +1,4 @@
-#include "machine/config.h"
+#include "config/config.h"
 
 #include <algorithm>
 #include <array>
@@ -14,8 +14,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "machine/nearest_name.h"
-#include "units/lane_dispatcher.h"
+#include "config/nearest_name.h"
 
 namespace rtm {
 namespace {
@@ -373,7 +372,7 @@ const std::vector<ConfigKey>& config_keys() {
       enum_key("pe_frame", "the coordinates the PEs compute in: world (the scene's own, as in the paper) or grid (translated to the grid's corner and scaled by its longest edge, formed by the host in fp64: fp32 accuracy independent of where the scene is; host_frame_cycles per primitive, light and camera)",
                &M::pe_frame),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
-      int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, LaneDispatcher::kMaxLanes)),
+      int_key("search_units", "replicated 3DDDA units per PE (paper Fig. 1: four)", &M::search_units, from(1, kMaxUnitsOfAKind)),
       enum_key("search_walk", "per_voxel (a ray in an empty voxel goes back to the front buffer, as in the paper) or until_occupied (the search unit steps on until an occupied voxel or the walk's end)",
                &M::search_walk),
       int_key("intersection_units", "MAC + root/sort lanes per PE (the paper has one)", &M::intersection_units, from(1, 64)),

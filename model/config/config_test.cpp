@@ -1,6 +1,6 @@
 // The configuration keys: each declared once, and parsing, range checks and the YAML that
 // `rtm config` prints all agree with that declaration. Plain C++, no simulation.
-#include "machine/config.h"
+#include "config/config.h"
 
 #include <unistd.h>
 

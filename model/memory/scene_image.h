@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "render/scene_memory.h"
 
 namespace rtm {
@@ -15,7 +15,7 @@ struct SceneImage {
   const Grid* grid = nullptr;
   std::optional<SceneMemory<float>> mem32;   ///< precision = fp32 only
   std::optional<SceneMemory<double>> mem64;  ///< precision = fp64 only
-  // The bytes of each part of a PE's copy (model/units/scene_image.cpp says what each holds).
+  // The bytes of each part of a PE's copy (model/memory/scene_image.cpp says what each holds).
   uint64_t primitive_bytes = 0;
   uint64_t voxel_bytes = 0;
   uint64_t light_bytes = 0;  ///< lights and materials

@@ -15,7 +15,7 @@
 
 #include <systemc>
 
-#include "machine/config.h"
+#include "config/config.h"
 #include "machine/trace_window.h"
 #include "machine/waveform.h"
 #include "units/mac_timing.h"

@@ -1,9 +1,9 @@
 // A PE's local memory laid out from the real data, on a scene whose bytes can be counted by hand.
-#include "units/memory_layout.h"
+#include "memory/memory_layout.h"
 
 #include <gtest/gtest.h>
 
-#include "units/scene_image.h"
+#include "memory/scene_image.h"
 
 namespace rtm {
 namespace {

@@ -13,19 +13,21 @@
 
 namespace rtm {
 
-class ModulesPe : public Pe {
+class ModularPe : public Pe {
  public:
-  ModulesPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
+  ModularPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
             sc_core::sc_clock* clock, Timekeeper* keeper);
 
   bool finished() const override { return front_->policy().finished(); }
-  std::vector<std::pair<std::string, const FifoStats*>> fifo_stats() override;
+  FifoStatsList fifo_stats() override;
   std::string occupancy_report() override;
   void trace(Waveform& wave) override;
 
  private:
-  /// The modules that run units of this kind.
-  std::vector<UnitModule*> modules_of(UnitKind k);
+  /// Creates the module that runs unit k of this kind.
+  void create(UnitKind kind, int k, sc_core::sc_clock* clock);
+  /// Where FIFO f's meter is (lane: of a per-lane FIFO).
+  FifoMeter& meter(const FifoSpec& f, int lane);
 
   // The channels, by FIFO (the table's per-lane root_fifo FIFOs live in the intersection units).
   std::array<std::unique_ptr<MeteredFifo<MachineRay>>, kFifoCount> rays_;
@@ -36,6 +38,7 @@ class ModulesPe : public Pe {
   std::unique_ptr<Dispatcher> search_dispatch_, intersect_dispatch_;
   std::vector<std::unique_ptr<IntersectionModule>> intersection_;  ///< the paper has one; more is an option
   std::unique_ptr<ShadingModule> shading_;
+  std::array<std::vector<UnitModule*>, kUnitKinds> modules_;  ///< by kind, the modules that run its units
 };
 
 }  // namespace rtm
