@@ -74,6 +74,62 @@ TEST(MeshRender, CameraOnTheCommandLine) {
   EXPECT_NE(typo.err.find("unknown key 'eyes'"), std::string::npos) << typo.err;
 }
 
+/// A mesh of about n triangles from scripts/mesh-generate (a rippled torus), at `path`; returns
+/// how many it has, as the script says ("PATH: N triangles, M vertices").
+int generate_mesh(const Tmp& tmp, int n, const std::string& path) {
+  const Proc g = sh(std::string("python3 ") + RTM_SOURCE_DIR + "/scripts/mesh-generate " + std::to_string(n) + " " + path, tmp);
+  EXPECT_EQ(g.exit_code, 0) << g.err;
+  const size_t at = g.out.find(": ");
+  return at == std::string::npos ? 0 : std::stoi(g.out.substr(at + 2));
+}
+
+// A large mesh is held to the memory budget before anything frame-sized is allocated: the
+// estimate counts its primitives, their copies and their memory images, so a budget below it is
+// refused naming the scene, and one above it renders (the watch would stop a render that
+// outgrew it).
+TEST(MeshScale, TheMemoryBudgetHoldsOnALargeMesh) {
+  Tmp tmp;
+  const int triangles = generate_mesh(tmp, 200000, tmp / "torus.ply");
+  ASSERT_GT(triangles, 190000);
+  const std::string args = "render " + tmp / "torus.ply" + " --reference --threads 2 -q --size 32x32 --out " + tmp / "t.png";
+  const Proc small = run_rtm(args + " --max-memory 200M", tmp);
+  EXPECT_EQ(small.exit_code, 2) << small.err;
+  EXPECT_NE(small.err.find("the largest part is the scene: "), std::string::npos) << small.err;
+  EXPECT_NE(small.err.find("for " + std::to_string(triangles) + " primitives at "), std::string::npos) << small.err;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "t.png"));
+  // The estimate, from the refusal's total, within the budget it is run under.
+  const size_t at = small.err.find("needs about ");
+  ASSERT_NE(at, std::string::npos);
+  const double mib = std::stod(small.err.substr(at + 12));
+  ASSERT_NE(small.err.find(" MiB, more than", at), std::string::npos) << small.err;
+  EXPECT_GT(mib, 400);  // 200000 triangles: about a kilobyte and a half each, and the program
+  const Proc enough = sh("/usr/bin/time -f %M -o " + tmp / "peak" + " " + RTM_BINARY + " " + args + " --max-memory " +
+                             std::to_string(int(mib + 20)) + "M",
+                         tmp);
+  ASSERT_EQ(enough.exit_code, 0) << enough.err;
+  const double peak_mib = std::stod(slurp(tmp / "peak")) / 1024;  // GNU time: kilobytes
+  EXPECT_LT(peak_mib, mib + 20);
+}
+
+// Each PE's copy of a mesh must fit its local memory: a PE it does not fit is refused before
+// the simulation, with the sizes, as for any scene.
+TEST(MeshScale, APeWhoseSceneCopyDoesNotFitIsRefusedWithTheSizes) {
+  Tmp tmp;
+  generate_mesh(tmp, 10000, tmp / "torus.ply");
+  const Proc r = run_rtm("render " + tmp / "torus.ply" + " --pes 2 --size 16x16 -q --set local_memory_bytes=1000000 --out " +
+                             tmp / "t.png",
+                         tmp);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("rtm: local memory too small: PE 0 needs ", 0), 0u) << r.err;
+  // 10000 triangles: their records alone are more than a megabyte.
+  const size_t at = r.err.find("(primitives ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_GT(std::stoll(r.err.substr(at + 12)), 1000000) << r.err;
+  EXPECT_NE(r.err.find(" B, voxel data ", at), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("but local_memory_bytes is 1000000"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "t.png"));
+}
+
 /// Where Debian's assimp-testmodels puts its files.
 const std::string kTestModels = "/usr/share/assimp/models";
 

@@ -179,7 +179,10 @@ int run_pov(const PovOptions& opt) {
   remove_partial_files_on_signals();  // the .pov file is written under a temporary name
   return run_command([&] {
     check_writable("--out", opt.out);
-    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
+    SceneReadOptions read;
+    read.strict = opt.strict;
+    read.skip_unknown = opt.skip_unknown;
+    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, read);
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     if (!opt.size.empty()) apply_size(opt.size, scene);
     if (opt.id && scene.primitives.size() >= (1u << 24) - 1) throw UsageError("--id: more primitives than 24 bits can number");

@@ -242,7 +242,11 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
   if (m.triangle_material.size() != m.triangles.size()) fail("the mesh has not one material per triangle");
   const size_t kept_materials = placement.material ? 0 : std::max<size_t>(1, m.materials.size());
   SkippedRecords degenerate{"degenerate triangle", "", 0, {}};
+  // Reserved: growing a million primitives by doubling would hold half again as many for a moment.
+  s.primitives.reserve(s.primitives.size() + m.triangles.size());
+  s.origins.reserve(s.origins.size() + m.triangles.size());
   for (size_t i = 0; i < m.triangles.size(); ++i) {
+    if (options.progress && i % 4096 == 0) options.progress("mesh load", "triangle", i, m.triangles.size());
     const std::string name = "triangle " + std::to_string(i);
     std::vector<Vec3> v;
     for (const uint32_t k : m.triangles[i]) {

@@ -245,8 +245,10 @@ MeshData import_mesh(const std::string& path, const SceneReadOptions& options) {
       timed_out = true;
       break;
     }
+    if (options.progress) options.progress("mesh import (Assimp)", "", 0, 0);
+    // Awake at least twice a second, for the progress line.
     pollfd p{fds[0], POLLIN, 0};
-    const int ready = poll(&p, 1, int(std::min(left * 1000 + 1, 1e9)));
+    const int ready = poll(&p, 1, int(std::min(left * 1000 + 1, 500.0)));
     if (ready < 0 && errno == EINTR) continue;
     if (ready <= 0) continue;
     const ssize_t n = ::read(fds[0], buffer, sizeof buffer);

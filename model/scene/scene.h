@@ -62,6 +62,8 @@ struct SceneReadOptions {
   /// error naming the file.
   uint64_t import_memory = uint64_t(4) << 30;
   double import_seconds = 120;
+  /// Hears how a mesh file's import ("mesh import (Assimp)") and its triangles ("mesh load") go.
+  StepProgress progress = nullptr;
 };
 
 /// How a spawned ray's origin is moved off the surface (render/shade.h, docs/numerics.md).
