@@ -130,6 +130,47 @@ TEST(MeshScale, APeWhoseSceneCopyDoesNotFitIsRefusedWithTheSizes) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "t.png"));
 }
 
+/// POV-Ray's ID image decoded to primitive numbers (-1: background), as `rtm pov --id` encodes them.
+std::vector<int32_t> pov_ids(const std::string& png) {
+  std::vector<int32_t> ids;
+  for (const rtm::Vec3& c : rtm::read_image(png).rgb)
+    ids.push_back((int(std::lround(c.x * 255)) << 16 | int(std::lround(c.y * 255)) << 8 | int(std::lround(c.z * 255))) - 1);
+  return ids;
+}
+
+// `rtm pov` writes a mesh file's triangles as mesh2, and POV-Ray's primary rays hit the
+// triangles ours hit: a rippled torus of 2,000 triangles seen whole, so that most of its
+// pixels lie near a shared edge.
+TEST(MeshPov, Mesh2AgreesWithPovRaysPrimaryHits) {
+  if (std::system("command -v povray >/dev/null 2>&1") != 0)
+    FAIL() << "povray is not installed (Debian package povray; scripts/setup installs it)";
+  Tmp tmp;
+  const int triangles = generate_mesh(tmp, 2000, tmp / "torus.ply");
+  const std::string size = " --size 160x120";
+  const nlohmann::json ours = render(tmp, "ours", tmp / "torus.ply --reference" + size);
+  ASSERT_FALSE(ours.is_null());
+  ASSERT_EQ(ours["primitives"], triangles);
+  ASSERT_EQ(run_rtm("pov " + tmp / "torus.ply" + size + " --out " + tmp / "t.pov", tmp).exit_code, 0);
+  ASSERT_EQ(run_rtm("pov " + tmp / "torus.ply" + size + " --id --out " + tmp / "tid.pov", tmp).exit_code, 0);
+  const std::string text = slurp(tmp / "t.pov");
+  EXPECT_LT(std::count(text.begin(), text.end(), '\n'), 3 * triangles);  // shared corners once
+  EXPECT_NE(text.find("mesh2 {"), std::string::npos);
+  EXPECT_EQ(text.find("polygon {"), std::string::npos);
+  const Proc r = sh("povray +I" + tmp / "tid.pov" + " +O" + tmp / "pov-id.png" + " +W160 +H120 -D -A +FN8 File_Gamma=1.0 +WT1", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<int32_t> theirs = pov_ids(tmp / "pov-id.png");
+  const std::vector<int32_t> mine = rtm::read_id_map(tmp / "ours-id.exr").ids;
+  ASSERT_EQ(mine.size(), theirs.size());
+  int same = 0, hit = 0;
+  for (size_t i = 0; i < mine.size(); ++i) same += mine[i] == theirs[i], hit += mine[i] >= 0;
+  EXPECT_GT(hit, int(mine.size()) / 4);  // the torus fills a good part of the view
+  std::cout << same << " of " << mine.size() << " pixels show the same triangle (" << hit << " on the torus)\n";
+  EXPECT_GE(double(same) / double(mine.size()), 0.999) << same << " of " << mine.size() << " pixels agree";
+  // The shaded scene parses and renders too.
+  const Proc shaded = sh("povray +I" + tmp / "t.pov" + " +O" + tmp / "pov.png" + " +W160 +H120 -D -A +FN8 File_Gamma=1.0 +WT1", tmp);
+  EXPECT_EQ(shaded.exit_code, 0) << shaded.err;
+}
+
 /// Where Debian's assimp-testmodels puts its files.
 const std::string kTestModels = "/usr/share/assimp/models";
 

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <unordered_map>
+#include <array>
 
 #include <CLI/CLI.hpp>
 
@@ -108,6 +110,68 @@ void write_shadow_twin(std::ostream& o, const Primitive& p) {
   o << "sphere { " << vec(p.p0) << ", " << num(r) << " pigment { rgb 0 } no_image no_reflection }\n";
 }
 
+/// A triangle of a mesh file (a polygon of three corners at line 0: docs/scene-format.md, "Mesh
+/// files"), written with its neighbours as one `mesh2`.
+bool mesh_triangle(const Scene& s, size_t i) {
+  const Primitive& p = s.primitives[i];
+  return !s.origins.empty() && s.origins[i].line == 0 && p.kind == ShapeKind::Polygon && p.pieces == 1 &&
+         p.vertices.size() == 3;
+}
+
+/// The flat ID colour of primitive i: its number + 1 in 24 bits, so black stays the background.
+std::string id_texture(size_t i) {
+  const uint32_t k = uint32_t(i + 1);
+  std::ostringstream o;
+  o << "texture { pigment { rgb <" << (k >> 16 & 255) << ", " << (k >> 8 & 255) << ", " << (k & 255)
+    << "> / 255 } finish { ambient 1 diffuse 0 reflection 0 specular 0 phong 0 } }";
+  return o.str();
+}
+
+/// Triangles [first, last) as one mesh2: POV-Ray parses and bounds a million of them as one
+/// object, where a million `polygon`s take minutes. Corners shared by triangles are written once
+/// (the same doubles, so the same edges). With `id`, each face has its own flat colour.
+void write_mesh2(std::ostream& o, const Scene& s, size_t first, size_t last, bool id) {
+  struct Key {
+    double x, y, z;
+    bool operator==(const Key& k) const { return x == k.x && y == k.y && z == k.z; }
+  };
+  struct Hash {
+    size_t operator()(const Key& k) const {
+      return std::hash<double>()(k.x) * 31 * 31 + std::hash<double>()(k.y) * 31 + std::hash<double>()(k.z);
+    }
+  };
+  std::unordered_map<Key, size_t, Hash> index;
+  std::vector<Vec3> corners;
+  std::vector<std::array<size_t, 3>> faces;
+  for (size_t i = first; i < last; ++i) {
+    std::array<size_t, 3> f{};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& v = s.primitives[i].vertices[size_t(k)];
+      const auto [at, added] = index.emplace(Key{v.x, v.y, v.z}, corners.size());
+      if (added) corners.push_back(v);
+      f[size_t(k)] = at->second;
+    }
+    faces.push_back(f);
+  }
+  o << "// " << first << ".." << last - 1 << ": " << last - first << " mesh triangles\nmesh2 {\n  vertex_vectors { "
+    << corners.size();
+  for (const Vec3& v : corners) o << ",\n    " << vec(v);
+  o << "\n  }\n";
+  if (id) {
+    o << "  texture_list { " << last - first;
+    for (size_t i = first; i < last; ++i) o << ",\n    " << id_texture(i);
+    o << "\n  }\n";
+  }
+  o << "  face_indices { " << faces.size();
+  for (size_t k = 0; k < faces.size(); ++k) {
+    o << ",\n    <" << faces[k][0] << ", " << faces[k][1] << ", " << faces[k][2] << ">";
+    if (id) o << ", " << k;
+  }
+  o << "\n  }\n";
+  if (!id) o << "  material { M" << s.primitives[first].material << " }\n";
+  o << "}\n";
+}
+
 }  // namespace
 
 std::string to_pov(const Scene& s, bool id) {
@@ -146,16 +210,23 @@ std::string to_pov(const Scene& s, bool id) {
 
   for (size_t i = 0; i < s.primitives.size(); ++i) {
     const Primitive& p = s.primitives[i];
+    if (mesh_triangle(s, i)) {
+      // The run of mesh triangles from here (of one material, unless every face has its own colour).
+      size_t last = i + 1;
+      while (last < s.primitives.size() && mesh_triangle(s, last) &&
+             (id || s.primitives[last].material == p.material))
+        ++last;
+      write_mesh2(o, s, i, last, id);
+      i = last - 1;
+      continue;
+    }
     if (p.piece > 0) continue;  // written with piece 0, as the whole polygon
     o << "// " << i << ": " << shape_name(p.kind) << "\n";
     // For ID comparisons: primitives i .. i + pieces − 1 are this one polygon (ID i + 1 here).
     if (p.pieces > 1) o << "// polygon pieces " << i << " " << p.pieces << "\n";
     write_shape(o, p);
     if (id) {
-      // Number + 1 in 24 bits, so black stays the background.
-      const uint32_t k = uint32_t(i + 1);
-      o << "  pigment { rgb <" << (k >> 16 & 255) << ", " << (k >> 8 & 255) << ", " << (k & 255)
-        << "> / 255 } finish { ambient 1 diffuse 0 reflection 0 specular 0 phong 0 }\n}\n";
+      o << "  " << id_texture(i) << "\n}\n";
       continue;
     }
     o << "  material { M" << p.material << " }\n}\n";
