@@ -1,9 +1,11 @@
 // `rtm render` of mesh files: a small OBJ on the reference and the machine, bad files (exit 1, the
 // file and the problem named, no image), and every OBJ, PLY, STL, OFF and glTF file of Debian's
 // assimp-testmodels (docs/mesh-corpus.md).
+#include <array>
 #include <atomic>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "cli_test_support.h"
@@ -169,6 +171,77 @@ TEST(MeshPov, Mesh2AgreesWithPovRaysPrimaryHits) {
   // The shaded scene parses and renders too.
   const Proc shaded = sh("povray +I" + tmp / "t.pov" + " +O" + tmp / "pov.png" + " +W160 +H120 -D -A +FN8 File_Gamma=1.0 +WT1", tmp);
   EXPECT_EQ(shaded.exit_code, 0) << shaded.err;
+}
+
+// The same triangles as an OBJ file and as NFF polygons, in the same order. Their corners are
+// dyadic, so Assimp's single-precision reading keeps them exact: a pyramid on a floor.
+const std::vector<std::array<double, 9>> kPyramid = {
+    {-1, 1.5, 0, 1, 0, 1, 1, 0, -1},    {-1, 1.5, 0, 1, 0, -1, -1, 0, -1}, {-1, 1.5, 0, -1, 0, -1, -1, 0, 1},
+    {-1, 1.5, 0, -1, 0, 1, 1, 0, 1},    {-4, 0, -4, -4, 0, 4, 4, 0, 4},    {-4, 0, -4, 4, 0, 4, 4, 0, -4},
+    {0.5, 0.75, 1.5, 1.5, 0, 2.5, 2.5, 0, 0.5}};
+
+std::string pyramid_obj() {
+  std::ostringstream o;
+  for (const auto& t : kPyramid)
+    for (int k = 0; k < 3; ++k) o << "v " << t[3 * k] << " " << t[3 * k + 1] << " " << t[3 * k + 2] << "\n";
+  for (size_t i = 0; i < kPyramid.size(); ++i) o << "f " << 3 * i + 1 << " " << 3 * i + 2 << " " << 3 * i + 3 << "\n";
+  return o.str();
+}
+
+const std::string kView = "v from 3 4 6 at 0 0.5 0 up 0 1 0 angle 40 hither 1 resolution 64 48\nb 0.1 0.1 0.2\nl 4 8 6\n"
+                          "f 0.8 0.6 0.4 0.7 0.2 0 0 0\n";
+
+std::string pyramid_nff() {
+  std::ostringstream o;
+  o << kView;
+  for (const auto& t : kPyramid) {
+    o << "p 3\n";
+    for (int k = 0; k < 3; ++k) o << t[3 * k] << " " << t[3 * k + 1] << " " << t[3 * k + 2] << "\n";
+  }
+  return o.str();
+}
+
+/// The NFF's camera, light and material as the native format states them (docs/scene-format.md,
+/// "NFF": one light at sqrt(1)/2, the ambient light too, ambient = Kd), the triangles the OBJ's.
+const std::string kPyramidYaml =
+    "camera: {eye: [3, 4, 6], look_at: [0, 0.5, 0], up: [0, 1, 0], fov: 40, resolution: [64, 48]}\n"
+    "background: [0.1, 0.1, 0.2]\nambient: [0.5, 0.5, 0.5]\nlights:\n  - {position: [4, 8, 6], color: [0.5, 0.5, 0.5]}\n"
+    "materials:\n  f: {color: [0.8, 0.6, 0.4], ambient: 0.7, diffuse: 0.7, specular: 0.2}\n"
+    "primitives:\n  - mesh: {file: pyramid.obj, material: f}\n";
+
+// A mesh written as OBJ and as NFF polygons is the same geometry and the same picture: the
+// same image to the bit, the same hit mask and, the face order kept, the same ID map, on the
+// reference and on the machine.
+TEST(MeshRender, ObjAndNffPolygonsGiveTheSamePicture) {
+  Tmp tmp;
+  spit(tmp / "pyramid.obj", pyramid_obj());
+  spit(tmp / "pyramid.nff", pyramid_nff());
+  spit(tmp / "pyramid.yaml", kPyramidYaml);
+  for (const std::string renderer : {"--reference", "--pes 2"}) {
+    SCOPED_TRACE(renderer);
+    const nlohmann::json nff = render(tmp, "nff", tmp / "pyramid.nff " + renderer);
+    const nlohmann::json obj = render(tmp, "obj", tmp / "pyramid.yaml " + renderer);
+    ASSERT_FALSE(nff.is_null() || obj.is_null());
+    EXPECT_EQ(nff["primitives"], int(kPyramid.size()));
+    EXPECT_EQ(obj["primitives"], int(kPyramid.size()));
+    const rtm::Image a = rtm::read_image(tmp / "nff.exr"), b = rtm::read_image(tmp / "obj.exr");
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    int differ = 0, lit = 0;
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+      differ += !(a.rgb[i].x == b.rgb[i].x && a.rgb[i].y == b.rgb[i].y && a.rgb[i].z == b.rgb[i].z);
+      lit += a.rgb[i].x > 0.2;
+    }
+    EXPECT_EQ(differ, 0);
+    EXPECT_GT(lit, 500);  // the floor and the pyramid fill most of the frame
+    const std::vector<int32_t> ia = rtm::read_id_map(tmp / "nff-id.exr").ids, ib = rtm::read_id_map(tmp / "obj-id.exr").ids;
+    ASSERT_EQ(ia.size(), ib.size());
+    int masks = 0, ids = 0, seen = 0;
+    for (size_t i = 0; i < ia.size(); ++i) masks += (ia[i] >= 0) != (ib[i] >= 0), ids += ia[i] != ib[i], seen += ia[i] >= 0;
+    EXPECT_EQ(masks, 0);
+    EXPECT_EQ(ids, 0);
+    EXPECT_GT(seen, 1000);
+    EXPECT_EQ(nff["rays"], obj["rays"]);
+  }
 }
 
 /// Where Debian's assimp-testmodels puts its files.
