@@ -1,7 +1,9 @@
 // `rtm render` of mesh files: a small OBJ on the reference and the machine, bad files (exit 1, the
 // file and the problem named, no image), and every OBJ, PLY, STL, OFF and glTF file of Debian's
 // assimp-testmodels (docs/mesh-corpus.md).
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <atomic>
 #include <map>
 #include <mutex>
@@ -242,6 +244,98 @@ TEST(MeshRender, ObjAndNffPolygonsGiveTheSamePicture) {
     EXPECT_GT(seen, 1000);
     EXPECT_EQ(nff["rays"], obj["rays"]);
   }
+}
+
+/// A sphere of latitude-longitude triangles with its exact normals as OBJ `vn`: the case smooth
+/// shading is for.
+std::string faceted_sphere_obj() {
+  std::ostringstream o;
+  const int rings = 8, segments = 16;
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double a = M_PI * i / rings, b = 2 * M_PI * j / segments;
+      const Vec3 n(std::sin(a) * std::cos(b), std::cos(a), std::sin(a) * std::sin(b));
+      o << "v " << n.x << " " << n.y << " " << n.z << "\nvn " << n.x << " " << n.y << " " << n.z << "\n";
+    }
+  auto at = [&](int i, int j) { return i * segments + (j % segments) + 1; };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+      if (i > 0) o << "f " << a << "//" << a << " " << b << "//" << b << " " << d << "//" << d << "\n";
+      if (i < rings - 1) o << "f " << b << "//" << b << " " << c << "//" << c << " " << d << "//" << d << "\n";
+    }
+  return o.str();
+}
+
+/// The share of pixels whose channels all lie within `tolerance`.
+double share_within(const rtm::Image& a, const rtm::Image& b, double tolerance) {
+  int within = 0;
+  for (size_t i = 0; i < a.rgb.size(); ++i)
+    within += std::abs(std::clamp(a.rgb[i].x, 0.0, 1.0) - std::clamp(b.rgb[i].x, 0.0, 1.0)) <= tolerance &&
+              std::abs(std::clamp(a.rgb[i].y, 0.0, 1.0) - std::clamp(b.rgb[i].y, 0.0, 1.0)) <= tolerance &&
+              std::abs(std::clamp(a.rgb[i].z, 0.0, 1.0) - std::clamp(b.rgb[i].z, 0.0, 1.0)) <= tolerance;
+  return double(within) / double(a.rgb.size());
+}
+
+// Vertex normals shade smooth by default and flat in the paper preset, on the reference and the
+// machine alike; the geometry (every primary hit) is the same either way, and the machine agrees
+// with its reference in both.
+TEST(MeshRender, VertexNormalsShadeSmoothByDefaultAndFlatInThePaperPreset) {
+  Tmp tmp;
+  spit(tmp / "ball.obj", faceted_sphere_obj());
+  const std::string args = tmp / "ball.obj --size 48x48 --camera '{eye: [0, 0, 4], look_at: [0, 0, 0]}'";
+  const nlohmann::json smooth = render(tmp, "smooth", args + " --pes 2");
+  const nlohmann::json flat = render(tmp, "flat", args + " --pes 2 --preset paper");
+  const nlohmann::json ref_smooth = render(tmp, "ref-smooth", args + " --reference");
+  const nlohmann::json ref_flat = render(tmp, "ref-flat", args + " --reference --set normal_interpolation=flat");
+  ASSERT_FALSE(smooth.is_null() || flat.is_null() || ref_smooth.is_null() || ref_flat.is_null());
+  EXPECT_EQ(smooth["config"]["normal_interpolation"], "barycentric");
+  EXPECT_EQ(flat["config"]["normal_interpolation"], "flat");
+  EXPECT_EQ(rtm::read_id_map(tmp / "smooth-id.exr").ids, rtm::read_id_map(tmp / "flat-id.exr").ids);
+  EXPECT_EQ(rtm::read_id_map(tmp / "ref-smooth-id.exr").ids, rtm::read_id_map(tmp / "ref-flat-id.exr").ids);
+  const rtm::Image s = rtm::read_image(tmp / "ref-smooth.exr"), f = rtm::read_image(tmp / "ref-flat.exr");
+  EXPECT_LT(share_within(s, f, 0.01), 0.9);  // smooth shading changes most lit pixels of the ball
+  EXPECT_EQ(smooth["error"]["primary_ids_differing"], 0);
+  EXPECT_GT(smooth["error"]["psnr_db"].get<double>(), 50) << smooth["error"].dump();
+  EXPECT_GT(flat["error"]["psnr_db"].get<double>(), 50) << flat["error"].dump();
+  // The smooth machine image is the smooth reference's, to fp32's rounding.
+  EXPECT_GT(share_within(rtm::read_image(tmp / "smooth.exr"), s, 1.0 / 255), 0.99);
+  // The interpolation costs shading cycles, and the normals local memory.
+  auto shading_cycles = [](const nlohmann::json& j) {
+    uint64_t c = 0;
+    for (const auto& pe : j["per_pe"]) c += pe["busy_cycles"]["shading"].get<uint64_t>();
+    return c;
+  };
+  const nlohmann::json plain = render(tmp, "plain", args + " --pes 2 --set normal_interpolation=flat");
+  ASSERT_FALSE(plain.is_null());
+  EXPECT_GT(shading_cycles(smooth), shading_cycles(plain));
+  // 12 words more a triangle: its 3 normals and 3 reciprocals.
+  const uint64_t more = smooth["memory"]["sections_bytes"]["primitives"].get<uint64_t>() -
+                        plain["memory"]["sections_bytes"]["primitives"].get<uint64_t>();
+  const uint64_t triangles = smooth["primitives"].get<uint64_t>();
+  EXPECT_TRUE(more == 12 * 4 * triangles || more == 12 * 8 * triangles) << more << " for " << triangles;
+  EXPECT_EQ(rtm::read_id_map(tmp / "plain-id.exr").ids, rtm::read_id_map(tmp / "smooth-id.exr").ids);
+}
+
+// POV-Ray's smooth triangles (mesh2 normals) are lit as ours: the images agree within the
+// tolerance docs/validation-povray.md uses (0.05 a channel).
+TEST(MeshPov, SmoothNormalsAgreeWithPovRay) {
+  if (std::system("command -v povray >/dev/null 2>&1") != 0)
+    FAIL() << "povray is not installed (Debian package povray; scripts/setup installs it)";
+  Tmp tmp;
+  spit(tmp / "ball.obj", faceted_sphere_obj());
+  const std::string size = " --size 64x64";
+  ASSERT_FALSE(render(tmp, "ours", tmp / "ball.obj --reference" + size).is_null());
+  ASSERT_EQ(run_rtm("pov " + tmp / "ball.obj" + size + " --out " + tmp / "b.pov", tmp).exit_code, 0);
+  EXPECT_NE(slurp(tmp / "b.pov").find("normal_indices"), std::string::npos);
+  const Proc r = sh("povray +I" + tmp / "b.pov" + " +O" + tmp / "pov.exr" + " +W64 +H64 -D -A +FE File_Gamma=1.0 +WT1", tmp);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const double within = share_within(rtm::read_image(tmp / "ours.exr"), rtm::read_image(tmp / "pov.exr"), 0.05);
+  std::cout << 100 * within << " % of pixels within 0.05 of POV-Ray's\n";
+  EXPECT_GT(within, 0.99);
+  ASSERT_EQ(run_rtm("pov " + tmp / "ball.obj" + size + " --normal-interpolation flat --out " + tmp / "f.pov", tmp).exit_code, 0);
+  EXPECT_EQ(slurp(tmp / "f.pov").find("normal_indices"), std::string::npos);
+  EXPECT_EQ(run_rtm("pov " + tmp / "ball.obj --normal-interpolation phong --out " + tmp / "x.pov", tmp).exit_code, 2);
 }
 
 /// Where Debian's assimp-testmodels puts its files.

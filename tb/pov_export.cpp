@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "machine/config.h"
 #include "render/image_io.h"
 #include "render/partial_files.h"
 #include "render_options.h"
@@ -43,7 +44,7 @@ void write_clips(std::ostream& o, const std::vector<HalfSpace>& clips) {
   o << "  } }\n";
 }
 
-void write_shape(std::ostream& o, const Primitive& p) {
+void write_shape(std::ostream& o, const Primitive& p, bool smooth) {
   switch (p.kind) {
     case ShapeKind::Sphere:
       o << "sphere { " << vec(p.p0) << ", " << num(p.r0) << "\n";
@@ -54,6 +55,11 @@ void write_shape(std::ostream& o, const Primitive& p) {
       o << "cone { " << vec(p.p0) << ", " << num(p.r0) << ", " << vec(p.p1) << ", " << num(p.r1) << " open\n";
       return;
     case ShapeKind::Polygon: {
+      if (smooth) {  // POV-Ray blends a smooth_triangle's normals by the same barycentric weights
+        o << "smooth_triangle { " << vec(p.vertices[0]) << ", " << vec(p.normals[0]) << ", " << vec(p.vertices[1])
+          << ", " << vec(p.normals[1]) << ", " << vec(p.vertices[2]) << ", " << vec(p.normals[2]) << "\n";
+        return;
+      }
       // A concave polygon's pieces are written as the whole polygon, once, so POV-Ray's own
       // polygon checks our decomposition (to_pov skips the other pieces).
       const std::vector<Vec3>& v = p.outline.empty() ? p.vertices : p.outline;
@@ -118,6 +124,13 @@ bool mesh_triangle(const Scene& s, size_t i) {
          p.vertices.size() == 3;
 }
 
+/// A triangle shaded with its vertex normals (render/shade.h, shading_normal).
+bool smooth_triangle(const Scene& s, size_t i) {
+  const Primitive& p = s.primitives[i];
+  return s.normal_interpolation == NormalInterpolation::Barycentric && p.kind == ShapeKind::Polygon &&
+         p.vertices.size() == 3 && p.clips.size() == 3 && p.normals.size() == 3;
+}
+
 /// The flat ID colour of primitive i: its number + 1 in 24 bits, so black stays the background.
 std::string id_texture(size_t i) {
   const uint32_t k = uint32_t(i + 1);
@@ -140,34 +153,51 @@ void write_mesh2(std::ostream& o, const Scene& s, size_t first, size_t last, boo
       return std::hash<double>()(k.x) * 31 * 31 + std::hash<double>()(k.y) * 31 + std::hash<double>()(k.z);
     }
   };
-  std::unordered_map<Key, size_t, Hash> index;
-  std::vector<Vec3> corners;
-  std::vector<std::array<size_t, 3>> faces;
-  for (size_t i = first; i < last; ++i) {
-    std::array<size_t, 3> f{};
-    for (int k = 0; k < 3; ++k) {
-      const Vec3& v = s.primitives[i].vertices[size_t(k)];
-      const auto [at, added] = index.emplace(Key{v.x, v.y, v.z}, corners.size());
-      if (added) corners.push_back(v);
-      f[size_t(k)] = at->second;
+  // Each distinct vector once, and every face's three indices into the list.
+  struct Indexed {
+    std::unordered_map<Key, size_t, Hash> index;
+    std::vector<Vec3> list;
+    std::vector<std::array<size_t, 3>> faces;
+    void add(const std::vector<Vec3>& corners) {
+      std::array<size_t, 3> f{};
+      for (size_t k = 0; k < 3; ++k) {
+        const Vec3& v = corners[k];
+        const auto [at, added] = index.emplace(Key{v.x, v.y, v.z}, list.size());
+        if (added) list.push_back(v);
+        f[k] = at->second;
+      }
+      faces.push_back(f);
     }
-    faces.push_back(f);
+    void write_list(std::ostream& o, const char* name) const {
+      o << "  " << name << " { " << list.size();
+      for (const Vec3& v : list) o << ",\n    " << vec(v);
+      o << "\n  }\n";
+    }
+    void write_faces(std::ostream& o, const char* name, bool ids) const {
+      o << "  " << name << " { " << faces.size();
+      for (size_t k = 0; k < faces.size(); ++k) {
+        o << ",\n    <" << faces[k][0] << ", " << faces[k][1] << ", " << faces[k][2] << ">";
+        if (ids) o << ", " << k;
+      }
+      o << "\n  }\n";
+    }
+  };
+  Indexed corners, normals;
+  const bool smooth = smooth_triangle(s, first);  // the run is all smooth or all flat
+  for (size_t i = first; i < last; ++i) {
+    corners.add(s.primitives[i].vertices);
+    if (smooth) normals.add(s.primitives[i].normals);
   }
-  o << "// " << first << ".." << last - 1 << ": " << last - first << " mesh triangles\nmesh2 {\n  vertex_vectors { "
-    << corners.size();
-  for (const Vec3& v : corners) o << ",\n    " << vec(v);
-  o << "\n  }\n";
+  o << "// " << first << ".." << last - 1 << ": " << last - first << " mesh triangles\nmesh2 {\n";
+  corners.write_list(o, "vertex_vectors");
+  if (smooth) normals.write_list(o, "normal_vectors");
   if (id) {
     o << "  texture_list { " << last - first;
     for (size_t i = first; i < last; ++i) o << ",\n    " << id_texture(i);
     o << "\n  }\n";
   }
-  o << "  face_indices { " << faces.size();
-  for (size_t k = 0; k < faces.size(); ++k) {
-    o << ",\n    <" << faces[k][0] << ", " << faces[k][1] << ", " << faces[k][2] << ">";
-    if (id) o << ", " << k;
-  }
-  o << "\n  }\n";
+  corners.write_faces(o, "face_indices", id);
+  if (smooth) normals.write_faces(o, "normal_indices", false);
   if (!id) o << "  material { M" << s.primitives[first].material << " }\n";
   o << "}\n";
 }
@@ -214,7 +244,7 @@ std::string to_pov(const Scene& s, bool id) {
       // The run of mesh triangles from here (of one material, unless every face has its own colour).
       size_t last = i + 1;
       while (last < s.primitives.size() && mesh_triangle(s, last) &&
-             (id || s.primitives[last].material == p.material))
+             (id || s.primitives[last].material == p.material) && smooth_triangle(s, last) == smooth_triangle(s, i))
         ++last;
       write_mesh2(o, s, i, last, id);
       i = last - 1;
@@ -224,7 +254,7 @@ std::string to_pov(const Scene& s, bool id) {
     o << "// " << i << ": " << shape_name(p.kind) << "\n";
     // For ID comparisons: primitives i .. i + pieces − 1 are this one polygon (ID i + 1 here).
     if (p.pieces > 1) o << "// polygon pieces " << i << " " << p.pieces << "\n";
-    write_shape(o, p);
+    write_shape(o, p, smooth_triangle(s, i));
     if (id) {
       o << "  " << id_texture(i) << "\n}\n";
       continue;
@@ -242,6 +272,9 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
   pov->add_flag("--id", opt.id, "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
   pov->add_flag("--strict", opt.strict, "Degenerate shapes are errors instead of skipped (as rtm render --strict)");
   pov->add_flag("--skip-unknown", opt.skip_unknown, "Skip unknown NFF records (as rtm render --skip-unknown)");
+  pov->add_option("--normal-interpolation", opt.normal_interpolation,
+                  "flat or barycentric: triangles with vertex normals as smooth_triangle / mesh2 normals (default: "
+                  "the default preset's, barycentric; the paper preset's is flat)");
   pov->add_option("--out", opt.out, "The .pov file to write")->required();
   return pov;
 }
@@ -256,6 +289,15 @@ int run_pov(const PovOptions& opt) {
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, read);
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     if (!opt.size.empty()) apply_size(opt.size, scene);
+    if (!opt.normal_interpolation.empty()) {
+      MachineConfig c;  // the key's own parsing and message
+      try {
+        set_config(c, "normal_interpolation", opt.normal_interpolation);
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--normal-interpolation: ") + e.what());
+      }
+      scene.normal_interpolation = c.normal_interpolation;
+    }
     if (opt.id && scene.primitives.size() >= (1u << 24) - 1) throw UsageError("--id: more primitives than 24 bits can number");
     write_text_atomically(opt.out, to_pov(scene, opt.id));
     std::printf("pov: %s (%s%zu primitives, %dx%d)\n", opt.out.c_str(), opt.id ? "ID colours, " : "",

@@ -117,7 +117,10 @@ int run_render(const RenderOptions& opt) {
       if (!opt.scene.empty() && o.file != opt.scene && included.insert(o.file).second) scene_text += "\n" + read_text(o.file);
     apply_scene_options(opt, scene);
     validate(scene);
-    const MachineConfig config = opt.reference ? MachineConfig{} : early_config ? *early_config : machine_config(opt);
+    // The reference alone reads the configuration too: its shading follows the machine's
+    // normal_interpolation (--preset paper: flat), so that it renders what that machine would.
+    const MachineConfig config = early_config ? *early_config : machine_config(opt);
+    scene.normal_interpolation = config.normal_interpolation;
     MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
     if (engine_pool) mopt.pool = &*engine_pool;
     if (const int idle = opt.reference ? 0 : pes_without_pixels(scene.camera.width, scene.camera.height, config))

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geom/grid.h"
+#include "geom/numerics.h"
 #include "geom/quadric.h"
 #include "scene/file_error.h"
 
@@ -91,6 +92,9 @@ struct Scene {
   /// relative) or to an error bound of the hit point (bound).
   double spawn_offset = 1e-5;
   SpawnPolicy spawn_policy = SpawnPolicy::Relative;
+  /// How shading lights triangles with vertex normals: the machine's normal_interpolation key,
+  /// which rtm render copies here so that the reference does the same.
+  NormalInterpolation normal_interpolation = kDefaultNormalInterpolation;
   GridOptions grid;
 };
 
