@@ -116,8 +116,8 @@ void write_shadow_twin(std::ostream& o, const Primitive& p) {
   o << "sphere { " << vec(p.p0) << ", " << num(r) << " pigment { rgb 0 } no_image no_reflection }\n";
 }
 
-/// A triangle of a mesh file (a polygon of three corners at line 0: docs/scene-format.md, "Mesh
-/// files"), written with its neighbours as one `mesh2`.
+/// A triangle of a mesh file, a polygon of three corners at line 0 (docs/scene-format.md,
+/// "Mesh files"), written with its neighbours as one `mesh2`.
 bool mesh_triangle(const Scene& s, size_t i) {
   const Primitive& p = s.primitives[i];
   return !s.origins.empty() && s.origins[i].line == 0 && p.kind == ShapeKind::Polygon && p.pieces == 1 &&
