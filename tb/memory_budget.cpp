@@ -7,11 +7,13 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "byte_size.h"
 #include "engine/pe_engine.h"
 #include "render/pixel_sum.h"
 #include "render/reference.h"
+#include "render/scene_memory.h"
 #include "render_options.h"
 #include "units/fifo_table.h"
 #include "units/machine_ray.h"
@@ -70,7 +72,34 @@ uint64_t read_number(const char* path) {
   return (f >> v) ? v : 0;
 }
 
+/// What a heap block costs beyond its bytes: glibc's malloc keeps 8 bytes a block and rounds to 16.
+double heap_block(double bytes) { return bytes > 0 ? std::ceil((bytes + 8) / 16) * 16 : 0; }
+
+template <class T>
+double heap_of(const std::vector<T>& v) {
+  return heap_block(double(v.capacity() * sizeof(T)));
+}
+
+/// A primitive's SceneMemory entry (render/scene_memory.h): its coefficient RAM image, its
+/// centre and its clips in its frame, at fp64 (the reference's; the machine's fp32 image is smaller).
+double memory_image_bytes(const Scene& s) {
+  double bytes = 0;
+  for (const Primitive& p : s.primitives)
+    bytes += sizeof(CoefRam<double>) + sizeof(Vec3) + sizeof(std::vector<HalfSpace>) +
+             heap_block(double(p.clips.size() * sizeof(HalfSpace)));
+  return bytes;
+}
+
 }  // namespace
+
+double scene_bytes(const Scene& s) {
+  double bytes = 0;
+  for (const Primitive& p : s.primitives)
+    bytes += sizeof(Primitive) + heap_of(p.clips) + heap_of(p.vertices) + heap_of(p.outline);
+  for (const SourceLocation& o : s.origins)
+    bytes += sizeof(SourceLocation) + (o.file.capacity() > 15 ? heap_block(double(o.file.capacity() + 1)) : 0);
+  return bytes;
+}
 
 double rays_per_primary_bound(const Scene& s) {
   const Ks k = branch_coefficients(s);
@@ -79,15 +108,29 @@ double rays_per_primary_bound(const Scene& s) {
   return total * (1 + double(s.lights.size()));
 }
 
-std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* c, bool tracing) {
+std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* c, bool tracing,
+                                        int threads) {
   const double pixels = double(s.camera.width) * double(s.camera.height);
   const std::string frame = std::to_string(s.camera.width) + "x" + std::to_string(s.camera.height) + " pixels";
   std::vector<MemoryPart> parts;
   parts.push_back({"the program", kProcessBytes, "its libraries and data (measured)"});
-  parts.push_back({"the grid", double(g.start.size() + g.items.size()) * sizeof(uint32_t) * (c ? 2 : 1) +
-                                   double(s.primitives.size()) * 1024,
-                   std::to_string(g.voxel_count()) + " voxels, " + std::to_string(g.items.size()) + " references" +
-                       (c ? ", and the PEs' scene image" : "")});
+  // Either renderer traces a copy of the scene and its grid (in the PEs' frame), and the
+  // primitives' memory image made from it, while the world's copy stays; a machine render has
+  // the PEs' image and then the reference's.
+  const double scene = scene_bytes(s), images = (c ? 2 : 1) * memory_image_bytes(s);
+  parts.push_back({"the scene", 2 * scene + images,
+                   std::to_string(s.primitives.size()) + " primitives at " +
+                       str((2 * scene + images) / std::max<double>(1, double(s.primitives.size()))) +
+                       " bytes each: the world's and the frame's copies, and " +
+                       (c ? "the PEs' and the reference's memory images" : "the memory image")});
+  // Each reference thread's mailbox: a stamp and a hit per primitive (render/reference.cpp).
+  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  const double mailbox = double(sizeof(uint32_t) + sizeof(PrimitiveHit));
+  parts.push_back({"the mailboxes", double(threads) * double(s.primitives.size()) * mailbox,
+                   std::to_string(threads) + " reference threads at " + str(mailbox) + " bytes a primitive"});
+  parts.push_back({"the grid", 2 * double(g.start.size() + g.items.size()) * sizeof(uint32_t),
+                   std::to_string(g.voxel_count()) + " voxels, " + std::to_string(g.items.size()) +
+                       " references, twice (the world's and the frame's copies)"});
   if (!c) {
     // The frame (RGB and ids), and the file's pixels while it is written.
     parts.push_back({"the image", pixels * (kPixelBytes + 16), frame + " at " + str(kPixelBytes + 16) + " bytes each"});

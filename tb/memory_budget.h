@@ -21,7 +21,13 @@ struct MemoryPart {
 /// per pixel and per PE are what this build measured (docs/reliability.md, "Memory budget").
 /// What grows with the ray tree (rays waiting in the front buffers, an event log) depends on the
 /// frame's data, not its size: the machine's monitor holds it to the budget as it runs.
-std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* config, bool tracing);
+/// `threads`: the reference's (0: every core).
+std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* config, bool tracing,
+                                        int threads);
+
+/// The bytes a scene's primitives and their origins hold in this process, their heap blocks
+/// included: a mesh of a million triangles holds about 700 MB of them.
+double scene_bytes(const Scene& s);
 
 /// The default budget: three quarters of the machine's memory, or of the process's control
 /// group's limit or address-space limit where those are smaller.

@@ -8,9 +8,12 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <unordered_map>
+#include <array>
 
 #include <CLI/CLI.hpp>
 
+#include "config/config.h"
 #include "render/image_io.h"
 #include "render/partial_files.h"
 #include "render_options.h"
@@ -41,7 +44,7 @@ void write_clips(std::ostream& o, const std::vector<HalfSpace>& clips) {
   o << "  } }\n";
 }
 
-void write_shape(std::ostream& o, const Primitive& p) {
+void write_shape(std::ostream& o, const Primitive& p, bool smooth) {
   switch (p.kind) {
     case ShapeKind::Sphere:
       o << "sphere { " << vec(p.p0) << ", " << num(p.r0) << "\n";
@@ -52,6 +55,11 @@ void write_shape(std::ostream& o, const Primitive& p) {
       o << "cone { " << vec(p.p0) << ", " << num(p.r0) << ", " << vec(p.p1) << ", " << num(p.r1) << " open\n";
       return;
     case ShapeKind::Polygon: {
+      if (smooth) {  // POV-Ray blends a smooth_triangle's normals by the same barycentric weights
+        o << "smooth_triangle { " << vec(p.vertices[0]) << ", " << vec(p.normals[0]) << ", " << vec(p.vertices[1])
+          << ", " << vec(p.normals[1]) << ", " << vec(p.vertices[2]) << ", " << vec(p.normals[2]) << "\n";
+        return;
+      }
       // A concave polygon's pieces are written as the whole polygon, once, so POV-Ray's own
       // polygon checks our decomposition (to_pov skips the other pieces).
       const std::vector<Vec3>& v = p.outline.empty() ? p.vertices : p.outline;
@@ -108,6 +116,92 @@ void write_shadow_twin(std::ostream& o, const Primitive& p) {
   o << "sphere { " << vec(p.p0) << ", " << num(r) << " pigment { rgb 0 } no_image no_reflection }\n";
 }
 
+/// A triangle of a mesh file, a polygon of three corners at line 0 (docs/scene-format.md,
+/// "Mesh files"), written with its neighbours as one `mesh2`.
+bool mesh_triangle(const Scene& s, size_t i) {
+  const Primitive& p = s.primitives[i];
+  return !s.origins.empty() && s.origins[i].line == 0 && p.kind == ShapeKind::Polygon && p.pieces == 1 &&
+         p.vertices.size() == 3;
+}
+
+/// A triangle shaded with its vertex normals (render/shade.h, shading_normal).
+bool smooth_triangle(const Scene& s, size_t i) {
+  const Primitive& p = s.primitives[i];
+  return s.normal_interpolation == NormalInterpolation::Barycentric && p.kind == ShapeKind::Polygon &&
+         p.vertices.size() == 3 && p.clips.size() == 3 && p.normals.size() == 3;
+}
+
+/// The flat ID colour of primitive i: its number + 1 in 24 bits, so black stays the background.
+std::string id_texture(size_t i) {
+  const uint32_t k = uint32_t(i + 1);
+  std::ostringstream o;
+  o << "texture { pigment { rgb <" << (k >> 16 & 255) << ", " << (k >> 8 & 255) << ", " << (k & 255)
+    << "> / 255 } finish { ambient 1 diffuse 0 reflection 0 specular 0 phong 0 } }";
+  return o.str();
+}
+
+/// Triangles [first, last) as one mesh2: POV-Ray parses and bounds a million of them as one
+/// object, where a million `polygon`s take minutes. Corners shared by triangles are written once
+/// (the same doubles, so the same edges). With `id`, each face has its own flat colour.
+void write_mesh2(std::ostream& o, const Scene& s, size_t first, size_t last, bool id) {
+  struct Key {
+    double x, y, z;
+    bool operator==(const Key& k) const { return x == k.x && y == k.y && z == k.z; }
+  };
+  struct Hash {
+    size_t operator()(const Key& k) const {
+      return std::hash<double>()(k.x) * 31 * 31 + std::hash<double>()(k.y) * 31 + std::hash<double>()(k.z);
+    }
+  };
+  // Each distinct vector once, and every face's three indices into the list.
+  struct Indexed {
+    std::unordered_map<Key, size_t, Hash> index;
+    std::vector<Vec3> list;
+    std::vector<std::array<size_t, 3>> faces;
+    void add(const std::vector<Vec3>& corners) {
+      std::array<size_t, 3> f{};
+      for (size_t k = 0; k < 3; ++k) {
+        const Vec3& v = corners[k];
+        const auto [at, added] = index.emplace(Key{v.x, v.y, v.z}, list.size());
+        if (added) list.push_back(v);
+        f[k] = at->second;
+      }
+      faces.push_back(f);
+    }
+    void write_list(std::ostream& o, const char* name) const {
+      o << "  " << name << " { " << list.size();
+      for (const Vec3& v : list) o << ",\n    " << vec(v);
+      o << "\n  }\n";
+    }
+    void write_faces(std::ostream& o, const char* name, bool ids) const {
+      o << "  " << name << " { " << faces.size();
+      for (size_t k = 0; k < faces.size(); ++k) {
+        o << ",\n    <" << faces[k][0] << ", " << faces[k][1] << ", " << faces[k][2] << ">";
+        if (ids) o << ", " << k;
+      }
+      o << "\n  }\n";
+    }
+  };
+  Indexed corners, normals;
+  const bool smooth = smooth_triangle(s, first);  // the run is all smooth or all flat
+  for (size_t i = first; i < last; ++i) {
+    corners.add(s.primitives[i].vertices);
+    if (smooth) normals.add(s.primitives[i].normals);
+  }
+  o << "// " << first << ".." << last - 1 << ": " << last - first << " mesh triangles\nmesh2 {\n";
+  corners.write_list(o, "vertex_vectors");
+  if (smooth) normals.write_list(o, "normal_vectors");
+  if (id) {
+    o << "  texture_list { " << last - first;
+    for (size_t i = first; i < last; ++i) o << ",\n    " << id_texture(i);
+    o << "\n  }\n";
+  }
+  corners.write_faces(o, "face_indices", id);
+  if (smooth) normals.write_faces(o, "normal_indices", false);
+  if (!id) o << "  material { M" << s.primitives[first].material << " }\n";
+  o << "}\n";
+}
+
 }  // namespace
 
 std::string to_pov(const Scene& s, bool id) {
@@ -146,16 +240,23 @@ std::string to_pov(const Scene& s, bool id) {
 
   for (size_t i = 0; i < s.primitives.size(); ++i) {
     const Primitive& p = s.primitives[i];
+    if (mesh_triangle(s, i)) {
+      // The run of mesh triangles from here (of one material, unless every face has its own colour).
+      size_t last = i + 1;
+      while (last < s.primitives.size() && mesh_triangle(s, last) &&
+             (id || s.primitives[last].material == p.material) && smooth_triangle(s, last) == smooth_triangle(s, i))
+        ++last;
+      write_mesh2(o, s, i, last, id);
+      i = last - 1;
+      continue;
+    }
     if (p.piece > 0) continue;  // written with piece 0, as the whole polygon
     o << "// " << i << ": " << shape_name(p.kind) << "\n";
     // For ID comparisons: primitives i .. i + pieces − 1 are this one polygon (ID i + 1 here).
     if (p.pieces > 1) o << "// polygon pieces " << i << " " << p.pieces << "\n";
-    write_shape(o, p);
+    write_shape(o, p, smooth_triangle(s, i));
     if (id) {
-      // Number + 1 in 24 bits, so black stays the background.
-      const uint32_t k = uint32_t(i + 1);
-      o << "  pigment { rgb <" << (k >> 16 & 255) << ", " << (k >> 8 & 255) << ", " << (k & 255)
-        << "> / 255 } finish { ambient 1 diffuse 0 reflection 0 specular 0 phong 0 }\n}\n";
+      o << "  " << id_texture(i) << "\n}\n";
       continue;
     }
     o << "  material { M" << p.material << " }\n}\n";
@@ -171,6 +272,9 @@ CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
   pov->add_flag("--id", opt.id, "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
   pov->add_flag("--strict", opt.strict, "Degenerate shapes are errors instead of skipped (as rtm render --strict)");
   pov->add_flag("--skip-unknown", opt.skip_unknown, "Skip unknown NFF records (as rtm render --skip-unknown)");
+  pov->add_option("--normal-interpolation", opt.normal_interpolation,
+                  "flat or barycentric: triangles with vertex normals as smooth_triangle / mesh2 normals (default: "
+                  "the default preset's, barycentric; the paper preset's is flat)");
   pov->add_option("--out", opt.out, "The .pov file to write")->required();
   return pov;
 }
@@ -179,9 +283,21 @@ int run_pov(const PovOptions& opt) {
   remove_partial_files_on_signals();  // the .pov file is written under a temporary name
   return run_command([&] {
     check_writable("--out", opt.out);
-    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, {opt.strict, opt.skip_unknown});
+    SceneReadOptions read;
+    read.strict = opt.strict;
+    read.skip_unknown = opt.skip_unknown;
+    Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, read);
     for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
     if (!opt.size.empty()) apply_size(opt.size, scene);
+    if (!opt.normal_interpolation.empty()) {
+      MachineConfig c;  // the key's own parsing and message
+      try {
+        set_config(c, "normal_interpolation", opt.normal_interpolation);
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--normal-interpolation: ") + e.what());
+      }
+      scene.normal_interpolation = c.normal_interpolation;
+    }
     if (opt.id && scene.primitives.size() >= (1u << 24) - 1) throw UsageError("--id: more primitives than 24 bits can number");
     write_text_atomically(opt.out, to_pov(scene, opt.id));
     std::printf("pov: %s (%s%zu primitives, %dx%d)\n", opt.out.c_str(), opt.id ? "ID colours, " : "",

@@ -19,11 +19,13 @@ struct PovOptions {
   bool id = false;    ///< flat primitive-ID colours instead of shading
   bool strict = false;        ///< degenerate shapes are errors (as `rtm render --strict`)
   bool skip_unknown = false;  ///< unknown NFF records are skipped (as `rtm render --skip-unknown`)
+  std::string normal_interpolation;  ///< flat or barycentric; empty: the default preset's
 };
 
 /// The scene as POV-Ray 3.7 SDL. With `id`, each primitive is a flat colour encoding its number
 /// + 1 in 24 bits (R high byte), the background is black, and there are no lights, so an 8-bit
 /// image rendered with File_Gamma=1.0 and no antialiasing decodes to the primitive number.
+/// Triangles with vertex normals carry them when the scene's normal_interpolation is barycentric.
 std::string to_pov(const Scene& s, bool id);
 
 /// Registers `rtm pov` on the command line; its options are stored in `opt`.

@@ -15,6 +15,7 @@
 
 #include "byte_size.h"
 #include "fnv1a.h"
+#include "config/config.h"
 #include "render/atomic_file.h"
 #include "render/partial_files.h"
 
@@ -221,7 +222,7 @@ ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::strin
   key << scene_text << "|" << c.width << "x" << c.height << "|eye " << c.eye.x << "," << c.eye.y << "," << c.eye.z
       << "|at " << c.look_at.x << "," << c.look_at.y << "," << c.look_at.z << "|up " << c.up.x << "," << c.up.y << ","
       << c.up.z << "|fov " << c.fov_deg << "|grid " << g.n[0] << "," << g.n[1] << ","
-      << g.n[2] << "|t " << s.threshold << "|d " << s.max_depth << "|o " << s.spawn_offset << " " << to_string(s.spawn_policy) << "|frame " << to_string(frame) << "|" << __DATE__ << " "
+      << g.n[2] << "|t " << s.threshold << "|d " << s.max_depth << "|o " << s.spawn_offset << " " << to_string(s.spawn_policy) << "|normals " << to_string(s.normal_interpolation) << "|frame " << to_string(frame) << "|" << __DATE__ << " "
       << __TIME__ << "|" << reference_build_id();
   key << "|refs " << fnv1a(std::string(reinterpret_cast<const char*>(g.items.data()), g.items.size() * sizeof(uint32_t)))
       << " " << fnv1a(std::string(reinterpret_cast<const char*>(g.start.data()), g.start.size() * sizeof(uint32_t)));

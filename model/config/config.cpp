@@ -50,6 +50,11 @@ struct EnumNames<HitRefine> {
   static constexpr std::pair<HitRefine, const char*> all[] = {{HitRefine::None, "none"}, {HitRefine::Newton, "newton"}};
 };
 template <>
+struct EnumNames<NormalInterpolation> {
+  static constexpr std::pair<NormalInterpolation, const char*> all[] = {{NormalInterpolation::Flat, "flat"},
+                                                                        {NormalInterpolation::Barycentric, "barycentric"}};
+};
+template <>
 struct EnumNames<FlowControl> {
   static constexpr std::pair<FlowControl, const char*> all[] = {{FlowControl::Credits, "credits"},
                                                                 {FlowControl::None, "none"}};
@@ -262,6 +267,7 @@ const char* to_string(OriginLatch o) { return name_of(o); }
 const char* to_string(MachineConfig::MacSchedule m) { return name_of(m); }
 const char* to_string(MachineConfig::UnitPrecision p) { return name_of(p); }
 const char* to_string(HitRefine r) { return name_of(r); }
+const char* to_string(NormalInterpolation n) { return name_of(n); }
 const char* to_string(MachineConfig::SearchWalk w) { return name_of(w); }
 const char* to_string(MachineConfig::RayGeneration g) { return name_of(g); }
 const char* to_string(MachineConfig::Gather g) { return name_of(g); }
@@ -369,6 +375,8 @@ const std::vector<ConfigKey>& config_keys() {
                &M::origin_latch),
       enum_key("hit_refine", "shading's hit point: none (at the root unit's t, as in the paper) or newton (one Newton step on the primitive's quadric in fp64 first; refine_cycles more shading latency per hit; docs/numerics.md)",
                &M::hit_refine),
+      enum_key("normal_interpolation", "the normal a triangle with vertex normals (NFF pp, a mesh file's) is lit with: flat (its plane's, as in the paper) or barycentric (the vertex normals weighted by the hit's barycentric coordinates, from the clip tests' edge values; interpolate_cycles more shading latency per such hit, 12 more words a triangle in the scene copy)",
+               &M::normal_interpolation),
       enum_key("pe_frame", "the coordinates the PEs compute in: world (the scene's own, as in the paper) or grid (translated to the grid's corner and scaled by its longest edge, formed by the host in fp64: fp32 accuracy independent of where the scene is; host_frame_cycles per primitive, light and camera)",
                &M::pe_frame),
       double_key("clock_ns", "PE clock period, ns", &M::clock_ns, from(kMinClockNs, kMaxClockNs, kTickNs)),
@@ -387,6 +395,8 @@ const std::vector<ConfigKey>& config_keys() {
               &M::advance_cycles, from(0, kMaxOpCycles)),
       int_key("refine_cycles", "extra shading latency per hit with hit_refine = newton (the hit point, Q and its gradient there, the slope and a division, in fp64)",
               &M::refine_cycles, from(0, kMaxOpCycles)),
+      int_key("interpolate_cycles", "extra shading latency per hit on a triangle with vertex normals with normal_interpolation = barycentric (3 weights, 9 products and 6 adds for the weighted normal, its normalisation)",
+              &M::interpolate_cycles, from(0, kMaxOpCycles)),
       int_key("clip_cycles", "cycles per clip half-space test (3 products and an add)", &M::clip_cycles, from(0, kMaxOpCycles)),
       int_key("sort_cycles", "cycles per primitive result merged into the nearest-hit register", &M::sort_cycles, from(0, kMaxOpCycles)),
       int_key("shade_cycles", "shading cycles per ray: normal, ambient term and frame-buffer update", &M::shade_cycles, from(0, kMaxOpCycles)),
@@ -479,6 +489,7 @@ const std::vector<Preset>& presets() {
            {"dda_precision", "precision", "silent (§4: the 3DDDA's arithmetic is not described): the PE's one floating-point width"},
            {"shading_precision", "precision", "silent (§6: the shading arithmetic is not described): the PE's one floating-point width"},
            {"hit_refine", "none", "§6 shades the point the intersection stage found; no refinement is described"},
+           {"normal_interpolation", "flat", "§6: the shading stage computes one normal per primitive, the surface's; vertex normals are not described"},
            {"pe_frame", "world", "§3.2, §5.2: the host sends the primitives, the voxel data and the rays as the scene gives them, and the RAM and latches hold world coordinates; no change of coordinates is described"},
            {"mac_schedule", "full", "§5.2: the adder accumulates 6 products for α, 12 for β and 10 for γ, for every primitive"},
            {"leave_out", "false", "§3.1, §6: one machine for every scene: each PE has its shadow and branch-ray units whether the scene uses them or not"},

@@ -63,6 +63,9 @@ struct MachineConfig {
   CoefScaling coef_scaling = MacNumerics{}.coef_scaling;
   OriginLatch origin_latch = OriginLatch::Advance;
   HitRefine hit_refine = HitRefine::Newton;
+  /// Triangles with vertex normals (NFF pp, mesh files) shaded smooth: what the files ask for;
+  /// interpolate_cycles more shading latency on such a hit (docs/scene-format.md, "Vertex normals").
+  NormalInterpolation normal_interpolation = kDefaultNormalInterpolation;
   /// The coordinates the PEs compute in (scene/grid_frame.h): the grid's own, so that fp32
   /// accuracy does not depend on where the scene is (docs/numerics.md, "Where the scene is").
   PeFrame pe_frame = PeFrame::Grid;
@@ -80,6 +83,7 @@ struct MachineConfig {
   int fma_discriminant_cycles = 2;
   int advance_cycles = 1;
   int refine_cycles = 8;
+  int interpolate_cycles = 12;
   int clip_cycles = 4;
   int sort_cycles = 1;
   int shade_cycles = 16;
@@ -159,6 +163,10 @@ struct MachineConfig {
   Precision shading_precision_in_force() const { return in_force(shading_precision); }
   /// Shading latency of a hit beyond shade_cycles: the hit refinement's.
   int refine_cycles_in_force() const { return hit_refine == HitRefine::Newton ? refine_cycles : 0; }
+  /// Shading latency of a hit on primitive `p` beyond shade_cycles: the vertex normals' weighting.
+  int interpolate_cycles_for(const Primitive& p) const {
+    return normal_interpolation == NormalInterpolation::Barycentric && !p.normals.empty() ? interpolate_cycles : 0;
+  }
   /// The MAC and root unit's numerical options, as SceneMemory takes them.
   MacNumerics numerics() const { return {discriminant, coef_scaling, origin_latch}; }
   /// The safe number of loop credits: no FIFO past the front buffer can then ever be full.
@@ -263,6 +271,7 @@ const char* to_string(MachineConfig::SearchWalk w);
 const char* to_string(MachineConfig::MacSchedule m);
 const char* to_string(MachineConfig::UnitPrecision p);
 const char* to_string(HitRefine r);
+const char* to_string(NormalInterpolation n);
 const char* to_string(Discriminant d);
 const char* to_string(CoefScaling s);
 const char* to_string(OriginLatch o);

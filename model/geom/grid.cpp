@@ -278,7 +278,12 @@ std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const
   return n;
 }
 
-Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int threads) {
+Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int threads,
+                const StepProgress& progress) {
+  auto tell = [&](const char* step, const char* item, uint64_t done, uint64_t total) {
+    if (progress) progress(step, item, done, total);
+  };
+  tell("grid build", "", 0, 0);  // choosing the resolution
   Grid g;
   for (const Primitive& p : prims) g.box.extend(p.bounds);
   if (prims.empty()) g.box = Aabb{{0, 0, 0}, {1, 1, 1}};
@@ -340,8 +345,10 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
             refs.emplace_back(uint32_t(row + x), id);
       }
   };
-  auto register_range = [&](size_t first, size_t last, std::vector<Ref>& refs) {
+  // The first range's thread speaks for all: the ranges are of equal length.
+  auto register_range = [&](size_t first, size_t last, std::vector<Ref>& refs, size_t ranges) {
     for (size_t i = first; i < last; ++i) {
+      if (ranges && (i - first) % 1024 == 0) tell("voxelisation", "primitive", (i - first) * ranges, prims.size());
       const uint32_t id = uint32_t(i);
       const Primitive& p = prims[i];
       const bool sphere = opt.exact_spheres && p.kind == ShapeKind::Sphere && p.clips.empty();
@@ -372,13 +379,15 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
   {
     std::vector<std::thread> pool;
     for (size_t c = 1; c < chunks; ++c)
-      pool.emplace_back(register_range, prims.size() * c / chunks, prims.size() * (c + 1) / chunks, std::ref(refs[c]));
-    register_range(0, prims.size() / chunks, refs[0]);
+      pool.emplace_back(register_range, prims.size() * c / chunks, prims.size() * (c + 1) / chunks, std::ref(refs[c]),
+                        size_t(0));
+    register_range(0, prims.size() / chunks, refs[0], chunks);
     for (std::thread& t : pool) t.join();
   }
   size_t total = 0;
   for (const auto& r : refs) total += r.size();
   if (total > UINT32_MAX) throw std::invalid_argument("grid holds too many primitive references");
+  tell("grid build", "", 0, 0);  // sorting the references by voxel
   // start[v] counts, then ends, then (filling backwards) begins voxel v's list: no second array
   // the size of the grid.
   g.start.assign(size_t(g.voxel_count()) + 1, 0);

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "geom/quadric.h"
@@ -81,11 +82,19 @@ std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const
 /// max_refs_per_primitive when that is set.
 std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
 
+/// Told how a long step of the host's work goes, for a progress line (render/progress.h,
+/// StepLine): the step's name, what it counts, how many of how many (total 0: not counted).
+/// Called from one thread at a time, often: it must be cheap when nothing is shown.
+using StepProgress = std::function<void(const char* step, const char* item, uint64_t done, uint64_t total)>;
+
 /// Conservative voxelisation: a primitive is listed in every voxel its clipped surface may touch.
 /// Tighter than its bounding box: a voxel entirely outside one clip half-space is skipped, and
 /// so is a voxel over which interval arithmetic proves the quadric has no zero.
 /// threads <= 0: all hardware threads. The result does not depend on the number of threads.
-Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int threads = 0);
+/// `progress` hears of the steps "grid build" (choosing the resolution, sorting the references)
+/// and "voxelisation" (the primitives listed).
+Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int threads = 0,
+                const StepProgress& progress = {});
 
 /// The references a grid of n voxels over box is expected to hold: per primitive the voxels its
 /// bounding box spans on average (width in voxels + 1 on each axis), for a sphere scaled by the share of them its surface can touch

@@ -60,6 +60,16 @@ enum class HitRefine : uint8_t {
   Newton,  ///< one Newton step on the primitive's local quadric, in fp64, first (render/shade.h)
 };
 
+/// The normal the shading stage lights a triangle with, where the triangle has vertex normals
+/// (NFF `pp`, a mesh file's): docs/scene-format.md, "Vertex normals".
+enum class NormalInterpolation : uint8_t {
+  Flat,         ///< the plane's, one normal per primitive (the paper)
+  Barycentric,  ///< the vertex normals weighted by the hit's barycentric coordinates
+};
+/// The default preset's (MachineConfig), and so the reference's on its own (Scene): the files ask
+/// for smooth shading; the paper preset sets flat.
+inline constexpr NormalInterpolation kDefaultNormalInterpolation = NormalInterpolation::Barycentric;
+
 /// The numerical options of one machine (model/config/config.h has the keys). The reference
 /// renderer uses the defaults, so a machine with defaults and fp64 arithmetic reproduces it bit
 /// for bit (in fp64 the machine and wide latches give the same bits). docs/numerics.md says why

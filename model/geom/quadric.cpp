@@ -393,6 +393,16 @@ Primitive make_polygon(const std::vector<Vec3>& in) {
   return finish(p);
 }
 
+std::vector<Vec3> unit_normals(const std::vector<Vec3>& normals) {
+  std::vector<Vec3> out;
+  for (const Vec3& n : normals) {
+    const double len = length(n);
+    if (!(len > 0) || !std::isfinite(len)) return {};
+    out.push_back(n / len);
+  }
+  return out;
+}
+
 Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, std::vector<HalfSpace> clips) {
   require_box(box, "quadric");
   Primitive p;

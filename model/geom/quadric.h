@@ -63,6 +63,9 @@ struct Primitive {
   Vec3 p0{}, p1{};              ///< centre / base centre; apex centre
   double r0 = 0, r1 = 0;        ///< radius / base radius; apex radius
   std::vector<Vec3> vertices;   ///< polygon corners
+  /// A triangle's unit vertex normals, one per corner (NFF pp, a mesh file's); empty: none, the
+  /// plane's normal. Shading may weight them by the hit's barycentric coordinates (render/shade.h).
+  std::vector<Vec3> normals;
   /// A concave polygon is several convex primitives (geom/polygon.h): this one's number among
   /// them and their count; piece 0 also keeps the whole polygon's corners, for exporters.
   int piece = 0, pieces = 1;
@@ -127,6 +130,9 @@ struct PolygonOutline {
   double size() const { return length(box.extent()); }  ///< the scale of its tolerances
 };
 PolygonOutline polygon_outline(const std::vector<Vec3>& vertices);
+/// Vertex normals as a triangle keeps them (Primitive::normals): each made unit length; empty
+/// (the plane's normal, flat) when any is zero or not finite.
+std::vector<Vec3> unit_normals(const std::vector<Vec3>& normals);
 /// Raw coefficients, clipped to `box` and the given half-spaces.
 Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, std::vector<HalfSpace> clips);
 

@@ -31,6 +31,13 @@ SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c) : 
     }
     return words;
   });
+  // With barycentric normals, a triangle with vertex normals also holds them (9 words) and the
+  // reciprocals of its clips' values at the opposite corners (3), in the shading unit's words.
+  if (c.normal_interpolation == NormalInterpolation::Barycentric) {
+    uint64_t smooth = 0;
+    for (const Primitive& p : s.primitives) smooth += !p.normals.empty();
+    primitive_bytes += word_bytes(c.shading_precision_in_force()) * 12 * smooth;
+  }
   voxel_bytes = 4 * (uint64_t(g.start.size()) + uint64_t(g.items.size()));
   light_bytes = word_bytes(c.shading_precision_in_force()) * (6 * uint64_t(s.lights.size()) + 8 * uint64_t(s.materials.size()));
   bytes = primitive_bytes + voxel_bytes + light_bytes;

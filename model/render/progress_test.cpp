@@ -46,6 +46,57 @@ TEST(Progress, TheResidentSizeIsRead) {
   EXPECT_GT(resident_bytes(), uint64_t(1) << 20);  // a test program holds more than a megabyte
 }
 
+// A host step counts what it does, with its time left but no rate; one it cannot count shows its time.
+TEST(Progress, AHostStepCountsItsItems) {
+  Progress p;
+  p.phase = "voxelisation";
+  p.item = "primitive";
+  p.pixels_started = 250000;
+  p.pixels = 1000000;
+  p.seconds = 0.5;
+  p.resident_bytes = uint64_t(3) << 29;
+  EXPECT_EQ(progress_line(p), "voxelisation: at primitive 250000/1000000 (25.0%), 0.5 s, ETA 1.5 s, 1.50 GiB");
+  p.phase = "mesh import (Assimp)";
+  p.item = "";
+  p.pixels_started = p.pixels = 0;
+  p.seconds = 2;
+  EXPECT_EQ(progress_line(p), "mesh import (Assimp): 2.0 s, 1.50 GiB");
+}
+
+/// What a StepLine wrote, read back from its file.
+std::string written(std::FILE* f) {
+  std::fflush(f);
+  std::rewind(f);
+  std::string s;
+  for (int c; (c = std::fgetc(f)) != EOF;) s += char(c);
+  return s;
+}
+
+TEST(StepLine, DrawsTheStepThenErasesItAndIsSilentWhenDisabled) {
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  {
+    StepLine line(true, f, std::chrono::milliseconds(0));
+    line("grid build", "", 0, 0);
+    line("grid build", "", 0, 0);  // within half a second of the last: not drawn again
+    const std::string s = written(f);
+    EXPECT_EQ(s.rfind("\rgrid build: 0.0 s", 0), 0u) << s;
+    EXPECT_EQ(s.size(), 80u) << s;  // one line, padded to 79 characters
+  }
+  EXPECT_EQ(written(f).substr(80), "\r" + std::string(80, ' ') + "\r");  // erased at the end
+  std::fclose(f);
+
+  std::FILE* g = std::tmpfile();
+  {
+    StepLine quiet(false, g, std::chrono::milliseconds(0));
+    quiet("voxelisation", "primitive", 1, 2);
+    StepLine early(true, g);  // its first second: nothing yet
+    early("voxelisation", "primitive", 1, 2);
+  }
+  EXPECT_EQ(written(g), "");
+  std::fclose(g);
+}
+
 TEST(Progress, TheLineFitsATerminal) {
   Progress p;
   p.phase = "PEs";

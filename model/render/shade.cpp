@@ -1,5 +1,7 @@
 #include "render/shade.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <type_traits>
 
@@ -65,6 +67,39 @@ Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const V
   return in ? n : -n;
 }
 
+template <class Real>
+bool barycentric(const Primitive& prim, const Vec3Of<Real>& p, Real w[3]) {
+  using V = Vec3Of<Real>;
+  if (prim.kind != ShapeKind::Polygon || prim.vertices.size() != 3 || prim.clips.size() != 3) return false;
+  Real sum = 0;
+  for (int k = 0; k < 3; ++k) {
+    const HalfSpace& h = prim.clips[size_t(k)];
+    auto edge = [&](const V& x) { return dot(V(h.n), x) + Real(h.d); };  // as the clip test forms it
+    // Inside, the clip values are <= 0; the opposite corner's is the most negative.
+    const Real at = edge(p), corner = edge(V(prim.vertices[size_t((k + 2) % 3)]));
+    Real x = corner < 0 ? at / corner : Real(0);
+    x = std::isfinite(x) ? std::clamp(x, Real(0), Real(1)) : Real(0);
+    w[(k + 2) % 3] = x;
+    sum += x;
+  }
+  if (!(sum > 0)) return false;
+  for (int k = 0; k < 3; ++k) w[k] /= sum;
+  return true;
+}
+
+template <class Real>
+Vec3Of<Real> shading_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& facing,
+                            NormalInterpolation mode) {
+  using V = Vec3Of<Real>;
+  Real w[3];
+  if (mode != NormalInterpolation::Barycentric || prim.normals.size() != 3 || !barycentric<Real>(prim, p, w))
+    return facing;
+  const V n = w[0] * V(prim.normals[0]) + w[1] * V(prim.normals[1]) + w[2] * V(prim.normals[2]);
+  const Real len = length(n);
+  if (!(len > 0) || !std::isfinite(len)) return facing;  // opposed vertex normals
+  return dot(n, facing) < 0 ? -n / len : n / len;
+}
+
 double refine_hit(const Primitive& prim, const Ray& ray, double t) {
   const Vec3 p = ray.origin + t * ray.dir;
   const double slope = dot(prim.gradient_at(p), ray.dir);
@@ -75,16 +110,18 @@ double refine_hit(const Primitive& prim, const Ray& ray, double t) {
 }
 
 template <class Real>
-void shade_hit(const Scene& s, const Ray& ray, double t_hit, const Primitive& prim, HitRefine refine, ShadeOut& out) {
+void shade_hit(const Scene& s, const Ray& ray, double t_hit, const Primitive& prim, HitRefine refine,
+               NormalInterpolation normals, ShadeOut& out) {
   using V = Vec3Of<Real>;
   const Material& m = s.materials[size_t(prim.material)];
   const Real t = Real(refine == HitRefine::Newton ? refine_hit(prim, ray, t_hit) : t_hit);
   const V d(ray.dir);
   const V p = V(ray.origin) + t * d;
   bool entering = true;
-  const V n = facing_normal<Real>(prim, p, d, &entering);
+  const V surface = facing_normal<Real>(prim, p, d, &entering);
+  const V n = shading_normal<Real>(prim, p, surface, normals);
   const Real eps = spawn_offset<Real>(s, prim, p);
-  const V above = p + eps * n, below = p - eps * n;
+  const V above = p + eps * surface, below = p - eps * surface;
   const V color(m.color);
   const Real contribution = Real(ray.contribution);
 
@@ -99,7 +136,7 @@ void shade_hit(const Scene& s, const Ray& ray, double t_hit, const Primitive& pr
       if (!(dist > 0)) continue;
       const V l = to_light / dist;
       const Real ndl = dot(n, l);
-      if (ndl <= 0) continue;
+      if (ndl <= 0 || dot(surface, l) <= 0) continue;  // a light behind the surface itself is hidden by it
       Ray r;
       r.kind = RayKind::Shadow;
       r.origin = Vec3(above);
@@ -155,7 +192,15 @@ template float spawn_offset<float>(const Scene&, const Primitive&, const Vec3Of<
 template double spawn_offset<double>(const Scene&, const Primitive&, const Vec3Of<double>&);
 template Vec3Of<float> facing_normal<float>(const Primitive&, const Vec3Of<float>&, const Vec3Of<float>&, bool*);
 template Vec3Of<double> facing_normal<double>(const Primitive&, const Vec3Of<double>&, const Vec3Of<double>&, bool*);
-template void shade_hit<float>(const Scene&, const Ray&, double, const Primitive&, HitRefine, ShadeOut&);
-template void shade_hit<double>(const Scene&, const Ray&, double, const Primitive&, HitRefine, ShadeOut&);
+template bool barycentric<float>(const Primitive&, const Vec3Of<float>&, float[3]);
+template bool barycentric<double>(const Primitive&, const Vec3Of<double>&, double[3]);
+template Vec3Of<float> shading_normal<float>(const Primitive&, const Vec3Of<float>&, const Vec3Of<float>&,
+                                             NormalInterpolation);
+template Vec3Of<double> shading_normal<double>(const Primitive&, const Vec3Of<double>&, const Vec3Of<double>&,
+                                               NormalInterpolation);
+template void shade_hit<float>(const Scene&, const Ray&, double, const Primitive&, HitRefine, NormalInterpolation,
+                               ShadeOut&);
+template void shade_hit<double>(const Scene&, const Ray&, double, const Primitive&, HitRefine, NormalInterpolation,
+                                ShadeOut&);
 
 }  // namespace rtm

@@ -53,19 +53,37 @@ Real spawn_offset(const Scene& s, const Primitive& prim, const Vec3Of<Real>& p);
 template <class Real = double>
 Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& d, bool* entering);
 
+/// The barycentric coordinates of p on a triangle (a polygon of 3 corners, its clips one per edge,
+/// geom/quadric.h make_polygon), from the clip tests' edge values: clip k, the edge from corner k
+/// to k + 1, is zero on that edge and linear, so its value at p over its value at the opposite
+/// corner k + 2 is that corner's weight. In Real, as the shading unit computes them; clamped to
+/// [0, 1] and summing to 1. False for a primitive that is not such a triangle.
+template <class Real>
+bool barycentric(const Primitive& prim, const Vec3Of<Real>& p, Real w[3]);
+
+/// The normal shading lights a hit with, facing the same side as the surface's facing normal
+/// `facing`: with NormalInterpolation::Barycentric and vertex normals, their barycentric blend;
+/// else `facing` itself.
+template <class Real>
+Vec3Of<Real> shading_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& facing,
+                            NormalInterpolation mode);
+
 /// One Newton step on Q(o + t d) = 0 from the intersection stage's t, in double precision on
 /// the primitive's local form (no cancellation far from the origin); the step is limited so a
 /// near-tangent ray cannot be thrown far along itself. HitRefine::Newton (geom/numerics.h).
 double refine_hit(const Primitive& prim, const Ray& ray, double t);
 
 /// Everything the shading stage does for one ray that hit `prim` at parameter t, in Real, after
-/// `refine`.
+/// `refine`, lit with the normal `normals` chooses (spawned rays still leave from the surface's
+/// own side, so a blended normal cannot send them through it).
 template <class Real>
-void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, HitRefine refine, ShadeOut& out);
+void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, HitRefine refine,
+               NormalInterpolation normals, ShadeOut& out);
 
-/// The reference renderer's shading: double precision, each hit refined by a Newton step.
+/// The reference renderer's shading: double precision, each hit refined by a Newton step, the
+/// normals as the scene's normal_interpolation says.
 inline void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out) {
-  shade_hit<double>(s, ray, t, prim, HitRefine::Newton, out);
+  shade_hit<double>(s, ray, t, prim, HitRefine::Newton, s.normal_interpolation, out);
 }
 
 /// Brightness of a primary or branch ray that found nothing.

@@ -24,8 +24,8 @@ struct Hit {
 TEST(ShadePrecision, Fp32FormsEveryShadingResultInFloat) {
   const Hit h;
   ShadeOut o32, o64;
-  shade_hit<float>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, o32);
-  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, o64);
+  shade_hit<float>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, NormalInterpolation::Flat, o32);
+  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, NormalInterpolation::Flat, o64);
   ASSERT_EQ(o32.rays.size(), 3u);  // shadow, reflected, transmitted
   ASSERT_EQ(o64.rays.size(), 3u);
   EXPECT_TRUE(is_float(o32.brightness));
@@ -44,7 +44,7 @@ TEST(ShadePrecision, Fp32FormsEveryShadingResultInFloat) {
   ShadeOut ref;
   shade_hit(h.s, h.ray, h.t, h.s.primitives[0], ref);
   ShadeOut newton;
-  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::Newton, newton);
+  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::Newton, NormalInterpolation::Flat, newton);
   ASSERT_EQ(ref.rays.size(), newton.rays.size());
   for (size_t i = 0; i < ref.rays.size(); ++i) {
     EXPECT_EQ(ref.rays[i].origin, newton.rays[i].origin);
@@ -77,17 +77,102 @@ TEST(HitRefine, NewtonPutsAFloatTOnTheSurfaceAndNoneLeavesIt) {
   EXPECT_NEAR(refined, h.t, 1e-10);
   // Shading follows the choice: newton shades at the refined point, none at t32.
   ShadeOut none, newton;
-  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::None, none);
-  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::Newton, newton);
+  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::None, NormalInterpolation::Flat, none);
+  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::Newton, NormalInterpolation::Flat, newton);
   ShadeOut at_refined, at_t32;
-  shade_hit<double>(h.s, h.ray, refined, p, HitRefine::None, at_refined);
-  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::None, at_t32);
+  shade_hit<double>(h.s, h.ray, refined, p, HitRefine::None, NormalInterpolation::Flat, at_refined);
+  shade_hit<double>(h.s, h.ray, t32, p, HitRefine::None, NormalInterpolation::Flat, at_t32);
   ASSERT_EQ(newton.rays.size(), at_refined.rays.size());
   for (size_t i = 0; i < newton.rays.size(); ++i) {
     EXPECT_EQ(newton.rays[i].origin, at_refined.rays[i].origin);
     EXPECT_EQ(none.rays[i].origin, at_t32.rays[i].origin);
     EXPECT_NE(none.rays[i].origin, newton.rays[i].origin);
   }
+}
+
+/// A triangle in z = 0 with corners (0,0,0), (2,0,0), (0,2,0), tilted vertex normals, lit from
+/// straight above; a ray straight down at (x, y).
+struct SmoothTriangle {
+  Scene s;
+  SmoothTriangle() {
+    Primitive p = make_polygon({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}});
+    p.normals = unit_normals({{-1, 0, 1}, {1, 0, 1}, {0, 1, 1}});
+    s.primitives = {p};
+    s.materials = {Material{}};
+    s.materials[0].ambient = 0;
+    s.lights = {{{0.5, 0.5, 100}, {1, 1, 1}}};
+  }
+  Ray down(double x, double y) const {
+    Ray r;
+    r.origin = {x, y, 10};
+    r.dir = {0, 0, -1};
+    return r;
+  }
+};
+
+TEST(SmoothShading, BarycentricCoordinatesComeFromTheClipValues) {
+  const SmoothTriangle t;
+  double w[3];
+  ASSERT_TRUE(barycentric<double>(t.s.primitives[0], {0.5, 0.5, 0}, w));
+  EXPECT_NEAR(w[0], 0.5, 1e-15);   // 1 - x/2 - y/2
+  EXPECT_NEAR(w[1], 0.25, 1e-15);  // x / 2
+  EXPECT_NEAR(w[2], 0.25, 1e-15);  // y / 2
+  ASSERT_TRUE(barycentric<double>(t.s.primitives[0], {2, 0, 0}, w));  // a corner: all its own
+  EXPECT_NEAR(w[1], 1, 1e-15);
+  float f[3];
+  ASSERT_TRUE(barycentric<float>(t.s.primitives[0], {0.5f, 0.5f, 0}, f));
+  EXPECT_NEAR(f[1], 0.25f, 1e-7f);
+  EXPECT_FALSE(barycentric<double>(make_sphere({0, 0, 0}, 1), {1, 0, 0}, w));
+}
+
+TEST(SmoothShading, FlatIsThePlanesNormalBarycentricTheVertexNormalsBlend) {
+  const SmoothTriangle t;
+  const Primitive& p = t.s.primitives[0];
+  const Vec3 up(0, 0, 1);
+  // Flat, or a triangle without vertex normals: the plane's normal, wherever the hit is.
+  EXPECT_EQ(shading_normal<double>(p, {0.5, 0.5, 0}, up, NormalInterpolation::Flat), up);
+  Primitive bare = p;
+  bare.normals.clear();
+  EXPECT_EQ(shading_normal<double>(bare, {0.5, 0.5, 0}, up, NormalInterpolation::Barycentric), up);
+  // Barycentric: at a corner its own normal; between, the normalised blend.
+  const Vec3 at_corner = shading_normal<double>(p, {2, 0, 0}, up, NormalInterpolation::Barycentric);
+  EXPECT_NEAR(at_corner.x, std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(at_corner.z, std::sqrt(0.5), 1e-12);
+  const Vec3 mid = shading_normal<double>(p, {0.5, 0.5, 0}, up, NormalInterpolation::Barycentric);
+  const Vec3 blend = normalize(0.5 * p.normals[0] + 0.25 * p.normals[1] + 0.25 * p.normals[2]);
+  EXPECT_NEAR(length(mid - blend), 0, 1e-12);
+  // Seen from below, the blend faces the ray as the plane's normal does.
+  EXPECT_LT(shading_normal<double>(p, {0.5, 0.5, 0}, -up, NormalInterpolation::Barycentric).z, 0);
+}
+
+// Lit from above: flat shading gives every point of the triangle the same brightness; barycentric
+// gives each the cosine of its blended normal, in either shading precision, and its shadow ray
+// the same brightness as its pixel's.
+TEST(SmoothShading, TheShadowRaysCarryTheBlendedNormalsBrightness) {
+  const SmoothTriangle t;
+  auto shadow = [&](double x, double y, NormalInterpolation mode, bool fp32) {
+    ShadeOut out;
+    const Ray r = t.down(x, y);
+    if (fp32)
+      shade_hit<float>(t.s, r, 10, t.s.primitives[0], HitRefine::None, mode, out);
+    else
+      shade_hit<double>(t.s, r, 10, t.s.primitives[0], HitRefine::None, mode, out);
+    EXPECT_EQ(out.rays.size(), 1u);
+    return out.rays.empty() ? -1.0 : out.rays[0].brightness.x;
+  };
+  const double kd = t.s.materials[0].diffuse;
+  const Vec3 l = normalize(Vec3(0.5, 0.5, 100) - Vec3(0.2, 0.2, 0));
+  // The shadow ray leaves from spawn_offset above the hit: its direction differs by ~1e-7.
+  EXPECT_NEAR(shadow(0.2, 0.2, NormalInterpolation::Flat, false), kd * l.z, 1e-9);
+  EXPECT_NEAR(shadow(1.2, 0.3, NormalInterpolation::Flat, false),
+              kd * normalize(Vec3(0.5, 0.5, 100) - Vec3(1.2, 0.3, 0)).z, 1e-9);  // the plane's normal there too
+  const Primitive& p = t.s.primitives[0];
+  const Vec3 n = shading_normal<double>(p, {0.2, 0.2, 0}, {0, 0, 1}, NormalInterpolation::Barycentric);
+  EXPECT_NEAR(shadow(0.2, 0.2, NormalInterpolation::Barycentric, false), kd * dot(n, l), 1e-9);
+  EXPECT_NEAR(shadow(0.2, 0.2, NormalInterpolation::Barycentric, true), kd * dot(n, l), 1e-6);
+  // Near the tilted corner (0, 0) and near the middle: the normal turns across the triangle.
+  EXPECT_GT(shadow(0.6, 0.6, NormalInterpolation::Barycentric, false) - shadow(0.1, 0.1, NormalInterpolation::Barycentric, false),
+            0.1);
 }
 
 }  // namespace

@@ -138,6 +138,7 @@ std::string encode_mesh(const MeshData& m) {
   w.array(m.lights);
   w.raw(m.points_and_lines);
   w.raw(m.other_lights);
+  w.array(m.normals);  // last, and optional: encodings made before normals were read stay valid
   return std::move(w.out);
 }
 
@@ -179,9 +180,12 @@ MeshData decode_mesh(const std::string& bytes) {
   m.lights = r.array<Light>();
   m.points_and_lines = r.raw<uint64_t>();
   m.other_lights = r.raw<uint64_t>();
+  if (!r.done()) m.normals = r.array<Vec3>();
   if (!r.done()) throw std::invalid_argument("mesh encoding: bytes left over");
   if (m.triangle_material.size() != m.triangles.size())
     throw std::invalid_argument("mesh encoding: one material per triangle expected");
+  if (!m.normals.empty() && m.normals.size() != m.positions.size())
+    throw std::invalid_argument("mesh encoding: one normal per vertex expected");
   return m;
 }
 
@@ -240,9 +244,14 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
     }
   }
   if (m.triangle_material.size() != m.triangles.size()) fail("the mesh has not one material per triangle");
+  if (!m.normals.empty() && m.normals.size() != m.positions.size()) fail("the mesh has not one normal per vertex");
   const size_t kept_materials = placement.material ? 0 : std::max<size_t>(1, m.materials.size());
   SkippedRecords degenerate{"degenerate triangle", "", 0, {}};
+  // Reserved: growing a million primitives by doubling would hold half again as many for a moment.
+  s.primitives.reserve(s.primitives.size() + m.triangles.size());
+  s.origins.reserve(s.origins.size() + m.triangles.size());
   for (size_t i = 0; i < m.triangles.size(); ++i) {
+    if (options.progress && i % 4096 == 0) options.progress("mesh load", "triangle", i, m.triangles.size());
     const std::string name = "triangle " + std::to_string(i);
     std::vector<Vec3> v;
     for (const uint32_t k : m.triangles[i]) {
@@ -264,6 +273,9 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
     } catch (const std::invalid_argument& e) {
       fail(name + ": " + e.what());
     }
+    // A uniform scale and a translation keep the normals' directions.
+    if (!m.normals.empty())
+      prim.normals = unit_normals({m.normals[m.triangles[i][0]], m.normals[m.triangles[i][1]], m.normals[m.triangles[i][2]]});
     if (placement.material) {
       prim.material = *placement.material;
     } else {

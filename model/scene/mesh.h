@@ -33,6 +33,7 @@ struct MeshCamera {
 /// A mesh file's contents, every node's transform applied: world-space triangles.
 struct MeshData {
   std::vector<Vec3> positions;
+  std::vector<Vec3> normals;  ///< one per position (zero where the file has none), or empty: none at all
   std::vector<std::array<uint32_t, 3>> triangles;  ///< indices into positions
   std::vector<uint32_t> triangle_material;         ///< one per triangle, an index into materials
   std::vector<MeshMaterial> materials;

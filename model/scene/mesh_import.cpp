@@ -86,10 +86,16 @@ MeshMaterial material(const aiMaterial* m) {
 
 void add_node(const aiScene* sc, const aiNode* n, const aiMatrix4x4& parent, MeshData& out) {
   const aiMatrix4x4 t = parent * n->mTransformation;
+  // Normals turn with the inverse transpose (a non-uniform scale would tilt them otherwise).
+  aiMatrix3x3 turn_normals(t);
+  turn_normals.Inverse().Transpose();
   for (unsigned i = 0; i < n->mNumMeshes; ++i) {
     const aiMesh* mesh = sc->mMeshes[n->mMeshes[i]];
     const uint32_t base = uint32_t(out.positions.size());
-    for (unsigned k = 0; k < mesh->mNumVertices; ++k) out.positions.push_back(vec(t * mesh->mVertices[k]));
+    for (unsigned k = 0; k < mesh->mNumVertices; ++k) {
+      out.positions.push_back(vec(t * mesh->mVertices[k]));
+      out.normals.push_back(mesh->HasNormals() ? vec(turn_normals * mesh->mNormals[k]) : Vec3(0));
+    }
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
       if (face.mNumIndices < 3) {
@@ -117,6 +123,9 @@ MeshData read_with_assimp(const std::string& path) {
   MeshData out;
   for (unsigned i = 0; i < sc->mNumMaterials; ++i) out.materials.push_back(material(sc->mMaterials[i]));
   add_node(sc, sc->mRootNode, aiMatrix4x4(), out);
+  bool any_normal = false;
+  for (unsigned i = 0; i < sc->mNumMeshes; ++i) any_normal = any_normal || sc->mMeshes[i]->HasNormals();
+  if (!any_normal) out.normals.clear();
   if (sc->mNumCameras > 0) {
     const aiCamera* c = sc->mCameras[0];
     const aiNode* n = sc->mRootNode->FindNode(c->mName);
@@ -245,8 +254,10 @@ MeshData import_mesh(const std::string& path, const SceneReadOptions& options) {
       timed_out = true;
       break;
     }
+    if (options.progress) options.progress("mesh import (Assimp)", "", 0, 0);
+    // Awake at least twice a second, for the progress line.
     pollfd p{fds[0], POLLIN, 0};
-    const int ready = poll(&p, 1, int(std::min(left * 1000 + 1, 1e9)));
+    const int ready = poll(&p, 1, int(std::min(left * 1000 + 1, 500.0)));
     if (ready < 0 && errno == EINTR) continue;
     if (ready <= 0) continue;
     const ssize_t n = ::read(fds[0], buffer, sizeof buffer);

@@ -335,12 +335,17 @@ class NffParser {
     const std::string layout =
         std::string(patch ? "x y z nx ny nz" : "x y z") + " for each of " + std::to_string(n) + " vertices";
     const int per = patch ? 6 : 3;
-    std::vector<Vec3> v;
+    std::vector<Vec3> v, normals;
     for (int i = 0; i < n; ++i) {
       v.push_back(vec3(kw, layout, i * per));
-      if (patch) vec3(kw, layout, i * per + 3);  // vertex normals: flat shading only
+      if (patch) normals.push_back(vec3(kw, layout, i * per + 3));
     }
-    add(kw, [&] { return make_polygon_pieces(v); });
+    add(kw, [&] {
+      std::vector<Primitive> ps = make_polygon_pieces(v);
+      // A triangle's vertex normals, for smooth shading (docs/scene-format.md, "Vertex normals").
+      if (patch && n == 3 && ps.size() == 1) ps[0].normals = unit_normals(normals);
+      return ps;
+    });
   }
 
   void finish_lights() {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geom/grid.h"
+#include "geom/numerics.h"
 #include "geom/quadric.h"
 #include "scene/file_error.h"
 
@@ -62,6 +63,8 @@ struct SceneReadOptions {
   /// error naming the file.
   uint64_t import_memory = uint64_t(4) << 30;
   double import_seconds = 120;
+  /// Hears how a mesh file's import ("mesh import (Assimp)") and its triangles ("mesh load") go.
+  StepProgress progress = nullptr;
 };
 
 /// How a spawned ray's origin is moved off the surface (render/shade.h, docs/numerics.md).
@@ -89,6 +92,9 @@ struct Scene {
   /// relative) or to an error bound of the hit point (bound).
   double spawn_offset = 1e-5;
   SpawnPolicy spawn_policy = SpawnPolicy::Relative;
+  /// How shading lights triangles with vertex normals: the machine's normal_interpolation key,
+  /// which rtm render copies here so that the reference does the same.
+  NormalInterpolation normal_interpolation = kDefaultNormalInterpolation;
   GridOptions grid;
 };
 

@@ -24,11 +24,12 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
     case MachineRay::Arrival::Hit:
       if (r.ray.kind == RayKind::Primary) primary_id = int32_t(r.prim);
       if (fp32)
-        shade_hit<float>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, out);
+        shade_hit<float>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, c.normal_interpolation, out);
       else
-        shade_hit<double>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, out);
+        shade_hit<double>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, c.normal_interpolation, out);
       pixel.add(out.brightness);
-      cycles = uint64_t(c.shade_cycles) + uint64_t(c.refine_cycles_in_force()) + uint64_t(c.spawn_cycles) * out.rays.size();
+      cycles = uint64_t(c.shade_cycles) + uint64_t(c.refine_cycles_in_force()) +
+               uint64_t(c.interpolate_cycles_for(s.primitives[r.prim])) + uint64_t(c.spawn_cycles) * out.rays.size();
       break;
     case MachineRay::Arrival::LightReached:
       pixel.add(r.ray.brightness);

@@ -20,12 +20,20 @@ void use(const Scene& s, const std::string& file) {
   validate(s);
 }
 
+/// --strict, and --skip-unknown when `skip_unknown`.
+SceneReadOptions strict_options(bool skip_unknown) {
+  SceneReadOptions o;
+  o.strict = true;
+  o.skip_unknown = skip_unknown;
+  return o;
+}
+
 }  // namespace
 
 bool nff(std::string_view input) {
   const std::string text(input);
   bool read = true;
-  for (const SceneReadOptions options : {SceneReadOptions{}, SceneReadOptions{true, true}}) {
+  for (const SceneReadOptions& options : {SceneReadOptions{}, strict_options(true)}) {
     try {
       use(parse_nff(text, "fuzz.nff", options), "fuzz.nff");
     } catch (const SceneError&) {
@@ -52,7 +60,7 @@ bool mesh(std::string_view input) {
     return false;  // what import_mesh reports as a bad answer
   }
   bool read = true;
-  for (const SceneReadOptions options : {SceneReadOptions{}, SceneReadOptions{true, false}}) {
+  for (const SceneReadOptions& options : {SceneReadOptions{}, strict_options(false)}) {
     try {
       use(mesh_scene(m, "fuzz.obj", options), "fuzz.obj");
     } catch (const SceneError&) {
