@@ -98,8 +98,7 @@ UnitBuild search(const MachineConfig& c, const PeUnits&, uint64_t) {
   if (cache) {
     const double line_words = double(VoxelCache::from(c).line_bytes()) / 4;
     b.actions.push_back({[](const A& a) { return a.cache_accesses; }, {}, 0, 1});
-    Action fill{[](const A& a) { return a.cache_line_fills; }, {}, 0, line_words};
-    b.actions.push_back(fill);
+    b.actions.push_back({[](const A& a) { return a.cache_line_fills; }, {}, 0, line_words});
   }
   return b;
 }

@@ -8,6 +8,7 @@ utilisation.FMT     busy fraction of each PE stage over the frame vs PE count
 pe_utilisation.FMT  the same over the PEs' working windows (when the CSV has it)
 load_imbalance.FMT  longest PE working window / mean, per partitioning scheme
 phases.FMT          the frame split into host pre-processing, transfer, PE work and gather
+cost.FMT            energy per frame and frames per second per mm2 vs PE count (when the CSV has them)
 scaling.md          a table: cycles, speedup, parallel efficiency, phase shares, load imbalance
                     and bottleneck per configuration and PE count
 
@@ -330,6 +331,26 @@ def plot_phases(configs, out, written):
     return True
 
 
+COST = [("energy_j", "energy per frame (J)", True), ("frames_per_s_per_mm2", "frames / s / mm² of chip", False)]
+
+
+def plot_cost(configs, out, written):
+    """What the machine costs (docs/cost.md): energy per frame and performance per area."""
+    if not any(c.values(COST[0][0])[0] for c in configs):
+        return False
+    fig, axs = grid(len(COST), max_cols=2)
+    for ax, (col, label, log_y) in zip(axs, COST):
+        for c in configs:
+            p, y = c.values(col)
+            ax.plot(p, y, label=c.label, **c.style())
+        pes_axis(ax, configs, log_y=log_y)
+        ax.set_ylabel(label)
+        legend(ax, configs)
+    fig.suptitle("Cost")
+    save(fig, out.path("cost"), written)
+    return True
+
+
 def write_table(configs, out, written):
     """scaling.md: per configuration and PE count, cycles, speedup and parallel efficiency, where
     the frame went, and the bottleneck."""
@@ -388,6 +409,8 @@ def main(argv=None):
         notes.append(out.file("load_imbalance") + ": skipped, no load_imbalance values")
     if not plot_phases(configs, out, written):
         notes.append(out.file("phases") + ": skipped, no phase columns")
+    if not plot_cost(configs, out, written):
+        notes.append(out.file("cost") + ": skipped, no cost columns")
     table = write_table(configs, out, written)
     if args.page:
         build = page.build_of(args.rtm) if args.rtm else page.NOT_RECORDED
