@@ -279,7 +279,7 @@ constexpr double kJoulesPerPj = 1e-12;
 
 /// What the machine costs (cost/unit_cost.h, docs/cost.md): each kind of unit's inventory, area
 /// and dynamic energy, the totals, the frame's leakage, energy and average power.
-nlohmann::json cost_json(const MachineCost& m, double frame_seconds) {
+nlohmann::json cost_json(const MachineCost& m) {
   nlohmann::json units = nlohmann::json::object();
   for (const UnitCost& u : m.units) {
     const UnitInventory& i = u.inventory;
@@ -319,14 +319,14 @@ nlohmann::json cost_json(const MachineCost& m, double frame_seconds) {
           {"energy_per_frame_j", m.energy_pj * kJoulesPerPj},
           {"energy_per_ray_j", m.energy_per_ray_pj * kJoulesPerPj},
           {"energy_per_pixel_j", m.energy_per_pixel_pj * kJoulesPerPj},
-          {"frame_seconds", frame_seconds},
+          {"frame_seconds", m.frame_seconds},
           {"power_w", m.power_w}};
 }
 
 /// The sweep's figures of merit: area (on chip), the frame's energy and average power, frames per
 /// second per mm², frames per joule, and energy times delay.
-nlohmann::json cost_summary_json(const MachineCost& m, double frame_seconds) {
-  const double e = m.energy_pj * kJoulesPerPj, a = m.area_mm2();
+nlohmann::json cost_summary_json(const MachineCost& m) {
+  const double e = m.energy_pj * kJoulesPerPj, a = m.area_mm2(), frame_seconds = m.frame_seconds;
   return {{"area_mm2", a},
           {"energy_j", e},
           {"power_w", m.power_w},
@@ -334,9 +334,6 @@ nlohmann::json cost_summary_json(const MachineCost& m, double frame_seconds) {
           {"frames_per_j", e > 0 ? 1 / e : 0.0},
           {"energy_delay", e * frame_seconds}};
 }
-
-/// The frame's time as the cost takes it: its cycles at the PE clock.
-double frame_seconds(const MachineResult& m, const MachineConfig& c) { return double(m.cycles) * c.clock_ns * 1e-9; }
 
 /// Copies an object's fields into `to`, each name prefixed.
 void flatten_into(nlohmann::json& to, const std::string& prefix, const nlohmann::json& from) {
@@ -366,7 +363,7 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
   flatten_into(j, "pe_issue_", utilisation_json(s.profile.issue));
   flatten_into(j, "pe_starved_", utilisation_json(s.profile.starved));
   flatten_into(j, "", phases_json(s.profile));
-  flatten_into(j, "", cost_summary_json(cost, frame_seconds(m, c)));
+  flatten_into(j, "", cost_summary_json(cost));
   return j;
 }
 
@@ -416,7 +413,7 @@ nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& 
   j.update(machine_json(m, c));
   j["error"] = error_json(err);
   j["error"]["causes"] = causes_json(causes);
-  j["cost"] = cost_json(cost, frame_seconds(m, c));
+  j["cost"] = cost_json(cost);
   j["summary"] = summary_json(m, c, cost, err);
   // The same rays, walks and tests as the machine's: at fp64 always; at fp32 unless a hit flipped
   // (docs/machine.md, "Statistics").

@@ -286,6 +286,7 @@ MachineCost machine_cost(const MachineConfig& c, const PeUnits& units, uint64_t 
                         sram_bits * pes * t.sram_leakage_pw_per_bit.value * 1e-12;
   m.leakage_pj = leak_w * a.seconds * 1e12;
   m.energy_pj = m.dynamic_pj + m.leakage_pj;
+  m.frame_seconds = a.seconds;
   m.power_w = a.seconds > 0 ? m.energy_pj * 1e-12 / a.seconds : 0;
   m.energy_per_ray_pj = a.rays ? m.energy_pj / double(a.rays) : 0;
   m.energy_per_pixel_pj = a.pixels ? m.energy_pj / double(a.pixels) : 0;

@@ -96,6 +96,7 @@ struct MachineCost {
   double dynamic_pj = 0;  ///< units, local memory and link
   double leakage_pj = 0;  ///< on-chip logic and SRAM over the frame
   double energy_pj = 0;   ///< dynamic and leakage
+  double frame_seconds = 0;  ///< FrameActivity::seconds
   double power_w = 0;     ///< energy over the frame's time
   double energy_per_ray_pj = 0, energy_per_pixel_pj = 0;
 
