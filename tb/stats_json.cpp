@@ -327,12 +327,18 @@ nlohmann::json cost_json(const MachineCost& m) {
 /// second per mm², frames per joule, and energy times delay.
 nlohmann::json cost_summary_json(const MachineCost& m) {
   const double e = m.energy_pj * kJoulesPerPj, a = m.area_mm2(), frame_seconds = m.frame_seconds;
-  return {{"area_mm2", a},
+  nlohmann::json j = {{"area_mm2", a},
           {"energy_j", e},
           {"power_w", m.power_w},
           {"frames_per_s_per_mm2", frame_seconds > 0 && a > 0 ? 1 / frame_seconds / a : 0.0},
           {"frames_per_j", e > 0 ? 1 / e : 0.0},
           {"energy_delay", e * frame_seconds}};
+  // The frame's energy split: each unit's dynamic energy, the local memories', the link's, leakage.
+  for (const UnitCost& u : m.units) j[std::string("energy_") + unit_name(u.inventory.kind) + "_j"] = u.dynamic_pj * kJoulesPerPj;
+  j["energy_local_memory_j"] = m.memory_dynamic_pj * kJoulesPerPj;
+  j["energy_link_j"] = m.link_dynamic_pj * kJoulesPerPj;
+  j["energy_leakage_j"] = m.leakage_pj * kJoulesPerPj;
+  return j;
 }
 
 /// Copies an object's fields into `to`, each name prefixed.

@@ -130,6 +130,12 @@ TEST(Tech, TheCostBlockAddsUpAndTheSummaryRepeatsIt) {
   EXPECT_EQ(s["energy_j"], c["energy_per_frame_j"]);
   EXPECT_EQ(s["power_w"], c["power_w"]);
   EXPECT_NEAR(s["frames_per_j"].get<double>(), 1 / frame, rel / frame);
+  double split = s["energy_local_memory_j"].get<double>() + s["energy_link_j"].get<double>() + s["energy_leakage_j"].get<double>();
+  for (const auto& [unit, f] : c["units"].items()) {
+    EXPECT_EQ(s["energy_" + unit + "_j"], f["dynamic_j"]) << unit;
+    split += f["dynamic_j"].get<double>();
+  }
+  EXPECT_NEAR(split, frame, rel * frame);
   EXPECT_NEAR(s["energy_delay"].get<double>(), frame * seconds, rel * frame * seconds);
   EXPECT_NEAR(s["frames_per_s_per_mm2"].get<double>(), 1 / seconds / c["area_mm2"].get<double>(),
               rel / seconds / c["area_mm2"].get<double>());

@@ -1,5 +1,6 @@
 // The stats schema (docs/stats.schema.json) names what the tables declare: every unit of the unit
 // table in each per-unit group and in the flat summary, and exactly the bottlenecks the model gives.
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -62,6 +63,12 @@ TEST(StatsSchema, TheCostNamesEveryUnitAndElement) {
     }
   }
   EXPECT_EQ(defs["unit_cost"]["properties"]["elements"]["propertyNames"]["enum"].get<std::vector<std::string>>(), elements);
+  const auto required = defs["summary"]["required"].get<std::vector<std::string>>();
+  for (const std::string& u : units) {
+    const std::string key = "energy_" + u + "_j";
+    EXPECT_TRUE(defs["summary"]["properties"].contains(key)) << key;
+    EXPECT_NE(std::find(required.begin(), required.end(), key), required.end()) << key;
+  }
 }
 
 TEST(StatsSchema, NamesTheBottlenecksTheModelGives) {
