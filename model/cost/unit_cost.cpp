@@ -141,13 +141,26 @@ UnitBuild root(const MachineConfig& c, const PeUnits&, uint64_t) {
   return b;
 }
 
-using BuildOf = UnitBuild (*)(const MachineConfig&, const PeUnits&, uint64_t);
+struct BuildOf {
+  UnitKind kind;
+  UnitBuild (*build)(const MachineConfig&, const PeUnits&, uint64_t);
+};
 
 /// Beside the unit table: each kind's build, in its order.
-constexpr std::array<BuildOf, kUnitKinds> kBuilds = {front_buffer, shading, search, mac, root};
+constexpr std::array<BuildOf, kUnitKinds> kBuilds = {{{U::FrontBuffer, front_buffer},
+                                                      {U::Shading, shading},
+                                                      {U::Search, search},
+                                                      {U::Mac, mac},
+                                                      {U::Root, root}}};
+constexpr bool in_kind_order() {
+  for (size_t k = 0; k < kUnitKinds; ++k)
+    if (kBuilds[k].kind != UnitKind(k)) return false;
+  return true;
+}
+static_assert(in_kind_order(), "kBuilds lists every unit kind once, in UnitKind's order");
 
 UnitBuild build(UnitKind k, const MachineConfig& c, const PeUnits& u, uint64_t primitives) {
-  return kBuilds[size_t(k)](c, u, primitives);
+  return kBuilds[size_t(k)].build(c, u, primitives);
 }
 
 double op_pj(Op o, P p, const Technology& t) {
