@@ -182,6 +182,23 @@ void print_memory_traffic(const MachineResult& m, const MachineConfig& c) {
               hits + misses == 0 ? 100.0 : 100.0 * double(hits) / double(hits + misses));
 }
 
+/// What the machine costs in one line (docs/cost.md): on-chip area, the memory's apart, the
+/// frame's energy and power, and the unit that spends the most.
+void print_cost(const MachineCost& m) {
+  const UnitCost* top = nullptr;
+  for (const UnitCost& u : m.units)
+    if (!top || u.dynamic_pj > top->dynamic_pj) top = &u;
+  const double frame = m.energy_pj * 1e-12;
+  std::printf("cost (%s): %.3g mm2 on chip (%.3g mm2 a PE), local memory %.3g mm2 of DRAM apart; %.3g J a frame "
+              "(dynamic %.0f%%, of it local memory %.0f%%, link %.0f%%), %.3g J a ray, %.3g W; unit spending most: %s %.0f%%\n",
+              m.technology.c_str(), m.area_mm2(), m.pe_logic_mm2 + m.pe_sram_mm2, m.memory_mm2, frame,
+              m.energy_pj > 0 ? 100 * m.dynamic_pj / m.energy_pj : 0.0,
+              m.dynamic_pj > 0 ? 100 * m.memory_dynamic_pj / m.dynamic_pj : 0.0,
+              m.dynamic_pj > 0 ? 100 * m.link_dynamic_pj / m.dynamic_pj : 0.0, m.energy_per_ray_pj * 1e-12, m.power_w,
+              top ? unit_name(top->inventory.kind) : "none",
+              top && m.dynamic_pj > 0 ? 100 * top->dynamic_pj / m.dynamic_pj : 0.0);
+}
+
 }  // namespace
 
 void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds, const ReferenceResult& r,
@@ -196,6 +213,7 @@ void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds,
 }
 
 void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, const MachineConfig& c, const MachineResult& m,
+                           const MachineCost& cost,
                            const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
                            bool ref_cached, const RenderFiles& files) {
   const FrameStats& st = m.stats;
@@ -218,6 +236,7 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, c
   print_local_memory(m.memory);
   print_memory_traffic(m, c);
   std::printf("bottleneck: %s: %s\n", st.bottleneck.name.c_str(), st.bottleneck.reason.c_str());
+  print_cost(cost);
   std::printf("cycles / MAC bound %.2f, load imbalance %.2f (longest PE working window / mean)\n", st.cycles_over_mac_bound,
               st.profile.imbalance);
   // rmse and max are of channel values on 0..1.

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "cost/unit_cost.h"
 #include "error/error_causes.h"
 #include "machine/machine.h"
 #include "render/image_io.h"
@@ -23,6 +24,7 @@ void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds,
 
 /// After a machine render, compared with the reference.
 void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, const MachineConfig& c, const MachineResult& m,
+                           const MachineCost& cost,
                            const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
                            bool ref_cached, const RenderFiles& files);
 

@@ -20,6 +20,7 @@
 #include "machine/partition.h"
 #include "memory_budget.h"
 #include "options.h"
+#include "machine/frame_cost.h"
 #include "printed_summary.h"
 #include "reference_cache.h"
 #include "render/atomic_file.h"
@@ -217,10 +218,12 @@ int run_render(const RenderOptions& opt) {
       write_channels(files.error_map, error_map_channels(causes));
       write_image(files.error_picture, error_map_picture(causes, m.image));
     }
-    stats.update(machine_render_json(m, config, err, causes, ref, cache_hit));
+    const MachineCost cost = frame_cost(m, config, uint64_t(scene.camera.width) * uint64_t(scene.camera.height),
+                                        scene.primitives.size(), technology(config.tech));
+    stats.update(machine_render_json(m, config, cost, err, causes, ref, cache_hit));
     stats["grid_build_seconds"] = grid_seconds;  // beside the model's wall_seconds
     write_text_atomically(files.stats, stats.dump(2) + "\n");
-    if (!opt.quiet) print_machine_summary(scene, grid, grid_seconds, config, m, err, causes, ref, cache_hit, files);
+    if (!opt.quiet) print_machine_summary(scene, grid, grid_seconds, config, m, cost, err, causes, ref, cache_hit, files);
     return 0;
   });
 }

@@ -275,6 +275,72 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
           {"config", config}};
 }
 
+constexpr double kJoulesPerPj = 1e-12;
+
+/// What the machine costs (cost/unit_cost.h, docs/cost.md): each kind of unit's inventory, area
+/// and dynamic energy, the totals, the frame's leakage, energy and average power.
+nlohmann::json cost_json(const MachineCost& m) {
+  nlohmann::json units = nlohmann::json::object();
+  for (const UnitCost& u : m.units) {
+    const UnitInventory& i = u.inventory;
+    nlohmann::json elements = nlohmann::json::object();
+    for (size_t o = 0; o < kOps; ++o)
+      for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        const bool integer = Op(o) == Op::IntAdd || Op(o) == Op::IntCompare;
+        if (integer && p == Precision::Fp64) continue;
+        const uint64_t n = i.elements.of(Op(o), p);
+        if (n) elements[integer ? std::string(op_name(Op(o))) : std::string(op_name(Op(o))) + "_" + to_string(p)] = n;
+      }
+    nlohmann::json srams = nlohmann::json::array();
+    for (const Sram& r : i.srams) srams.push_back({{"name", r.name}, {"bytes", r.bytes}, {"word_bits", r.word_bits}});
+    units[unit_name(i.kind)] = {{"units", i.units},
+                                {"elements", elements},
+                                {"register_bits", i.register_bits},
+                                {"fifo_bits", i.fifo_bits},
+                                {"srams", srams},
+                                {"logic_mm2", i.logic_um2 * 1e-6},
+                                {"sram_mm2", i.sram_um2 * 1e-6},
+                                {"dynamic_j", u.dynamic_pj * kJoulesPerPj}};
+  }
+  return {{"technology", m.technology},
+          {"units", units},
+          {"pe_logic_mm2", m.pe_logic_mm2},
+          {"pe_sram_mm2", m.pe_sram_mm2},
+          {"interconnect_mm2", m.interconnect_mm2},
+          {"logic_mm2", m.logic_mm2},
+          {"sram_mm2", m.sram_mm2},
+          {"area_mm2", m.area_mm2()},
+          {"memory_mm2", m.memory_mm2},
+          {"memory_capacity_bytes", m.memory_capacity_bytes},
+          {"local_memory_dynamic_j", m.memory_dynamic_pj * kJoulesPerPj},
+          {"link_dynamic_j", m.link_dynamic_pj * kJoulesPerPj},
+          {"dynamic_j", m.dynamic_pj * kJoulesPerPj},
+          {"leakage_j", m.leakage_pj * kJoulesPerPj},
+          {"energy_per_frame_j", m.energy_pj * kJoulesPerPj},
+          {"energy_per_ray_j", m.energy_per_ray_pj * kJoulesPerPj},
+          {"energy_per_pixel_j", m.energy_per_pixel_pj * kJoulesPerPj},
+          {"frame_seconds", m.frame_seconds},
+          {"power_w", m.power_w}};
+}
+
+/// The sweep's figures of merit: area (on chip), the frame's energy and average power, frames per
+/// second per mm², frames per joule, and energy times delay.
+nlohmann::json cost_summary_json(const MachineCost& m) {
+  const double e = m.energy_pj * kJoulesPerPj, a = m.area_mm2(), frame_seconds = m.frame_seconds;
+  nlohmann::json j = {{"area_mm2", a},
+          {"energy_j", e},
+          {"power_w", m.power_w},
+          {"frames_per_s_per_mm2", frame_seconds > 0 && a > 0 ? 1 / frame_seconds / a : 0.0},
+          {"frames_per_j", e > 0 ? 1 / e : 0.0},
+          {"energy_delay", e * frame_seconds}};
+  // The frame's energy split: each unit's dynamic energy, the local memories', the link's, leakage.
+  for (const UnitCost& u : m.units) j[std::string("energy_") + unit_name(u.inventory.kind) + "_j"] = u.dynamic_pj * kJoulesPerPj;
+  j["energy_local_memory_j"] = m.memory_dynamic_pj * kJoulesPerPj;
+  j["energy_link_j"] = m.link_dynamic_pj * kJoulesPerPj;
+  j["energy_leakage_j"] = m.leakage_pj * kJoulesPerPj;
+  return j;
+}
+
 /// Copies an object's fields into `to`, each name prefixed.
 void flatten_into(nlohmann::json& to, const std::string& prefix, const nlohmann::json& from) {
   for (const auto& [key, value] : from.items()) to[prefix + key] = value;
@@ -282,7 +348,7 @@ void flatten_into(nlohmann::json& to, const std::string& prefix, const nlohmann:
 
 /// One flat object of the run's headline figures: exactly the metric columns of a sweep's
 /// results.csv (scripts/rtmsweep reads its metrics from it alone).
-nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, const ImageError& err) {
+nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, const MachineCost& cost, const ImageError& err) {
   const FrameStats& s = m.stats;
   nlohmann::json j = {{"cycles", m.cycles},
                       {"wall_seconds", m.wall_seconds},
@@ -303,6 +369,7 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
   flatten_into(j, "pe_issue_", utilisation_json(s.profile.issue));
   flatten_into(j, "pe_starved_", utilisation_json(s.profile.starved));
   flatten_into(j, "", phases_json(s.profile));
+  flatten_into(j, "", cost_summary_json(cost));
   return j;
 }
 
@@ -343,15 +410,17 @@ nlohmann::json reference_render_json(const ReferenceResult& r) {
   return j;
 }
 
-nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const ImageError& err,
-                                   const ErrorCauses& causes, const ReferenceResult& ref, bool ref_cached) {
+nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const MachineCost& cost,
+                                   const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
+                                   bool ref_cached) {
   nlohmann::json j = counts_json(m.counts);
   j["renderer"] = "machine";
   j["wall_seconds"] = m.wall_seconds;
   j.update(machine_json(m, c));
   j["error"] = error_json(err);
   j["error"]["causes"] = causes_json(causes);
-  j["summary"] = summary_json(m, c, err);
+  j["cost"] = cost_json(cost);
+  j["summary"] = summary_json(m, c, cost, err);
   // The same rays, walks and tests as the machine's: at fp64 always; at fp32 unless a hit flipped
   // (docs/machine.md, "Statistics").
   j["reference"] = {{"wall_seconds", ref.wall_seconds},

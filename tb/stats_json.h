@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cost/unit_cost.h"
 #include "error/error_causes.h"
 #include "machine/machine.h"
 #include "render/image_io.h"
@@ -33,8 +34,10 @@ nlohmann::json scene_json(const Scene& s, const Grid& g, double grid_seconds);
 nlohmann::json reference_render_json(const ReferenceResult& r);
 
 /// The rest of a machine render's stats file: the machine's figures, its error against the
-/// reference, the flat `summary` (a sweep's results.csv columns) and the reference's run.
-nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const ImageError& err,
-                                   const ErrorCauses& causes, const ReferenceResult& ref, bool ref_cached);
+/// reference, the machine's `cost` (cost/unit_cost.h), the flat `summary` (a sweep's results.csv
+/// columns) and the reference's run.
+nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const MachineCost& cost,
+                                   const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
+                                   bool ref_cached);
 
 }  // namespace rtm

@@ -388,6 +388,10 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     r.memory_use.push_back(pe->ctx.memory->use());
   }
   r.fifos = summarise_fifos(top.pes, r.end);
+  for (auto& pe : top.pes)
+    for (auto& [name, st] : pe->fifo_stats())
+      for (const FifoSpec& f : fifo_table())
+        if (name == f.name) r.fifo_writes[size_t(f.id)] += st->writes;
   r.needs = top.needs;
   r.engine_unsupported = top.engine_unsupported;
   r.scene_bytes = top.scene_bytes;

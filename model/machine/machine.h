@@ -1,6 +1,7 @@
 // The whole machine: the host, N PEs and the link between them, run for one frame.
 #pragma once
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "machine/host.h"
 #include "engine/worker_pool.h"
 #include "memory/memory_layout.h"
+#include "units/fifo_table.h"
 #include "units/pe_memory.h"
 #include "render/scene_needs.h"
 
@@ -51,6 +53,7 @@ struct MachineResult {
   uint64_t mac_products = 0, mac_busy_cycles = 0, mac_issue_cycles = 0, spills = 0;
   std::vector<PeCounters> per_pe;
   std::vector<FifoSummary> fifos;
+  std::array<uint64_t, kFifoCount> fifo_writes{};  ///< records written into each FIFO of the table, over all PEs
   HostTimes host;
   std::vector<LinkUse> links;   ///< the interconnect's links: busy time and bytes of each (net/interconnect.h)
   uint64_t scene_bytes = 0;     ///< one PE's copy of the scene as the link carries it

@@ -13,6 +13,7 @@ struct FifoStats {
   int depth = 0;
   int peak = 0;
   double occupancy_time = 0;  ///< ∫ occupancy dt, in seconds
+  uint64_t writes = 0;        ///< records written (the cost's FIFO energy, cost/unit_cost.h)
 };
 
 struct FifoMeter {
@@ -29,6 +30,7 @@ struct FifoMeter {
     area += uint64_t(occupancy) * (now - last_change);
     last_change = now;
     occupancy += delta;
+    if (delta > 0) stats.writes += uint64_t(delta);
     if (occupancy > stats.peak) stats.peak = occupancy;
   }
   /// The statistics, with the time integral closed at `now`.

@@ -24,6 +24,9 @@ SUMMARY_COLUMNS = [
     "pe_util_credit_stall",
     "pe_issue_front_buffer", "pe_issue_search", "pe_issue_mac", "pe_issue_root", "pe_issue_shading",
     "pe_starved_front_buffer", "pe_starved_search", "pe_starved_mac", "pe_starved_root", "pe_starved_shading",
+    "area_mm2", "energy_j", "power_w", "frames_per_s_per_mm2", "frames_per_j", "energy_delay",
+    "energy_front_buffer_j", "energy_shading_j", "energy_search_j", "energy_mac_j", "energy_root_j",
+    "energy_local_memory_j", "energy_link_j", "energy_leakage_j",
 ]
 # The sweep's own: how rtm exited, where it ran, which file it read.
 RUN_COLUMNS = ["exit_code", "host", "scene_file"]

@@ -8,6 +8,8 @@ utilisation.FMT     busy fraction of each PE stage over the frame vs PE count
 pe_utilisation.FMT  the same over the PEs' working windows (when the CSV has it)
 load_imbalance.FMT  longest PE working window / mean, per partitioning scheme
 phases.FMT          the frame split into host pre-processing, transfer, PE work and gather
+cost.FMT            energy per frame and frames per second per mm2 vs PE count (when the CSV has them)
+energy.FMT          the frame's energy split into each unit's, the local memories', the link's and leakage
 scaling.md          a table: cycles, speedup, parallel efficiency, phase shares, load imbalance
                     and bottleneck per configuration and PE count
 
@@ -330,6 +332,62 @@ def plot_phases(configs, out, written):
     return True
 
 
+COST = [("energy_j", "energy per frame (J)", True), ("frames_per_s_per_mm2", "frames / s / mm² of chip", False)]
+
+
+def plot_cost(configs, out, written):
+    """What the machine costs (docs/cost.md): energy per frame and performance per area."""
+    if not any(c.values(COST[0][0])[0] for c in configs):
+        return False
+    fig, axs = grid(len(COST), max_cols=2)
+    for ax, (col, label, log_y) in zip(axs, COST):
+        for c in configs:
+            p, y = c.values(col)
+            ax.plot(p, y, label=c.label, **c.style())
+        pes_axis(ax, configs, log_y=log_y)
+        ax.set_ylabel(label)
+        legend(ax, configs)
+    fig.suptitle("Cost")
+    save(fig, out.path("cost"), written)
+    return True
+
+
+ENERGY = [("energy_front_buffer_j", "front buffer", "#dd8452"), ("energy_search_j", "object search", "#4c72b0"),
+          ("energy_mac_j", "MAC", "#c44e52"), ("energy_root_j", "root unit", "#8172b3"),
+          ("energy_shading_j", "shading", "#937860"), ("energy_local_memory_j", "local memory (DRAM)", "#55a868"),
+          ("energy_link_j", "link", "#e6a23c"), ("energy_leakage_j", "leakage", "#8c8c8c")]
+
+
+def plot_energy(configs, out, written):
+    """Per configuration and PE count, a stacked bar of where the frame's energy goes."""
+    if not any(c.values(ENERGY[0][0])[0] for c in configs):
+        return False
+    fig, axs = grid(len(configs), width=5.0, height=3.8)
+    for ax, c in zip(axs, configs):
+        rows = [r for r in c.rows if all(num(r.get(col)) is not None for col, _, _ in ENERGY)]
+        x = list(range(len(rows)))
+        totals = [sum(num(r[col]) for col, _, _ in ENERGY) for r in rows]
+        bottom = [0.0] * len(rows)
+        for col, label, colour in ENERGY:
+            share = [100.0 * num(r[col]) / t if t else 0.0 for r, t in zip(rows, totals)]
+            ax.bar(x, share, bottom=bottom, color=colour, label=label, width=0.75)
+            bottom = [b + s for b, s in zip(bottom, share)]
+        for i, t in enumerate(totals):
+            ax.text(i, 101, f"{t:.3g} J", ha="center", va="bottom", fontsize=7)
+        ax.set_xticks(x)
+        ax.set_xticklabels([str(r["_pes"]) for r in rows], fontsize=8)
+        ax.set_ylim(0, 112)
+        ax.set_xlabel("PEs")
+        ax.set_ylabel("% of the frame's energy")
+        ax.set_title(c.label, fontsize=10)
+    handles, labels = axs[0].get_legend_handles_labels()
+    fig.suptitle("Energy by unit")
+    fig.tight_layout(rect=(0, 0.1 / math.ceil(len(configs) / 3), 1, 1))
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize="small", frameon=False)
+    save(fig, out.path("energy"), written, layout=False)
+    return True
+
+
 def write_table(configs, out, written):
     """scaling.md: per configuration and PE count, cycles, speedup and parallel efficiency, where
     the frame went, and the bottleneck."""
@@ -388,6 +446,10 @@ def main(argv=None):
         notes.append(out.file("load_imbalance") + ": skipped, no load_imbalance values")
     if not plot_phases(configs, out, written):
         notes.append(out.file("phases") + ": skipped, no phase columns")
+    if not plot_cost(configs, out, written):
+        notes.append(out.file("cost") + ": skipped, no cost columns")
+    if not plot_energy(configs, out, written):
+        notes.append(out.file("energy") + ": skipped, no energy columns")
     table = write_table(configs, out, written)
     if args.page:
         build = page.build_of(args.rtm) if args.rtm else page.NOT_RECORDED

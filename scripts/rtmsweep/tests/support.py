@@ -13,7 +13,7 @@ SWEEP = os.path.join(SCRIPTS, "sweep")
 SWEEP_RUN = os.path.join(SCRIPTS, "sweep-run")
 PLOT_SWEEP = os.path.join(SCRIPTS, "plot-sweep")
 PLOTS = ["cycles.png", "speedup.png", "utilisation.png", "pe_utilisation.png", "load_imbalance.png",
-         "phases.png"]
+         "phases.png", "cost.png", "energy.png"]
 
 sys.path.insert(0, SCRIPTS)  # the rtmsweep package
 

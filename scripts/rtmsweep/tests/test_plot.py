@@ -1,4 +1,4 @@
-"""scripts/plot-sweep on a hand-written CSV: all six plots and the table, failed rows left out."""
+"""scripts/plot-sweep on a hand-written CSV: all eight plots and the table, failed rows left out."""
 
 import pytest
 
@@ -17,7 +17,10 @@ def sweep_row(scene, partition, pes, status):
     work, host, transfer = 1e6 / pes * (1.1 if partition == "blocks" else 1.0), 2e5, 1e4 * pes
     v.update(cycles=int(host + transfer + work + 5000), host_preprocess_cycles=int(host),
              transfer_cycles=int(transfer), pe_cycles=int(work), gather_cycles=5000,
-             load_imbalance=1.0 + 0.02 * pes, pe_util_credit_stall=0.3, bottleneck="mac")
+             load_imbalance=1.0 + 0.02 * pes, pe_util_credit_stall=0.3, bottleneck="mac",
+             energy_j=1e-3 * (1 + 0.01 * pes), frames_per_s_per_mm2=50.0 / (1 + 0.1 * pes))
+    for part in ("front_buffer", "search", "mac", "root", "shading", "local_memory", "link", "leakage"):
+        v[f"energy_{part}_j"] = 1e-4 * (1 + 0.01 * pes)
     for stage in ("front_buffer", "search", "mac", "root", "shading"):
         v[f"util_{stage}"] = 0.5 / (1 + 0.1 * pes)
         v[f"pe_util_{stage}"] = 0.6 / (1 + 0.05 * pes)
