@@ -37,7 +37,7 @@ class Writer {
   template <class T>
   void array(const std::vector<T>& v) {
     raw(uint64_t(v.size()));
-    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
   }
   std::string out;
 };
@@ -71,7 +71,7 @@ class Reader {
   std::vector<T> array() {
     const uint64_t n = count(sizeof(T));
     std::vector<T> v(n);
-    std::memcpy(v.data(), b_.data() + at_, n * sizeof(T));
+    if (n) std::memcpy(v.data(), b_.data() + at_, n * sizeof(T));  // an empty vector's data() may be null
     at_ += n * sizeof(T);
     return v;
   }

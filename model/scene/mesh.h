@@ -77,6 +77,9 @@ Camera framing_camera(const Aabb& box);
 /// Imports a mesh file through Assimp in a child process held to options' memory and time limits,
 /// so that the library's crash, hang or exhaustion is a SceneError naming the file, not rtm's.
 MeshData import_mesh(const std::string& path, const SceneReadOptions& options);
+/// Whether the import's child runs under SceneReadOptions::import_memory: not in sanitizer
+/// builds, whose shadow memory no address-space limit admits (the time limit still holds).
+bool import_memory_is_limited();
 /// Does Assimp read files with this extension (".obj", lower case, with the dot)?
 bool is_mesh_extension(const std::string& ext);
 

@@ -39,6 +39,8 @@
 
 namespace rtm {
 
+bool import_memory_is_limited() { return RTM_IMPORT_MEMORY_LIMIT != 0; }
+
 namespace {
 
 Vec3 vec(const aiVector3D& v) { return {v.x, v.y, v.z}; }
