@@ -303,34 +303,40 @@ def plot_imbalance(configs, varying, scenes, out, written):
     return True
 
 
-def plot_phases(configs, out, written):
-    if not any(c.values(PHASES[0][0])[0] for c in configs):
+def stacked_shares(configs, out, written, parts, name, title, ylabel, total_unit, legend_cols, legend_room):
+    """Per configuration and PE count, a bar stacked from PARTS ((column, label, colour)): each
+    part's share of their sum, the sum written above the bar."""
+    if not any(c.values(parts[0][0])[0] for c in configs):
         return False
     fig, axs = grid(len(configs), width=5.0, height=3.8)
     for ax, c in zip(axs, configs):
-        rows = [r for r in c.rows if all(num(r.get(col)) is not None for col, _, _ in PHASES)]
+        rows = [r for r in c.rows if all(num(r.get(col)) is not None for col, _, _ in parts)]
         x = list(range(len(rows)))
-        totals = [sum(num(r[col]) for col, _, _ in PHASES) for r in rows]
+        totals = [sum(num(r[col]) for col, _, _ in parts) for r in rows]
         bottom = [0.0] * len(rows)
-        for col, label, colour in PHASES:
+        for col, label, colour in parts:
             share = [100.0 * num(r[col]) / t if t else 0.0 for r, t in zip(rows, totals)]
             ax.bar(x, share, bottom=bottom, color=colour, label=label, width=0.75)
             bottom = [b + s for b, s in zip(bottom, share)]
         for i, t in enumerate(totals):
-            ax.text(i, 101, f"{t:.3g}", ha="center", va="bottom", fontsize=7)
+            ax.text(i, 101, f"{t:.3g}{total_unit}", ha="center", va="bottom", fontsize=7)
         ax.set_xticks(x)
         ax.set_xticklabels([str(r["_pes"]) for r in rows], fontsize=8)
         ax.set_ylim(0, 112)
         ax.set_xlabel("PEs")
-        ax.set_ylabel("% of the frame's cycles")
+        ax.set_ylabel(ylabel)
         ax.set_title(c.label, fontsize=10)
     handles, labels = axs[0].get_legend_handles_labels()
-    fig.suptitle("Frame phases")
-    fig.tight_layout(rect=(0, 0.06 / math.ceil(len(configs) / 3), 1, 1))
-    fig.legend(handles, labels, loc="lower center", ncol=len(PHASES), fontsize="small", frameon=False)
-    save(fig, out.path("phases"), written, layout=False)
+    fig.suptitle(title)
+    fig.tight_layout(rect=(0, legend_room / math.ceil(len(configs) / 3), 1, 1))
+    fig.legend(handles, labels, loc="lower center", ncol=legend_cols, fontsize="small", frameon=False)
+    save(fig, out.path(name), written, layout=False)
     return True
 
+
+def plot_phases(configs, out, written):
+    return stacked_shares(configs, out, written, PHASES, "phases", "Frame phases", "% of the frame's cycles", "",
+                          len(PHASES), 0.06)
 
 COST = [("energy_j", "energy per frame (J)", True), ("frames_per_s_per_mm2", "frames / s / mm² of chip", False)]
 
@@ -360,32 +366,8 @@ ENERGY = [("energy_front_buffer_j", "front buffer", "#dd8452"), ("energy_search_
 
 def plot_energy(configs, out, written):
     """Per configuration and PE count, a stacked bar of where the frame's energy goes."""
-    if not any(c.values(ENERGY[0][0])[0] for c in configs):
-        return False
-    fig, axs = grid(len(configs), width=5.0, height=3.8)
-    for ax, c in zip(axs, configs):
-        rows = [r for r in c.rows if all(num(r.get(col)) is not None for col, _, _ in ENERGY)]
-        x = list(range(len(rows)))
-        totals = [sum(num(r[col]) for col, _, _ in ENERGY) for r in rows]
-        bottom = [0.0] * len(rows)
-        for col, label, colour in ENERGY:
-            share = [100.0 * num(r[col]) / t if t else 0.0 for r, t in zip(rows, totals)]
-            ax.bar(x, share, bottom=bottom, color=colour, label=label, width=0.75)
-            bottom = [b + s for b, s in zip(bottom, share)]
-        for i, t in enumerate(totals):
-            ax.text(i, 101, f"{t:.3g} J", ha="center", va="bottom", fontsize=7)
-        ax.set_xticks(x)
-        ax.set_xticklabels([str(r["_pes"]) for r in rows], fontsize=8)
-        ax.set_ylim(0, 112)
-        ax.set_xlabel("PEs")
-        ax.set_ylabel("% of the frame's energy")
-        ax.set_title(c.label, fontsize=10)
-    handles, labels = axs[0].get_legend_handles_labels()
-    fig.suptitle("Energy by unit")
-    fig.tight_layout(rect=(0, 0.1 / math.ceil(len(configs) / 3), 1, 1))
-    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize="small", frameon=False)
-    save(fig, out.path("energy"), written, layout=False)
-    return True
+    return stacked_shares(configs, out, written, ENERGY, "energy", "Energy by unit", "% of the frame's energy", " J",
+                          4, 0.1)
 
 
 def write_table(configs, out, written):
