@@ -1,6 +1,7 @@
 #include "cost/unit_cost.h"
 
 #include <algorithm>
+#include <array>
 
 #include "memory/records.h"
 #include "memory/voxel_cache.h"
@@ -163,32 +164,33 @@ UnitBuild build(UnitKind k, const MachineConfig& c, const PeUnits& u, uint64_t p
   return kBuilds[size_t(k)].build(c, u, primitives);
 }
 
+/// An element's energy and area entries in the technology, in fp32 and in fp64 (the integer
+/// elements have one of each: the 3DDDA's precision does not widen them).
+struct OpEntries {
+  TechValue Technology::*pj32;
+  TechValue Technology::*pj64;
+  TechValue Technology::*um2_32;
+  TechValue Technology::*um2_64;
+};
+using Tech = Technology;
+constexpr std::array<OpEntries, kOps> kOpEntries = {{
+    {&Tech::int32_add_pj, &Tech::int32_add_pj, &Tech::int32_add_um2, &Tech::int32_add_um2},
+    {&Tech::int32_compare_pj, &Tech::int32_compare_pj, &Tech::int32_compare_um2, &Tech::int32_compare_um2},
+    {&Tech::fp32_add_pj, &Tech::fp64_add_pj, &Tech::fp32_add_um2, &Tech::fp64_add_um2},
+    {&Tech::fp32_mul_pj, &Tech::fp64_mul_pj, &Tech::fp32_mul_um2, &Tech::fp64_mul_um2},
+    {&Tech::fp32_compare_pj, &Tech::fp64_compare_pj, &Tech::fp32_compare_um2, &Tech::fp64_compare_um2},
+    {&Tech::fp32_div_pj, &Tech::fp64_div_pj, &Tech::fp32_div_um2, &Tech::fp64_div_um2},
+    {&Tech::fp32_sqrt_pj, &Tech::fp64_sqrt_pj, &Tech::fp32_sqrt_um2, &Tech::fp64_sqrt_um2},
+}};
+
 double op_pj(Op o, P p, const Technology& t) {
-  const bool d = p == P::Fp64;
-  switch (o) {
-    case Op::IntAdd: return t.int32_add_pj.value;
-    case Op::IntCompare: return t.int32_compare_pj.value;
-    case Op::FpAdd: return (d ? t.fp64_add_pj : t.fp32_add_pj).value;
-    case Op::FpMul: return (d ? t.fp64_mul_pj : t.fp32_mul_pj).value;
-    case Op::FpCompare: return (d ? t.fp64_compare_pj : t.fp32_compare_pj).value;
-    case Op::FpDiv: return (d ? t.fp64_div_pj : t.fp32_div_pj).value;
-    case Op::FpSqrt: return (d ? t.fp64_sqrt_pj : t.fp32_sqrt_pj).value;
-  }
-  return 0;
+  const OpEntries& e = kOpEntries[size_t(o)];
+  return (t.*(p == P::Fp64 ? e.pj64 : e.pj32)).value;
 }
 
 double op_um2(Op o, P p, const Technology& t) {
-  const bool d = p == P::Fp64;
-  switch (o) {
-    case Op::IntAdd: return t.int32_add_um2.value;
-    case Op::IntCompare: return t.int32_compare_um2.value;
-    case Op::FpAdd: return (d ? t.fp64_add_um2 : t.fp32_add_um2).value;
-    case Op::FpMul: return (d ? t.fp64_mul_um2 : t.fp32_mul_um2).value;
-    case Op::FpCompare: return (d ? t.fp64_compare_um2 : t.fp32_compare_um2).value;
-    case Op::FpDiv: return (d ? t.fp64_div_um2 : t.fp32_div_um2).value;
-    case Op::FpSqrt: return (d ? t.fp64_sqrt_um2 : t.fp32_sqrt_um2).value;
-  }
-  return 0;
+  const OpEntries& e = kOpEntries[size_t(o)];
+  return (t.*(p == P::Fp64 ? e.um2_64 : e.um2_32)).value;
 }
 
 template <class F>
