@@ -10,8 +10,8 @@ namespace rtm {
 
 struct BuildInfo {
   std::string version;
-  std::string commit;             ///< the full hash; "unknown" outside a git checkout
-  std::optional<bool> modified;   ///< tracked files differ from the commit; empty: unknown
+  std::string commit;            ///< the full hash; "unknown" outside a git checkout
+  std::optional<bool> modified;  ///< tracked files differ from the commit; empty: unknown
 };
 
 const BuildInfo& build_info();

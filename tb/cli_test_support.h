@@ -29,12 +29,14 @@ inline std::string random_small_machine(std::mt19937& rng, int max_pes) {
   std::ostringstream args;
   args << " --size 16x16 --pes " << pick(1, max_pes) << " --search-units " << pick(1, 6)
        << " --set search_fifo_depth=" << depth << " --set intersect_fifo_depth=" << pick(depth, 5)
-       << " --set root_fifo_depth=" << pick(depth, 5) << " --set shade_fifo_depth=" << pick(depth, 5)
-       << " --set feedback_fifo_depth=" << pick(1, 3) << " --set front_buffer_capacity=" << pick(1, 8)
-       << " --set loop_credits=" << pick(0, depth);
+       << " --set root_fifo_depth=" << pick(depth, 5)
+       << " --set shade_fifo_depth=" << pick(depth, 5)
+       << " --set feedback_fifo_depth=" << pick(1, 3)
+       << " --set front_buffer_capacity=" << pick(1, 8) << " --set loop_credits=" << pick(0, depth);
   args << " --set dda_step_cycles=" << pick(1, 4) << " --set root_latency=" << pick(1, 14)
        << " --set shade_cycles=" << pick(1, 20) << " --set dispatch_interval=" << pick(0, 2)
-       << " --set search_interval=" << pick(0, 3) << " --set mac_streaming=" << (pick(0, 1) ? "true" : "false")
+       << " --set search_interval=" << pick(0, 3)
+       << " --set mac_streaming=" << (pick(0, 1) ? "true" : "false")
        << " --set root_interval=" << pick(0, 2) << " --set shade_interval=" << pick(0, 3);
   return args.str();
 }
@@ -46,7 +48,8 @@ inline std::string random_memory(std::mt19937& rng) {
     return *(v.begin() + std::uniform_int_distribution<size_t>(0, v.size() - 1)(rng));
   };
   std::ostringstream args;
-  args << " --set memory_ports=" << one_of({"0", "1", "1", "2", "3"}) << " --set memory_banks=" << one_of({"0", "1", "2", "4", "8"})
+  args << " --set memory_ports=" << one_of({"0", "1", "1", "2", "3"})
+       << " --set memory_banks=" << one_of({"0", "1", "2", "4", "8"})
        << " --set memory_interleave_bytes=" << one_of({"4", "8", "16", "32"})
        << " --set memory_latency=" << one_of({"1", "2", "3", "8"})
        << " --set memory_bytes_per_cycle=" << one_of({"4", "8", "16"})
@@ -69,7 +72,9 @@ class Tmp {
   }
   Tmp(const Tmp&) = delete;
   Tmp& operator=(const Tmp&) = delete;
-  std::string operator/(const std::string& name) const { return (std::filesystem::path(dir_) / name).string(); }
+  std::string operator/(const std::string& name) const {
+    return (std::filesystem::path(dir_) / name).string();
+  }
 
  private:
   std::string dir_;
@@ -82,7 +87,9 @@ inline std::string slurp(const std::string& path) {
   return s.str();
 }
 
-inline void spit(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+inline void spit(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
 
 struct Proc {
   int exit_code = -1;
@@ -124,14 +131,17 @@ inline Proc sh(const std::string& cmd, const Tmp& tmp) {
 }
 
 /// Runs the rtm binary under test.
-inline Proc run_rtm(const std::string& args, const Tmp& tmp) { return sh(std::string(RTM_BINARY) + " " + args, tmp); }
+inline Proc run_rtm(const std::string& args, const Tmp& tmp) {
+  return sh(std::string(RTM_BINARY) + " " + args, tmp);
+}
 
 /// `rtm render ARGS`, the image to `<name>.exr`, the ID map to `<name>-id.exr`; returns the stats
 /// (null, with a test failure, if the render failed).
 inline nlohmann::json render(const Tmp& tmp, const std::string& name, const std::string& args) {
-  const Proc r = run_rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --id-map " + (tmp / (name + "-id.exr")) +
-                             " --stats " + (tmp / (name + ".json")) + " -q",
-                         tmp);
+  const Proc r =
+      run_rtm("render " + args + " --out " + (tmp / (name + ".exr")) + " --id-map " +
+                  (tmp / (name + "-id.exr")) + " --stats " + (tmp / (name + ".json")) + " -q",
+              tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return r.exit_code == 0 ? nlohmann::json::parse(slurp(tmp / (name + ".json"))) : nlohmann::json();
 }

@@ -34,9 +34,10 @@ TEST_P(BadOptionValue, Exits2WithOneLineNamingTheOption) {
   const BadValue& c = GetParam();
   const std::string args = c.args;
   const bool render = args.rfind("render", 0) == 0;
-  const Proc r = run_rtm(args + (args.find("--out") == std::string::npos ? " --out " + (tmp / "o.png") : "") +
-                             (render ? " -q" : ""),
-                         tmp);
+  const Proc r =
+      run_rtm(args + (args.find("--out") == std::string::npos ? " --out " + (tmp / "o.png") : "") +
+                  (render ? " -q" : ""),
+              tmp);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(r.err.rfind("rtm: ", 0), 0u) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -47,35 +48,36 @@ TEST_P(BadOptionValue, Exits2WithOneLineNamingTheOption) {
 // `--out` is added to each that has none.
 INSTANTIATE_TEST_SUITE_P(
     Cases, BadOptionValue,
-    testing::Values(BadValue{"JpegImage", "render --size 4 --out t.jpg", "--out"},
-                    BadValue{"PngIdMap", "render --size 4 --id-map t.png", "--id-map"},
-                    BadValue{"PngErrorMap", "render --size 4 --error-map t.png", "--error-map"},
-                    BadValue{"ThresholdOne", "render --size 4 --threshold 1", "--threshold"},
-                    BadValue{"ThresholdNan", "render --size 4 --threshold nan", "--threshold"},
-                    BadValue{"ThresholdText", "render --size 4 --threshold high", "--threshold"},
-                    BadValue{"NegativeSpawnOffset", "render --size 4 --spawn-offset -1", "--spawn-offset"},
-                    BadValue{"InfiniteSpawnOffset", "render --size 4 --spawn-offset inf", "--spawn-offset"},
-                    BadValue{"DepthZero", "render --size 4 --max-depth 0", "--max-depth"},
-                    BadValue{"SizeZero", "render --size 0", "--size"},
-                    BadValue{"SizeTooLarge", "render --size 20000", "--size"},
-                    BadValue{"SizeText", "render --size big", "--size"},
-                    BadValue{"GridZero", "render --size 4 --grid 0", "--grid"},
-                    BadValue{"PesZero", "render --size 4 --pes 0", "--pes"},
-                    BadValue{"SlowTiming", "render --size 4 --timing slow", "--timing"},
-                    BadValue{"Fp16", "render --size 4 --precision fp16", "--precision"},
-                    BadValue{"RoundPartition", "render --size 4 --partition rounds", "--partition"},
-                    BadValue{"SearchUnitsZero", "render --size 4 --search-units 0", "--search-units"},
-                    BadValue{"HalfSchedule", "render --size 4 --mac-schedule half", "--mac-schedule"},
-                    BadValue{"SpawnPolicy", "render --size 4 --spawn-policy far", "--spawn-policy"},
-                    BadValue{"MemoryText", "render --size 4 --max-memory lots", "--max-memory"},
-                    BadValue{"RaysZero", "render --size 4 --max-rays 0", "--max-rays"},
-                    BadValue{"ThreadsNegative", "render --size 4 --threads -1", "--threads"},
-                    BadValue{"VcdWindow", "render --size 4 --vcd-window soon", "--vcd-window"},
-                    BadValue{"VcdPes", "render --size 4 --vcd-pes 3", "--vcd-pes"},
-                    BadValue{"UnknownPreset", "render --size 4 --preset fastest", "--preset"},
-                    BadValue{"UnknownKey", "render --size 4 --set warp=1", "--set"},
-                    BadValue{"PovSize", "pov --size 0x4", "--size"},
-                    BadValue{"PovUnwritable", "pov --out /proc/none/x.pov", "--out"}),
+    testing::Values(
+        BadValue{"JpegImage", "render --size 4 --out t.jpg", "--out"},
+        BadValue{"PngIdMap", "render --size 4 --id-map t.png", "--id-map"},
+        BadValue{"PngErrorMap", "render --size 4 --error-map t.png", "--error-map"},
+        BadValue{"ThresholdOne", "render --size 4 --threshold 1", "--threshold"},
+        BadValue{"ThresholdNan", "render --size 4 --threshold nan", "--threshold"},
+        BadValue{"ThresholdText", "render --size 4 --threshold high", "--threshold"},
+        BadValue{"NegativeSpawnOffset", "render --size 4 --spawn-offset -1", "--spawn-offset"},
+        BadValue{"InfiniteSpawnOffset", "render --size 4 --spawn-offset inf", "--spawn-offset"},
+        BadValue{"DepthZero", "render --size 4 --max-depth 0", "--max-depth"},
+        BadValue{"SizeZero", "render --size 0", "--size"},
+        BadValue{"SizeTooLarge", "render --size 20000", "--size"},
+        BadValue{"SizeText", "render --size big", "--size"},
+        BadValue{"GridZero", "render --size 4 --grid 0", "--grid"},
+        BadValue{"PesZero", "render --size 4 --pes 0", "--pes"},
+        BadValue{"SlowTiming", "render --size 4 --timing slow", "--timing"},
+        BadValue{"Fp16", "render --size 4 --precision fp16", "--precision"},
+        BadValue{"RoundPartition", "render --size 4 --partition rounds", "--partition"},
+        BadValue{"SearchUnitsZero", "render --size 4 --search-units 0", "--search-units"},
+        BadValue{"HalfSchedule", "render --size 4 --mac-schedule half", "--mac-schedule"},
+        BadValue{"SpawnPolicy", "render --size 4 --spawn-policy far", "--spawn-policy"},
+        BadValue{"MemoryText", "render --size 4 --max-memory lots", "--max-memory"},
+        BadValue{"RaysZero", "render --size 4 --max-rays 0", "--max-rays"},
+        BadValue{"ThreadsNegative", "render --size 4 --threads -1", "--threads"},
+        BadValue{"VcdWindow", "render --size 4 --vcd-window soon", "--vcd-window"},
+        BadValue{"VcdPes", "render --size 4 --vcd-pes 3", "--vcd-pes"},
+        BadValue{"UnknownPreset", "render --size 4 --preset fastest", "--preset"},
+        BadValue{"UnknownKey", "render --size 4 --set warp=1", "--set"},
+        BadValue{"PovSize", "pov --size 0x4", "--size"},
+        BadValue{"PovUnwritable", "pov --out /proc/none/x.pov", "--out"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 /// The line of `rtm render --help` that describes `option`.
@@ -103,15 +105,18 @@ TEST(CommandLine, TheRangesInTheHelpAreTheRangesEnforced) {
   const std::string render = "render --reference --size 2 -q --out " + (tmp / "o.png") + " ";
   for (auto [option, range] : {std::pair{"--threshold", rtm::scene_checks::kThresholdRange},
                                {"--spawn-offset", rtm::scene_checks::kSpawnOffsetRange}}) {
-    EXPECT_NE(help_line(help.out, option).find(range.text()), std::string::npos) << option << ": " << range.text();
+    EXPECT_NE(help_line(help.out, option).find(range.text()), std::string::npos)
+        << option << ": " << range.text();
     const std::string lo = number_text(range.lo), below = number_text(range.lo - 0.5);
     EXPECT_EQ(run_rtm(render + option + " " + lo, tmp).exit_code, 0) << option << " " << lo;
     EXPECT_EQ(run_rtm(render + option + " " + below, tmp).exit_code, 2) << option << " " << below;
     const std::string hi = number_text(range.hi);
-    EXPECT_EQ(run_rtm(render + option + " " + hi, tmp).exit_code, range.hi_open ? 2 : 0) << option << " " << hi;
+    EXPECT_EQ(run_rtm(render + option + " " + hi, tmp).exit_code, range.hi_open ? 2 : 0)
+        << option << " " << hi;
     if (std::isfinite(range.hi)) {
       const std::string inside = number_text(std::nextafter(range.hi, range.lo));
-      EXPECT_EQ(run_rtm(render + option + " " + inside, tmp).exit_code, 0) << option << " " << inside;
+      EXPECT_EQ(run_rtm(render + option + " " + inside, tmp).exit_code, 0)
+          << option << " " << inside;
     }
   }
 }
@@ -143,12 +148,17 @@ TEST(CommandLine, TheSummaryNamesThePresetAndEveryKeyApartFromIt) {
   const Proc set = run_rtm(scene + " --set origin_latch=wide --pes 2", tmp);
   const Proc paper_set = run_rtm(scene + " --preset paper --set mac_schedule=sparse", tmp);
   for (const Proc* p : {&plain, &paper, &set, &paper_set}) ASSERT_EQ(p->exit_code, 0) << p->err;
-  EXPECT_TRUE(std::regex_match(first_line(plain.out), std::regex(R"(balls-1: 8x8, .*; preset default)")))
+  EXPECT_TRUE(
+      std::regex_match(first_line(plain.out), std::regex(R"(balls-1: 8x8, .*; preset default)")))
       << plain.out;
-  EXPECT_TRUE(std::regex_match(first_line(paper.out), std::regex(R"(balls-1: 8x8, .*; preset paper)"))) << paper.out;
-  EXPECT_TRUE(std::regex_search(first_line(set.out), std::regex(R"(; preset default, then pes=2, origin_latch=wide$)")))
+  EXPECT_TRUE(
+      std::regex_match(first_line(paper.out), std::regex(R"(balls-1: 8x8, .*; preset paper)")))
+      << paper.out;
+  EXPECT_TRUE(std::regex_search(first_line(set.out),
+                                std::regex(R"(; preset default, then pes=2, origin_latch=wide$)")))
       << set.out;
-  EXPECT_TRUE(std::regex_search(first_line(paper_set.out), std::regex(R"(; preset paper, then mac_schedule=sparse$)")))
+  EXPECT_TRUE(std::regex_search(first_line(paper_set.out),
+                                std::regex(R"(; preset paper, then mac_schedule=sparse$)")))
       << paper_set.out;
 }
 
@@ -156,18 +166,26 @@ TEST(CommandLine, TheSummaryNamesThePresetAndEveryKeyApartFromIt) {
 TEST(CommandLine, TheSummarysCountsHaveUnitsAndTheirPluralsAreRight) {
   Tmp tmp;
   // rings-1 at 7x7 in the paper's arithmetic has exactly one pixel off (checked from the stats).
-  const Proc r = run_rtm("render " + kScenes + "rings-1.nff --size 7 --preset paper --out " + (tmp / "o.png"), tmp);
+  const Proc r = run_rtm(
+      "render " + kScenes + "rings-1.nff --size 7 --preset paper --out " + (tmp / "o.png"), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(slurp(tmp / "o.json"));
   const uint64_t off = j["error"]["pixels_over_1_255"], hits = j["error"]["primary_ids_differing"];
-  EXPECT_NE(r.out.find(", " + std::to_string(off) + (off == 1 ? " pixel off" : " pixels off")), std::string::npos)
+  EXPECT_NE(r.out.find(", " + std::to_string(off) + (off == 1 ? " pixel off" : " pixels off")),
+            std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find(std::to_string(hits) + (hits == 1 ? " primary hit differs" : " primary hits differ")),
+  EXPECT_NE(r.out.find(std::to_string(hits) +
+                       (hits == 1 ? " primary hit differs" : " primary hits differ")),
             std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find(" 1 pixels"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("why they differ (first ray to part from the reference): 1 pixel "), std::string::npos) << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(contention stalls \d+ requester-cycles, results waiting \d+ requester-cycles)")))
+  EXPECT_NE(r.out.find("why they differ (first ray to part from the reference): 1 pixel "),
+            std::string::npos)
+      << r.out;
+  EXPECT_TRUE(std::regex_search(
+      r.out,
+      std::regex(
+          R"(contention stalls \d+ requester-cycles, results waiting \d+ requester-cycles)")))
       << r.out;
   EXPECT_EQ(off, 1u) << "the frame no longer has the one pixel off this test is for";
 }
@@ -179,24 +197,31 @@ TEST(CommandLine, TheVersionNamesTheBuildsCommitAndTheStatsRecordIt) {
   const Proc v = run_rtm("--version", tmp);
   ASSERT_EQ(v.exit_code, 0) << v.err;
   std::smatch m;
-  ASSERT_TRUE(std::regex_match(v.out, m, std::regex(R"(rtm (\S+) \(commit ([0-9a-f]{40}|unknown)(, modified|, unmodified)?\)\n)")))
+  ASSERT_TRUE(std::regex_match(
+      v.out, m,
+      std::regex(R"(rtm (\S+) \(commit ([0-9a-f]{40}|unknown)(, modified|, unmodified)?\)\n)")))
       << v.out;
   const json j = render(tmp, "s", "--reference --size 2");
   ASSERT_FALSE(j.is_null());
   EXPECT_EQ(j["build"]["version"], m[1].str());
   EXPECT_EQ(j["build"]["commit"], m[2].str());
-  EXPECT_EQ(j["build"]["modified"], m[3].matched ? json(m[3].str() == ", modified") : json(nullptr));
+  EXPECT_EQ(j["build"]["modified"],
+            m[3].matched ? json(m[3].str() == ", modified") : json(nullptr));
   // Built from this checkout: the commit is one of its own.
   if (m[2] != "unknown") {
-    EXPECT_EQ(sh("git -C " + kSource + " cat-file -e " + m[2].str() + "^{commit}", tmp).exit_code, 0) << m[2];
+    EXPECT_EQ(sh("git -C " + kSource + " cat-file -e " + m[2].str() + "^{commit}", tmp).exit_code,
+              0)
+        << m[2];
   }
 }
 
 /// Runs cmake/build_info.cmake on the sources in `dir`, returns the file it writes.
 std::string build_info_for(const std::string& dir, const Tmp& tmp) {
-  const Proc r = sh(std::string(RTM_CMAKE) + " -DSOURCE_DIR=" + dir + " -DVERSION=9.9 -DTEMPLATE=" + kSource +
-                        "cmake/build_info.cpp.in -DOUT=" + (tmp / "info.cpp") + " -P " + kSource + "cmake/build_info.cmake",
-                    tmp);
+  const Proc r =
+      sh(std::string(RTM_CMAKE) + " -DSOURCE_DIR=" + dir + " -DVERSION=9.9 -DTEMPLATE=" + kSource +
+             "cmake/build_info.cpp.in -DOUT=" + (tmp / "info.cpp") + " -P " + kSource +
+             "cmake/build_info.cmake",
+         tmp);
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   return slurp(tmp / "info.cpp");
 }
@@ -211,7 +236,8 @@ TEST(CommandLine, TheBuildReadsItsCommitFromGitOrSaysUnknown) {
   EXPECT_NE(build_info_for(src, tmp).find(R"({"9.9", "unknown", std::nullopt})"), std::string::npos)
       << slurp(tmp / "info.cpp");
   const std::string git = "git -C " + src + " -c user.name=t -c user.email=t@t ";
-  ASSERT_EQ(sh(git + "init -q && " + git + "add a.txt && " + git + "commit -q -m one", tmp).exit_code, 0);
+  ASSERT_EQ(
+      sh(git + "init -q && " + git + "add a.txt && " + git + "commit -q -m one", tmp).exit_code, 0);
   const std::string head = sh(git + "rev-parse HEAD", tmp).out.substr(0, 40);
   EXPECT_NE(build_info_for(src, tmp).find("{\"9.9\", \"" + head + "\", false}"), std::string::npos)
       << slurp(tmp / "info.cpp");

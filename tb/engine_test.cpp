@@ -39,9 +39,11 @@ json comparable(json j) {
 }
 
 /// The first line where two event logs part ("" when they are the same), each named, e.g.
-/// "line 1234: modules '215703 pe0 search ray17 put intersect_fifo', engine '... put feedback_search'".
+/// "line 1234: modules '215703 pe0 search ray17 put intersect_fifo', engine '... put
+/// feedback_search'".
 std::string first_difference(const std::string& modules_log, const std::string& engine_log,
-                             const std::string& first = "modules", const std::string& second = "engine") {
+                             const std::string& first = "modules",
+                             const std::string& second = "engine") {
   std::istringstream m(modules_log), e(engine_log);
   std::string a, b;
   for (int line = 1;; ++line) {
@@ -49,13 +51,16 @@ std::string first_difference(const std::string& modules_log, const std::string& 
     if (!more_m && !more_e) return "";
     if (!more_m) a = "(log ended)";
     if (!more_e) b = "(log ended)";
-    if (a != b) return "line " + std::to_string(line) + ": " + first + " '" + a + "', " + second + " '" + b + "'";
+    if (a != b)
+      return "line " + std::to_string(line) + ": " + first + " '" + a + "', " + second + " '" + b +
+             "'";
   }
 }
 
 /// Renders the frame `args` names twice, with `a` and then `b` added, and expects the same event
 /// log, picture, ID map and statistics; returns both runs' statistics.
-std::pair<json, json> expect_same_frame(const std::string& args, const std::string& a, const std::string& b) {
+std::pair<json, json> expect_same_frame(const std::string& args, const std::string& a,
+                                        const std::string& b) {
   Tmp tmp;
   const json ja = render(tmp, "a", args + " " + a + " --event-log " + (tmp / "a.log"));
   const json jb = render(tmp, "b", args + " " + b + " --event-log " + (tmp / "b.log"));
@@ -66,7 +71,9 @@ std::pair<json, json> expect_same_frame(const std::string& args, const std::stri
   EXPECT_GT(jb["cycles"].get<uint64_t>(), 0u);
   const std::string log = slurp(tmp / "a.log");
   EXPECT_NE(log.find(" take "), std::string::npos) << "an empty event log compares nothing";
-  EXPECT_EQ(first_difference(log, slurp(tmp / "b.log"), a.empty() ? "default" : a, b.empty() ? "default" : b), "")
+  EXPECT_EQ(first_difference(log, slurp(tmp / "b.log"), a.empty() ? "default" : a,
+                             b.empty() ? "default" : b),
+            "")
       << "the event logs part; " << args;
   const json ca = comparable(ja), cb = comparable(jb);
   for (auto& [key, value] : ca.items()) EXPECT_EQ(value, cb[key]) << key << " differs; " << args;
@@ -102,41 +109,54 @@ INSTANTIATE_TEST_SUITE_P(
         // Primary rays arriving block by block while the PEs work.
         Case{"StreamedRays", "tree-2.nff --size 32x32 --pes 2 --set ray_block=37"},
         Case{"PeRayGenerationBroadcastGatherAsFinished",
-             "shells-1.nff --size 32x32 --pes 3 --set ray_generation=pe --set broadcast=true --set gather=as_finished"},
+             "shells-1.nff --size 32x32 --pes 3 --set ray_generation=pe --set broadcast=true --set "
+             "gather=as_finished"},
         // Units waiting for room in full feedback FIFOs, and rays spilling from the front buffer.
         Case{"FullFifosAndSpills",
              "mount-1.nff --size 32x32 --pes 2 --search-units 8 --set feedback_fifo_depth=1"
              " --set front_buffer_capacity=2"},
         Case{"UntilOccupiedFp64FullSchedule",
-             "lattice-1.nff --size 32x32 --set search_walk=until_occupied --precision fp64 --mac-schedule full"},
-        Case{"PixelsFewCredits", "jacks-1.nff --size 32x32 --pes 5 --partition pixels --set loop_credits=3"},
+             "lattice-1.nff --size 32x32 --set search_walk=until_occupied --precision fp64 "
+             "--mac-schedule full"},
+        Case{"PixelsFewCredits",
+             "jacks-1.nff --size 32x32 --pes 5 --partition pixels --set loop_credits=3"},
         // Several intersection units: the lowest idle one takes a ray; root units rank by lane.
         Case{"TwoIntersectionUnits", "tree-2.nff --size 40x40 --pes 2 --set intersection_units=2"},
         Case{"ThreeIntersectionUnitsTinyFifos",
-             "shells-1.nff --size 32x32 --pes 3 --set intersection_units=3 --search-units 6 --set root_fifo_depth=2"
+             "shells-1.nff --size 32x32 --pes 3 --set intersection_units=3 --search-units 6 --set "
+             "root_fifo_depth=2"
              " --set search_fifo_depth=2 --set feedback_fifo_depth=1"},
         // PEs with no pixels at all finish at once; one ray per transfer.
-        Case{"MorePesThanPixels", "balls-1.nff --size 3x2 --pes 8 --set ray_block=1 --set gather=as_finished"},
-        // Pipelining off, the paper's machine, and long intervals with full FIFOs stalling pipelines.
+        Case{"MorePesThanPixels",
+             "balls-1.nff --size 3x2 --pes 8 --set ray_block=1 --set gather=as_finished"},
+        // Pipelining off, the paper's machine, and long intervals with full FIFOs stalling
+        // pipelines.
         Case{"Unpipelined",
              "rings-1.nff --size 32x32 --pes 2 --set dispatch_interval=0 --set search_interval=0"
              " --set mac_streaming=false --set root_interval=0 --set shade_interval=0"},
         Case{"PaperPreset", "tree-2.nff --size 32x32 --pes 2 --preset paper"},
         Case{"LongIntervalsStallingPipelines",
-             "mount-1.nff --size 32x32 --pes 2 --search-units 2 --set search_interval=3 --set shade_interval=5"
-             " --set root_interval=4 --set dispatch_interval=2 --set feedback_fifo_depth=1 --set front_buffer_capacity=2"},
-        // Rays landing while the PEs work, from a star's two ports and down a tree (net/interconnect.h).
+             "mount-1.nff --size 32x32 --pes 2 --search-units 2 --set search_interval=3 --set "
+             "shade_interval=5"
+             " --set root_interval=4 --set dispatch_interval=2 --set feedback_fifo_depth=1 --set "
+             "front_buffer_capacity=2"},
+        // Rays landing while the PEs work, from a star's two ports and down a tree
+        // (net/interconnect.h).
         Case{"StarStreamedRaysGatherAsFinished",
-             "tree-2.nff --size 24x24 --pes 3 --set link_topology=star --set host_ports=2 --set ray_block=37"
+             "tree-2.nff --size 24x24 --pes 3 --set link_topology=star --set host_ports=2 --set "
+             "ray_block=37"
              " --set gather=as_finished"},
         Case{"TreeBroadcastStreamedRays",
-             "balls-2.nff --size 24x24 --pes 5 --set link_topology=tree --set broadcast=true --set ray_block=20"
+             "balls-2.nff --size 24x24 --pes 5 --set link_topology=tree --set broadcast=true --set "
+             "ray_block=20"
              " --set gather=as_finished"},
         Case{"SlowLinkNoLeaveOut",
-             "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false --set clock_ns=7"},
+             "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false "
+             "--set clock_ns=7"},
         // Each unit in its own precision, and the refinement's cycles moving shading's results.
         Case{"MixedPrecisionsSlowRefinement",
-             "rings-1.nff --size 24x24 --pes 2 --set dda_precision=fp64 --set intersection_precision=fp32"
+             "rings-1.nff --size 24x24 --pes 2 --set dda_precision=fp64 --set "
+             "intersection_precision=fp32"
              " --set shading_precision=fp64 --set refine_cycles=40"}),
     [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
 
@@ -146,9 +166,10 @@ TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
   const char* scenes[] = {"balls-1.nff", "mount-1.nff", "tree-2.nff", "rings-1.nff"};
   for (int i = 0; i < 6; ++i) {
     std::ostringstream args;
-    args << kScenes << scenes[i % 4] << random_small_machine(rng, 4) << " --set fb_dispatch_cycles=" << pick(1, 3)
-         << " --set dda_step_cycles=" << pick(1, 3) << " --set memory_latency=" << pick(1, 9)
-         << " --set intersection_units=" << pick(1, 3) << random_memory(rng);
+    args << kScenes << scenes[i % 4] << random_small_machine(rng, 4)
+         << " --set fb_dispatch_cycles=" << pick(1, 3) << " --set dda_step_cycles=" << pick(1, 3)
+         << " --set memory_latency=" << pick(1, 9) << " --set intersection_units=" << pick(1, 3)
+         << random_memory(rng);
     expect_engine_matches_modules(args.str());
   }
 }
@@ -158,10 +179,11 @@ TEST(EngineMatchesModules, OnRandomSmallConfigurations) {
 // finish together, one by one as the host's rays reach them block by block, or with a gather as
 // each finishes.
 TEST(EngineOnThreads, TheFramesAreTheSameOnOneThreadAndOnSeveral) {
-  for (const char* args : {"balls-2.nff --size 48x48 --pes 16",
-                           "tree-2.nff --size 40x40 --pes 7 --set ray_block=23 --set gather=as_finished"
-                           " --set intersection_units=2",
-                           "balls-1.nff --size 3x2 --pes 8 --set ray_block=1"})
+  for (const char* args :
+       {"balls-2.nff --size 48x48 --pes 16",
+        "tree-2.nff --size 40x40 --pes 7 --set ray_block=23 --set gather=as_finished"
+        " --set intersection_units=2",
+        "balls-1.nff --size 3x2 --pes 8 --set ray_block=1"})
     for (const char* threads : {"--sim-threads 2", "--sim-threads 3"})
       expect_same_frame(kScenes + args, "--sim-threads 1", threads);
 }
@@ -176,7 +198,10 @@ TEST(EngineMatchesModules, TheFirstDifferingEventIsNamed) {
   const std::string d = first_difference(slurp(tmp / "a.log"), slurp(tmp / "b.log"));
   ASSERT_NE(d, "");
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(d, m, std::regex(R"(modules '(\d+ pe0 shading ray\d+) take (\d+)', engine '(\d+ pe0 shading ray\d+) take (\d+)')")))
+  ASSERT_TRUE(std::regex_search(
+      d, m,
+      std::regex(
+          R"(modules '(\d+ pe0 shading ray\d+) take (\d+)', engine '(\d+ pe0 shading ray\d+) take (\d+)')")))
       << d;
   EXPECT_EQ(m[1], m[3]) << "the same ray at the same cycle: " << d;
   EXPECT_EQ(std::stoi(m[4]), std::stoi(m[2]) + 1) << "one more shading cycle: " << d;
@@ -185,7 +210,9 @@ TEST(EngineMatchesModules, TheFirstDifferingEventIsNamed) {
 // The log's lines: cycle, PE, unit, ray, event and its detail (docs/architecture.md).
 TEST(EngineMatchesModules, EventLogLinesSayWhoDidWhatWhen) {
   Tmp tmp;
-  ASSERT_FALSE(render(tmp, "a", kScenes + "balls-1.nff --size 4x4 --pes 2 --event-log " + (tmp / "a.log")).is_null());
+  ASSERT_FALSE(
+      render(tmp, "a", kScenes + "balls-1.nff --size 4x4 --pes 2 --event-log " + (tmp / "a.log"))
+          .is_null());
   std::istringstream log(slurp(tmp / "a.log"));
   std::string line;
   int lines = 0, primaries = 0;
@@ -210,7 +237,8 @@ TEST(EngineMatchesModules, WaveformsAndClockedTimingUseTheModules) {
   const json vcd = render(tmp, "vcd", kScenes + "balls-1.nff --size 8x8 --vcd " + (tmp / "w.vcd"));
   ASSERT_FALSE(vcd.is_null());
   EXPECT_FALSE(vcd["pe_simulation"]["engine"].get<bool>());
-  EXPECT_NE(vcd["pe_simulation"]["modules_because"].get<std::string>().find("waveform"), std::string::npos);
+  EXPECT_NE(vcd["pe_simulation"]["modules_because"].get<std::string>().find("waveform"),
+            std::string::npos);
   const json clocked = render(tmp, "clocked", kScenes + "balls-1.nff --size 8x8 --timing clocked");
   ASSERT_FALSE(clocked.is_null());
   EXPECT_FALSE(clocked["pe_simulation"]["engine"].get<bool>());

@@ -19,7 +19,8 @@ using nlohmann::json;
 const std::string kFarOrigin = std::string(RTM_SOURCE_DIR) + "/scenes/stiff/far-origin.yaml";
 // The paper's arithmetic in world coordinates: in the grid's frame the far-origin frame has
 // nothing to explain (docs/numerics.md, "Where the scene is").
-const std::string kPaper = " --set recentre=false --set coef_scaling=none --set origin_latch=machine --set pe_frame=world";
+const std::string kPaper =
+    " --set recentre=false --set coef_scaling=none --set origin_latch=machine --set pe_frame=world";
 
 /// The channel named `name` of an error map, per pixel.
 std::vector<float> channel(const rtm::Channels& c, const std::string& name) {
@@ -44,9 +45,11 @@ TEST(ErrorMap, EveryDifferingPixelHasOneCauseAndTheMapAgreesWithTheStatistics) {
   for (const json& p : causes["partings"]) partings += p["pixels"].get<uint64_t>();
   EXPECT_EQ(sum, differing);
   EXPECT_EQ(partings, differing);
-  EXPECT_EQ(causes["by_cause"]["unknown"], 0) << "every tree traced again sums to its image's pixel";
+  EXPECT_EQ(causes["by_cause"]["unknown"], 0)
+      << "every tree traced again sums to its image's pixel";
   // This frame parts in many ways: hits lost and gained, other primitives, shadows both ways.
-  for (const char* c : {"missed", "extra_hit", "other_primitive", "shadow_blocked", "shadow_unblocked", "hit_point"})
+  for (const char* c : {"missed", "extra_hit", "other_primitive", "shadow_blocked",
+                        "shadow_unblocked", "hit_point"})
     EXPECT_GT(causes["by_cause"][c].get<uint64_t>(), 0u) << c;
 
   const rtm::Channels map = rtm::read_channels(tmp / "why.exr");
@@ -82,18 +85,21 @@ TEST(ErrorMap, TheSummarySaysWhyThePixelsDiffer) {
   const size_t at = r.out.find("\nwhy they differ (first ray to part from the reference): ");
   ASSERT_NE(at, std::string::npos) << r.out;
   const std::string line = r.out.substr(at + 1, r.out.find('\n', at + 1) - at - 1);
-  EXPECT_NE(line.find(" other_primitive (most at generation 1, primary)"), std::string::npos) << line;
+  EXPECT_NE(line.find(" other_primitive (most at generation 1, primary)"), std::string::npos)
+      << line;
   EXPECT_NE(line.find(" shadow_blocked (most at generation 2, shadow)"), std::string::npos) << line;
   EXPECT_NE(r.out.find(" s explaining the differing pixels"), std::string::npos) << r.out;
   // A frame with nothing to explain has no such line.
-  const Proc exact = run_rtm("render " + kFarOrigin + kPaper + " --precision fp64 --out " + (tmp / "b.png"), tmp);
+  const Proc exact =
+      run_rtm("render " + kFarOrigin + kPaper + " --precision fp64 --out " + (tmp / "b.png"), tmp);
   ASSERT_EQ(exact.exit_code, 0) << exact.err;
   EXPECT_EQ(exact.out.find("why they differ"), std::string::npos) << exact.out;
 }
 
 TEST(ErrorMap, AnFp64MachineHasNothingToExplain) {
   Tmp tmp;
-  const json j = render(tmp, "fp64", kFarOrigin + kPaper + " --precision fp64 --error-map " + (tmp / "why.exr"));
+  const json j = render(tmp, "fp64",
+                        kFarOrigin + kPaper + " --precision fp64 --error-map " + (tmp / "why.exr"));
   ASSERT_FALSE(j.is_null());
   EXPECT_EQ(j["error"]["pixels_over_1_255"], 0);
   EXPECT_EQ(j["error"]["causes"]["pixels"], 0);
@@ -103,11 +109,14 @@ TEST(ErrorMap, AnFp64MachineHasNothingToExplain) {
 
 TEST(ErrorMap, ABadErrorMapIsABadCommandLine) {
   Tmp tmp;
-  const Proc png = run_rtm("render --size 8x8 -q --out " + (tmp / "a.png") + " --error-map " + (tmp / "why.png"), tmp);
+  const Proc png = run_rtm(
+      "render --size 8x8 -q --out " + (tmp / "a.png") + " --error-map " + (tmp / "why.png"), tmp);
   EXPECT_EQ(png.exit_code, 2);
   EXPECT_NE(png.err.find("--error-map"), std::string::npos) << png.err;
   EXPECT_NE(png.err.find(".exr"), std::string::npos) << png.err;
-  const Proc ref = run_rtm("render --reference --size 8x8 -q --out " + (tmp / "a.png") + " --error-map " + (tmp / "w.exr"), tmp);
+  const Proc ref = run_rtm("render --reference --size 8x8 -q --out " + (tmp / "a.png") +
+                               " --error-map " + (tmp / "w.exr"),
+                           tmp);
   EXPECT_EQ(ref.exit_code, 2);
   EXPECT_NE(ref.err.find("--reference"), std::string::npos) << ref.err;
 }

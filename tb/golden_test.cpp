@@ -58,8 +58,10 @@ std::vector<Case> read_cases() {
     std::getline(words >> std::ws, c.args);
     for (char ch : c.name)
       if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
-        return {{"BadCaseList", "", where + "'" + c.name + "' is not a test name (letters, digits, _)"}};
-    if (!names.insert(c.name).second) return {{"BadCaseList", "", where + "a second case named " + c.name}};
+        return {{"BadCaseList", "",
+                 where + "'" + c.name + "' is not a test name (letters, digits, _)"}};
+    if (!names.insert(c.name).second)
+      return {{"BadCaseList", "", where + "a second case named " + c.name}};
     if (c.args.empty()) return {{"BadCaseList", "", where + c.name + " has no arguments"}};
     for (const char* own : {"--out", "--stats", "--id-map", "-q"})
       if ((" " + c.args + " ").find(std::string(" ") + own + " ") != std::string::npos)
@@ -157,9 +159,11 @@ json without_run_dependent(json j) {
 /// Renders the case in `tmp` and returns its figures (null, with a test failure, if it failed).
 json figures(const Case& c, const Tmp& tmp) {
   std::string args = c.args;
-  for (size_t at; (at = args.find(kOut)) != std::string::npos;) args.replace(at, kOut.size(), tmp / "");
-  const Proc r = sh("cd '" + std::string(RTM_SOURCE_DIR) + "' && " + RTM_BINARY + " render " + args + " --out " +
-                        (tmp / "image.exr") + " --id-map " + (tmp / "id.exr") + " --stats " + (tmp / "stats.json") + " -q",
+  for (size_t at; (at = args.find(kOut)) != std::string::npos;)
+    args.replace(at, kOut.size(), tmp / "");
+  const Proc r = sh("cd '" + std::string(RTM_SOURCE_DIR) + "' && " + RTM_BINARY + " render " +
+                        args + " --out " + (tmp / "image.exr") + " --id-map " + (tmp / "id.exr") +
+                        " --stats " + (tmp / "stats.json") + " -q",
                     tmp);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   if (r.exit_code != 0) return nullptr;
@@ -181,7 +185,8 @@ json figures(const Case& c, const Tmp& tmp) {
 /// Keys only in `now` are allowed (later work adds statistics); arrays must keep their length.
 /// Leaves compare as JSON text: doubles print as the shortest text that reads back the same, so
 /// equal text is equal bits.
-void differences(const json& golden, const json& now, const std::string& path, std::vector<std::string>& out) {
+void differences(const json& golden, const json& now, const std::string& path,
+                 std::vector<std::string>& out) {
   const std::string at = path.empty() ? "(top)" : path;
   if (golden.is_object() && now.is_object()) {
     for (const auto& [key, value] : golden.items()) {
@@ -193,7 +198,8 @@ void differences(const json& golden, const json& now, const std::string& path, s
     }
   } else if (golden.is_array() && now.is_array()) {
     if (golden.size() != now.size())
-      out.push_back(at + ": golden " + std::to_string(golden.size()) + " elements, now " + std::to_string(now.size()));
+      out.push_back(at + ": golden " + std::to_string(golden.size()) + " elements, now " +
+                    std::to_string(now.size()));
     for (size_t i = 0; i < std::min(golden.size(), now.size()); ++i)
       differences(golden[i], now[i], path + "[" + std::to_string(i) + "]", out);
   } else if (golden.dump() != now.dump()) {
@@ -216,8 +222,8 @@ TEST_P(Figures, Unchanged) {
   }
   const std::string file = kGoldenDir + c.name + ".json";
   if (!fs::exists(file))
-    FAIL() << "no golden figures for " << c.name << " (" << file << "); record them with scripts/golden-figures "
-           << c.name;
+    FAIL() << "no golden figures for " << c.name << " (" << file
+           << "); record them with scripts/golden-figures " << c.name;
   const json golden = json::parse(slurp(file));
   std::vector<std::string> diffs;
   differences(golden, now, "", diffs);
@@ -226,9 +232,11 @@ TEST_P(Figures, Unchanged) {
   constexpr size_t kShown = 20;
   for (size_t i = 0; i < std::min(diffs.size(), kShown); ++i) report << "  " << diffs[i] << "\n";
   if (diffs.size() > kShown) report << "  … and " << diffs.size() - kShown << " more\n";
-  ADD_FAILURE() << c.name << " (" << c.args << "): " << diffs.size() << " figure(s) differ from " << file << ":\n"
+  ADD_FAILURE() << c.name << " (" << c.args << "): " << diffs.size() << " figure(s) differ from "
+                << file << ":\n"
                 << report.str()
-                << "If the change is meant, regenerate with scripts/golden-figures and say in the commit why each moved.";
+                << "If the change is meant, regenerate with scripts/golden-figures and say in the "
+                   "commit why each moved.";
 }
 
 INSTANTIATE_TEST_SUITE_P(Golden, Figures, ::testing::ValuesIn(read_cases()),

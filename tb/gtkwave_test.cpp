@@ -31,14 +31,18 @@ if {[catch {
 gtkwave::/File/Quit
 )";
 
-bool have(const char* program) { return std::system(("command -v " + std::string(program) + " >/dev/null 2>&1").c_str()) == 0; }
+bool have(const char* program) {
+  return std::system(("command -v " + std::string(program) + " >/dev/null 2>&1").c_str()) == 0;
+}
 
 TEST(Gtkwave, DisplaysEveryTracedSignalUnderItsFullNameOnTheRecordedWindow) {
-  if (!have("gtkwave") || !have("xvfb-run")) GTEST_SKIP() << "gtkwave or xvfb-run is not installed (scripts/setup installs them)";
+  if (!have("gtkwave") || !have("xvfb-run"))
+    GTEST_SKIP() << "gtkwave or xvfb-run is not installed (scripts/setup installs them)";
   Tmp tmp;
-  const Proc r = run_rtm("render " + kScenes + "balls-1.nff --size 8x8 --pes 2 --vcd-pes 0,1 --timing clocked -q" +
-                             " --vcd-window pe1+100:600 --vcd " + (tmp / "w.vcd") + " --out " + (tmp / "w.png"),
-                         tmp);
+  const Proc r = run_rtm(
+      "render " + kScenes + "balls-1.nff --size 8x8 --pes 2 --vcd-pes 0,1 --timing clocked -q" +
+          " --vcd-window pe1+100:600 --vcd " + (tmp / "w.vcd") + " --out " + (tmp / "w.png"),
+      tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");  // no warning: the window holds work
   const std::vector<std::string> traced = vcd_signals(slurp(tmp / "w.vcd"));
@@ -46,7 +50,8 @@ TEST(Gtkwave, DisplaysEveryTracedSignalUnderItsFullNameOnTheRecordedWindow) {
 
   spit(tmp / "show.tcl", kScript);
   // timeout ends GTKWave and its X server together (its process group) if it ever hangs.
-  const Proc g = sh("timeout -k 5 60 xvfb-run -a gtkwave -S " + (tmp / "show.tcl") + " " + (tmp / "w.gtkw"), tmp);
+  const Proc g = sh(
+      "timeout -k 5 60 xvfb-run -a gtkwave -S " + (tmp / "show.tcl") + " " + (tmp / "w.gtkw"), tmp);
   ASSERT_EQ(g.exit_code, 0) << g.out << g.err;
   ASSERT_EQ(g.out.find("error "), std::string::npos) << g.out;
 
@@ -56,7 +61,8 @@ TEST(Gtkwave, DisplaysEveryTracedSignalUnderItsFullNameOnTheRecordedWindow) {
   for (std::string line; std::getline(lines, line);) {
     std::smatch m;
     if (line.rfind("signal ", 0) == 0) displayed.insert(line.substr(7));
-    if (std::regex_match(line, m, std::regex(R"(trace (\d+) (.*))")) && !(std::stoul(m[1]) & 0x200))  // not a comment
+    if (std::regex_match(line, m, std::regex(R"(trace (\d+) (.*))")) &&
+        !(std::stoul(m[1]) & 0x200))  // not a comment
       shown.insert(m[2]);
     if (std::regex_match(line, m, std::regex(R"(view (\d+) (\d+))"))) {
       view_from = std::stoull(m[1]);
@@ -72,7 +78,8 @@ TEST(Gtkwave, DisplaysEveryTracedSignalUnderItsFullNameOnTheRecordedWindow) {
   EXPECT_EQ(shown.count("pe0/intersection0/mac/acc"), 1u) << g.out;
 
   // The view opens on the window: 500 cycles (5000 ns) from 100 cycles after PE 1 started.
-  const uint64_t start = nlohmann::json::parse(slurp(tmp / "w.json"))["per_pe"][1]["start_cycle"].get<uint64_t>();
+  const uint64_t start =
+      nlohmann::json::parse(slurp(tmp / "w.json"))["per_pe"][1]["start_cycle"].get<uint64_t>();
   EXPECT_EQ(view_from, (start + 100) * 10) << g.out;
   EXPECT_GE(view_to, (start + 600) * 10) << g.out;
   EXPECT_LE(view_to, (start + 800) * 10) << g.out;

@@ -40,7 +40,8 @@ uint64_t expected_bytes(const Net& n, uint64_t scene_bytes) {
   uint64_t total = n.broadcast && one_medium ? scene_bytes : 0;
   for (int pe = 0; pe < kPes; ++pe) {
     const uint64_t pixels = uint64_t(kWidth) * uint64_t((kHeight - pe + kPes - 1) / kPes);
-    const uint64_t hops = n.topology == "tree" ? uint64_t(tree_depth(pe, n.host_ports, n.fanout)) : 1;
+    const uint64_t hops =
+        n.topology == "tree" ? uint64_t(tree_depth(pe, n.host_ports, n.fanout)) : 1;
     if (!n.broadcast) total += scene_bytes * hops;
     if (n.broadcast && !one_medium) total += scene_bytes;
     total += pixels * (kRayBytes + kPixelBytes) * hops;
@@ -52,14 +53,15 @@ Net net(const char* name, const std::string& topology, int host_ports, int fanou
         const std::string& more = "") {
   Net n{name, "", topology, host_ports, fanout, broadcast};
   n.args = " --set link_topology=" + topology + " --set host_ports=" + std::to_string(host_ports) +
-           " --set tree_fanout=" + std::to_string(fanout) + " --set broadcast=" + (broadcast ? "true" : "false") + more;
+           " --set tree_fanout=" + std::to_string(fanout) +
+           " --set broadcast=" + (broadcast ? "true" : "false") + more;
   return n;
 }
 
 TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
   Tmp tmp;
-  const std::string frame = kScene + " --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight) +
-                            " --pes " + std::to_string(kPes);
+  const std::string frame = kScene + " --size " + std::to_string(kWidth) + "x" +
+                            std::to_string(kHeight) + " --pes " + std::to_string(kPes);
   const std::vector<Net> nets = {
       net("serial", "serial", 1, 2, false),
       net("serial-broadcast", "serial", 1, 2, true),
@@ -70,8 +72,10 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
       net("tree-2", "tree", 1, 2, false),
       net("tree-broadcast", "tree", 1, 2, true),
       net("tree-chain-broadcast", "tree", 2, 1, true),
-      net("star-streamed-as-finished", "star", 3, 2, false, " --set ray_block=10 --set gather=as_finished"),
-      net("tree-streamed-as-finished", "tree", 1, 3, true, " --set ray_block=10 --set gather=as_finished"),
+      net("star-streamed-as-finished", "star", 3, 2, false,
+          " --set ray_block=10 --set gather=as_finished"),
+      net("tree-streamed-as-finished", "tree", 1, 3, true,
+          " --set ray_block=10 --set gather=as_finished"),
   };
   const json serial = render(tmp, "serial", frame + nets[0].args);
   ASSERT_FALSE(serial.is_null());
@@ -81,7 +85,8 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
   for (const Net& n : nets) {
     const json j = n.name == std::string("serial") ? serial : render(tmp, n.name, frame + n.args);
     ASSERT_FALSE(j.is_null()) << n.name;
-    EXPECT_EQ(rtm::read_image(tmp / (std::string(n.name) + ".exr")).rgb, serial_rgb) << n.name << ": timing only";
+    EXPECT_EQ(rtm::read_image(tmp / (std::string(n.name) + ".exr")).rgb, serial_rgb)
+        << n.name << ": timing only";
     EXPECT_EQ(rtm::read_id_map(tmp / (std::string(n.name) + "-id.exr")).ids, serial_ids) << n.name;
     EXPECT_EQ(j["rays"], serial["rays"]) << n.name;
     const json& ic = j["interconnect"];
@@ -92,7 +97,8 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
     double seconds = 0;
     for (size_t i = 0; i < ic["links"].size(); ++i) {
       const json& l = ic["links"][i];
-      EXPECT_EQ(l["name"], one_medium ? (n.topology == "bus" ? "bus" : "link") : "pe" + std::to_string(i));
+      EXPECT_EQ(l["name"],
+                one_medium ? (n.topology == "bus" ? "bus" : "link") : "pe" + std::to_string(i));
       EXPECT_GT(l["transfers"].get<uint64_t>(), 0u) << n.name << " " << l["name"];
       bytes += l["bytes"].get<uint64_t>();
       seconds += l["busy_seconds"].get<double>();
@@ -105,7 +111,8 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
     // Latency and bytes at 400 MB/s, 10 ns cycles: 100 cycles a transfer and 4 bytes a cycle.
     uint64_t transfers = 0;
     for (const json& l : ic["links"]) transfers += l["transfers"].get<uint64_t>();
-    EXPECT_NEAR(ic["busy_cycles"].get<double>(), 100.0 * double(transfers) + double(bytes) / 4, 1.0) << n.name;
+    EXPECT_NEAR(ic["busy_cycles"].get<double>(), 100.0 * double(transfers) + double(bytes) / 4, 1.0)
+        << n.name;
   }
   // One medium gives the same times whichever it is called; a star or a tree overlaps transfers.
   const json bus = json::parse(slurp(tmp / "bus.json"));
@@ -118,15 +125,20 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
   // and 3 on the ports freed after S + R_0, PE 4 on port 0 again after S + R_0 + S + R_2.
   const json star = json::parse(slurp(tmp / "star-2.json"));
   const double S = 100 + double(scene_bytes) / 4;
-  auto rays = [](int pe) { return 100 + double(kWidth * ((kHeight - pe + kPes - 1) / kPes) * kRayBytes) / 4; };
+  auto rays = [](int pe) {
+    return 100 + double(kWidth * ((kHeight - pe + kPes - 1) / kPes) * kRayBytes) / 4;
+  };
   const double starts[kPes] = {S, S, 2 * S + rays(0), 2 * S + rays(1), 3 * S + rays(0) + rays(2)};
   for (int pe = 0; pe < kPes; ++pe)
-    EXPECT_NEAR(star["per_pe"][pe]["start_cycle"].get<double>() - star["host"]["rays_done_cycle"].get<double>(),
+    EXPECT_NEAR(star["per_pe"][pe]["start_cycle"].get<double>() -
+                    star["host"]["rays_done_cycle"].get<double>(),
                 starts[pe], 1.0)
         << "PE " << pe;
   for (const char* faster : {"star-2", "star-5-broadcast", "tree-broadcast"})
-    EXPECT_LT(json::parse(slurp(tmp / (std::string(faster) + ".json")))["host"]["transfer_done_cycle"].get<uint64_t>(),
-              serial_transfer)
+    EXPECT_LT(
+        json::parse(slurp(tmp / (std::string(faster) + ".json")))["host"]["transfer_done_cycle"]
+            .get<uint64_t>(),
+        serial_transfer)
         << faster;
 }
 
@@ -142,14 +154,16 @@ TEST(InterconnectRender, FastAndClockedTimingAgreeOnATreeAndAStar) {
     EXPECT_EQ(fast["cycles"], clocked["cycles"]) << topology;
     EXPECT_EQ(fast["host"], clocked["host"]) << topology;
     EXPECT_EQ(fast["interconnect"], clocked["interconnect"]) << topology;
-    EXPECT_EQ(rtm::read_image(tmp / "fast.exr").rgb, rtm::read_image(tmp / "clocked.exr").rgb) << topology;
+    EXPECT_EQ(rtm::read_image(tmp / "fast.exr").rgb, rtm::read_image(tmp / "clocked.exr").rgb)
+        << topology;
   }
 }
 
 // One scene transfer cannot reach every PE of a star unless the host drives every link at once.
 TEST(InterconnectRender, ABroadcastOnAStarWithTooFewPortsIsRefusedNamingTheKeys) {
   Tmp tmp;
-  const std::string args = "render " + kScene + " --size 4x4 --pes 4 --set link_topology=star --set broadcast=true -q";
+  const std::string args =
+      "render " + kScene + " --size 4x4 --pes 4 --set link_topology=star --set broadcast=true -q";
   const Proc refused = run_rtm(args + " --set host_ports=3 --out " + (tmp / "x.png"), tmp);
   EXPECT_EQ(refused.exit_code, 2);
   for (const char* word : {"broadcast", "link_topology = star", "host_ports >= pes (3 < 4)"})
@@ -162,13 +176,17 @@ TEST(InterconnectRender, ABroadcastOnAStarWithTooFewPortsIsRefusedNamingTheKeys)
 // The printed summary has the interconnect's line: topology, links, ports, bytes, busy cycles.
 TEST(InterconnectRender, TheSummarySaysWhatTheLinksCarried) {
   Tmp tmp;
-  const Proc r = run_rtm("render " + kScene + " --size 4x4 --pes 2 --set link_topology=tree --set host_ports=2 --out " +
-                             (tmp / "o.png"),
-                         tmp);
+  const Proc r =
+      run_rtm("render " + kScene +
+                  " --size 4x4 --pes 2 --set link_topology=tree --set host_ports=2 --out " +
+                  (tmp / "o.png"),
+              tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(slurp(tmp / "o.json"));
-  const std::string line = "interconnect: tree, 2 links, 2 host ports: " + std::to_string(j["interconnect"]["bytes"].get<uint64_t>()) +
-                           " bytes, busy " + std::to_string(j["interconnect"]["busy_cycles"].get<uint64_t>()) +
+  const std::string line = "interconnect: tree, 2 links, 2 host ports: " +
+                           std::to_string(j["interconnect"]["bytes"].get<uint64_t>()) +
+                           " bytes, busy " +
+                           std::to_string(j["interconnect"]["busy_cycles"].get<uint64_t>()) +
                            " cycles over all links; the busiest, pe";
   EXPECT_NE(r.out.find(line), std::string::npos) << r.out;
 }
@@ -179,20 +197,26 @@ TEST(InterconnectRender, TheSummarySaysWhatTheLinksCarried) {
 // too slow to feed the PEs is named, and so is a host too slow to make the rays.
 TEST(InterconnectRender, StreamedRaysNameTheSlowLinkOrTheSlowHost) {
   Tmp tmp;
-  const std::string args = kScene + " --size 16x16 --pes 2 --set ray_block=8 --set host_voxel_cycles=0";
-  const json link = render(tmp, "link", args + " --set host_ray_cycles=1 --set link_bandwidth_mb_s=0.5");
-  const json host = render(tmp, "host", args + " --set host_ray_cycles=60000 --set link_bandwidth_mb_s=1000");
+  const std::string args =
+      kScene + " --size 16x16 --pes 2 --set ray_block=8 --set host_voxel_cycles=0";
+  const json link =
+      render(tmp, "link", args + " --set host_ray_cycles=1 --set link_bandwidth_mb_s=0.5");
+  const json host =
+      render(tmp, "host", args + " --set host_ray_cycles=60000 --set link_bandwidth_mb_s=1000");
   ASSERT_FALSE(link.is_null() || host.is_null());
   EXPECT_EQ(link["bottleneck"], "interconnect") << link["bottleneck_reason"];
   EXPECT_EQ(host["bottleneck"], "host_preprocessing") << host["bottleneck_reason"];
   for (const json* j : {&link, &host}) {
-    EXPECT_NEAR((*j)["host"]["work_cycles"].get<double>(), (*j)["phases"]["host_preprocess_cycles"].get<double>(), 1.0);
+    EXPECT_NEAR((*j)["host"]["work_cycles"].get<double>(),
+                (*j)["phases"]["host_preprocess_cycles"].get<double>(), 1.0);
     const json& p = (*j)["phases"];
-    EXPECT_NEAR(p["host_preprocess_cycles"].get<double>() + p["transfer_cycles"].get<double>() + p["pe_cycles"].get<double>() +
-                    p["gather_cycles"].get<double>(),
+    EXPECT_NEAR(p["host_preprocess_cycles"].get<double>() + p["transfer_cycles"].get<double>() +
+                    p["pe_cycles"].get<double>() + p["gather_cycles"].get<double>(),
                 (*j)["cycles"].get<double>(), 1.0)
         << "the four phases add up to the frame";
   }
-  EXPECT_LT(link["phases"]["host_preprocess_cycles"].get<double>(), link["phases"]["transfer_cycles"].get<double>());
-  EXPECT_GT(host["phases"]["host_preprocess_cycles"].get<double>(), host["phases"]["transfer_cycles"].get<double>());
+  EXPECT_LT(link["phases"]["host_preprocess_cycles"].get<double>(),
+            link["phases"]["transfer_cycles"].get<double>());
+  EXPECT_GT(host["phases"]["host_preprocess_cycles"].get<double>(),
+            host["phases"]["transfer_cycles"].get<double>());
 }

@@ -29,7 +29,8 @@ class FullVsPruned : public ::testing::TestWithParam<Case> {};
 
 TEST_P(FullVsPruned, BitIdenticalImagesAndTheSavingsAddUp) {
   Tmp tmp;
-  const std::string base = kScenes + GetParam().scene + " --size 32x32 --pes 2 --precision " + GetParam().precision;
+  const std::string base =
+      kScenes + GetParam().scene + " --size 32x32 --pes 2 --precision " + GetParam().precision;
   const json full = render(tmp, "full", base + " " + kFull);
   const json pruned = render(tmp, "pruned", base + " " + kPruned);
   ASSERT_FALSE(full.is_null() || pruned.is_null());
@@ -50,10 +51,12 @@ TEST_P(FullVsPruned, BitIdenticalImagesAndTheSavingsAddUp) {
   EXPECT_EQ(products(full), 28 * full["intersection_tests"].get<uint64_t>());
   EXPECT_EQ(full["left_out"]["mac_products_saved"].get<uint64_t>(), 0u);
   EXPECT_EQ(full["left_out"]["units"].size(), 0u);
-  EXPECT_EQ(products(pruned) + pruned["left_out"]["mac_products_saved"].get<uint64_t>(), products(full));
+  EXPECT_EQ(products(pruned) + pruned["left_out"]["mac_products_saved"].get<uint64_t>(),
+            products(full));
   EXPECT_GT(pruned["left_out"]["mac_products_saved"].get<uint64_t>(), 0u);
-  EXPECT_EQ(full["mac"]["issue_cycles"].get<uint64_t>() - pruned["mac"]["issue_cycles"].get<uint64_t>(),
-            pruned["left_out"]["mac_cycles_saved"].get<uint64_t>());
+  EXPECT_EQ(
+      full["mac"]["issue_cycles"].get<uint64_t>() - pruned["mac"]["issue_cycles"].get<uint64_t>(),
+      pruned["left_out"]["mac_cycles_saved"].get<uint64_t>());
   EXPECT_LT(pruned["cycles"].get<uint64_t>(), full["cycles"].get<uint64_t>());
 }
 
@@ -70,14 +73,16 @@ std::vector<Case> all_spd_scenes() {
 
 INSTANTIATE_TEST_SUITE_P(EverySpdScene, FullVsPruned, ::testing::ValuesIn(all_spd_scenes()),
                          [](const ::testing::TestParamInfo<Case>& i) {
-                           std::string n = i.param.scene.substr(0, i.param.scene.find('.')) + "_" + i.param.precision;
+                           std::string n = i.param.scene.substr(0, i.param.scene.find('.')) + "_" +
+                                           i.param.precision;
                            for (char& ch : n)
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return n;
                          });
 
 /// A matte scene: lights and diffuse spheres, nothing reflects or transmits.
-const char* kMatte = R"(camera: {eye: [0, 0, 8], look_at: [0, 0, 0], up: [0, 1, 0], fov: 40, resolution: [24, 24]}
+const char* kMatte =
+    R"(camera: {eye: [0, 0, 8], look_at: [0, 0, 0], up: [0, 1, 0], fov: 40, resolution: [24, 24]}
 lights: [{position: [4, 6, 8]}]
 materials:
   m: {diffuse: 0.8, ambient: 0.2}
@@ -91,7 +96,8 @@ TEST(LeaveOut, AMatteSceneHasNoBranchRayUnitsInStatsOrWaveform) {
   Tmp tmp;
   spit(tmp / "matte.yaml", kMatte);
   const json pruned = render(tmp, "pruned", tmp / "matte.yaml --vcd " + (tmp / "pruned.vcd"));
-  const json full = render(tmp, "full", tmp / "matte.yaml --set leave_out=false --vcd " + (tmp / "full.vcd"));
+  const json full =
+      render(tmp, "full", tmp / "matte.yaml --set leave_out=false --vcd " + (tmp / "full.vcd"));
   ASSERT_FALSE(pruned.is_null() || full.is_null());
   const json& units = pruned["left_out"]["units"];
   EXPECT_NE(std::find(units.begin(), units.end(), "shading.reflection"), units.end());
@@ -119,7 +125,8 @@ TEST(LeaveOut, AnAmbientOnlySceneHasNoSpawnPathAtAll) {
   const json full = render(tmp, "full", tmp / "flat.yaml --set leave_out=false");
   ASSERT_FALSE(pruned.is_null() || full.is_null());
   const json& units = pruned["left_out"]["units"];
-  for (const char* u : {"spawn_fifo", "shading.shadow_rays", "shading.reflection", "shading.refraction"})
+  for (const char* u :
+       {"spawn_fifo", "shading.shadow_rays", "shading.reflection", "shading.refraction"})
     EXPECT_NE(std::find(units.begin(), units.end(), u), units.end()) << u;
   EXPECT_EQ(slurp(tmp / "pruned.vcd").find("spawn_fifo"), std::string::npos);
   EXPECT_EQ(pruned["rays"], full["rays"]);

@@ -81,7 +81,8 @@ double heap_of(const std::vector<T>& v) {
 }
 
 /// A primitive's SceneMemory entry (render/scene_memory.h): its coefficient RAM image, its
-/// centre and its clips in its frame, at fp64 (the reference's; the machine's fp32 image is smaller).
+/// centre and its clips in its frame, at fp64 (the reference's; the machine's fp32 image is
+/// smaller).
 double memory_image_bytes(const Scene& s) {
   double bytes = 0;
   for (const Primitive& p : s.primitives)
@@ -97,7 +98,8 @@ double scene_bytes(const Scene& s) {
   for (const Primitive& p : s.primitives)
     bytes += sizeof(Primitive) + heap_of(p.clips) + heap_of(p.vertices) + heap_of(p.outline);
   for (const SourceLocation& o : s.origins)
-    bytes += sizeof(SourceLocation) + (o.file.capacity() > 15 ? heap_block(double(o.file.capacity() + 1)) : 0);
+    bytes += sizeof(SourceLocation) +
+             (o.file.capacity() > 15 ? heap_block(double(o.file.capacity() + 1)) : 0);
   return bytes;
 }
 
@@ -108,42 +110,49 @@ double rays_per_primary_bound(const Scene& s) {
   return total * (1 + double(s.lights.size()));
 }
 
-std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* c, bool tracing,
-                                        int threads) {
+std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* c,
+                                        bool tracing, int threads) {
   const double pixels = double(s.camera.width) * double(s.camera.height);
-  const std::string frame = std::to_string(s.camera.width) + "x" + std::to_string(s.camera.height) + " pixels";
+  const std::string frame =
+      std::to_string(s.camera.width) + "x" + std::to_string(s.camera.height) + " pixels";
   std::vector<MemoryPart> parts;
   parts.push_back({"the program", kProcessBytes, "its libraries and data (measured)"});
   // Either renderer traces a copy of the scene and its grid (in the PEs' frame), and the
   // primitives' memory image made from it, while the world's copy stays; a machine render has
   // the PEs' image and then the reference's.
   const double scene = scene_bytes(s), images = (c ? 2 : 1) * memory_image_bytes(s);
-  parts.push_back({"the scene", 2 * scene + images,
-                   std::to_string(s.primitives.size()) + " primitives at " +
-                       str((2 * scene + images) / std::max<double>(1, double(s.primitives.size()))) +
-                       " bytes each: the world's and the frame's copies, and " +
-                       (c ? "the PEs' and the reference's memory images" : "the memory image")});
+  parts.push_back(
+      {"the scene", 2 * scene + images,
+       std::to_string(s.primitives.size()) + " primitives at " +
+           str((2 * scene + images) / std::max<double>(1, double(s.primitives.size()))) +
+           " bytes each: the world's and the frame's copies, and " +
+           (c ? "the PEs' and the reference's memory images" : "the memory image")});
   // Each reference thread's mailbox: a stamp and a hit per primitive (render/reference.cpp).
   if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
   const double mailbox = double(sizeof(uint32_t) + sizeof(PrimitiveHit));
-  parts.push_back({"the mailboxes", double(threads) * double(s.primitives.size()) * mailbox,
-                   std::to_string(threads) + " reference threads at " + str(mailbox) + " bytes a primitive"});
+  parts.push_back(
+      {"the mailboxes", double(threads) * double(s.primitives.size()) * mailbox,
+       std::to_string(threads) + " reference threads at " + str(mailbox) + " bytes a primitive"});
   parts.push_back({"the grid", 2 * double(g.start.size() + g.items.size()) * sizeof(uint32_t),
                    std::to_string(g.voxel_count()) + " voxels, " + std::to_string(g.items.size()) +
                        " references, twice (the world's and the frame's copies)"});
   if (!c) {
     // The frame (RGB and ids), and the file's pixels while it is written.
-    parts.push_back({"the image", pixels * (kPixelBytes + 16), frame + " at " + str(kPixelBytes + 16) + " bytes each"});
+    parts.push_back({"the image", pixels * (kPixelBytes + 16),
+                     frame + " at " + str(kPixelBytes + 16) + " bytes each"});
     return parts;
   }
   // The PEs' frame buffers (fixed-point sums and ids), the host's gathered frame and the result's
   // copy, the reference's, and comparing them (OpenImageIO's buffers, a cache entry as it is read).
-  const double per_pixel = (sizeof(PixelSum) + 4) + 2 * kPixelBytes + kPixelBytes + 2 * sizeof(Vec3) + kPixelBytes;
+  const double per_pixel =
+      (sizeof(PixelSum) + 4) + 2 * kPixelBytes + kPixelBytes + 2 * sizeof(Vec3) + kPixelBytes;
   parts.push_back({"the images", pixels * per_pixel,
                    frame + " at " + str(per_pixel) +
-                       " bytes each: the PEs' frame buffers, the gathered frame, the reference and their comparison"});
+                       " bytes each: the PEs' frame buffers, the gathered frame, the reference and "
+                       "their comparison"});
   parts.push_back({"the primary rays", pixels * sizeof(Ray) * 2,
-                   frame + ": each PE's rays in its local memory, and the host's as it sends them (" +
+                   frame +
+                       ": each PE's rays in its local memory, and the host's as it sends them (" +
                        std::to_string(sizeof(Ray)) + " bytes a ray)"});
   // Each PE: its state, and every FIFO allocated whole.
   const bool engine = engine_unsupported(*c, tracing).empty();
@@ -151,24 +160,27 @@ std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const Mac
   for (const FifoSpec& f : fifo_table()) {
     const double n = double(c->*f.depth) * (f.per_lane ? c->intersection_units : 1);
     places += n;
-    fifo_bytes += n * (engine ? kEnginePlaceBytes
-                              : f.payload == Payload::MacResult ? kMacResultBytes
-                              : f.payload == Payload::Ray ? double(sizeof(MachineRay))
-                                                          : 8.0);
+    fifo_bytes += n * (engine                            ? kEnginePlaceBytes
+                       : f.payload == Payload::MacResult ? kMacResultBytes
+                       : f.payload == Payload::Ray       ? double(sizeof(MachineRay))
+                                                         : 8.0);
   }
   const double pe_bytes = (engine ? kEnginePeBytes : kModularPeBytes) + fifo_bytes;
   parts.push_back({"the PEs", double(c->pes) * pe_bytes,
-                   std::to_string(c->pes) + " PEs at " + format_bytes(pe_bytes) + " each (" + str(places) +
-                       " FIFO places" + (engine ? " on the PE engine" : " as modules") + ")"});
+                   std::to_string(c->pes) + " PEs at " + format_bytes(pe_bytes) + " each (" +
+                       str(places) + " FIFO places" +
+                       (engine ? " on the PE engine" : " as modules") + ")"});
   return parts;
 }
 
 uint64_t default_memory_budget() {
   const double physical = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
   double limit = physical > 0 ? physical : double(uint64_t(4) << 30);
-  if (const uint64_t cg = read_number("/sys/fs/cgroup/memory.max"); cg > 0) limit = std::min(limit, double(cg));
+  if (const uint64_t cg = read_number("/sys/fs/cgroup/memory.max"); cg > 0)
+    limit = std::min(limit, double(cg));
   struct rlimit as {};
-  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) limit = std::min(limit, double(as.rlim_cur));
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+    limit = std::min(limit, double(as.rlim_cur));
   return uint64_t(limit * 0.75);
 }
 
@@ -185,10 +197,11 @@ void check_memory_budget(const std::vector<MemoryPart>& parts, uint64_t budget, 
     if (p.bytes > largest->bytes) largest = &p;
   }
   if (total <= double(budget)) return;
-  throw UsageError("--max-memory: this render needs about " + format_bytes(total) + ", more than the " +
-                   format_bytes(double(budget)) + " allowed (" +
-                   (given ? std::string("--max-memory") : default_memory_budget_source()) + "); the largest part is " +
-                   largest->name + ": " + format_bytes(largest->bytes) + " for " + largest->detail);
+  throw UsageError("--max-memory: this render needs about " + format_bytes(total) +
+                   ", more than the " + format_bytes(double(budget)) + " allowed (" +
+                   (given ? std::string("--max-memory") : default_memory_budget_source()) +
+                   "); the largest part is " + largest->name + ": " + format_bytes(largest->bytes) +
+                   " for " + largest->detail);
 }
 
 }  // namespace rtm

@@ -12,7 +12,7 @@
 namespace rtm {
 
 struct MemoryPart {
-  std::string name;    ///< "images", "primary rays", ...
+  std::string name;  ///< "images", "primary rays", ...
   double bytes = 0;
   std::string detail;  ///< how it is made up, for the message
 };
@@ -22,8 +22,8 @@ struct MemoryPart {
 /// What grows with the ray tree (rays waiting in the front buffers, an event log) depends on the
 /// frame's data, not its size: the machine's monitor holds it to the budget as it runs.
 /// `threads`: the reference's (0: every core).
-std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* config, bool tracing,
-                                        int threads);
+std::vector<MemoryPart> estimate_memory(const Scene& s, const Grid& g, const MachineConfig* config,
+                                        bool tracing, int threads);
 
 /// The bytes a scene's primitives and their origins hold in this process, their heap blocks
 /// included: a mesh of a million triangles holds about 700 MB of them.

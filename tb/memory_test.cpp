@@ -22,7 +22,8 @@ const std::string kNoHostWork = " --set host_voxel_cycles=0 --set host_ray_cycle
 
 TEST(LocalMemory, NoMemorySettingChangesTheImageOrTheIdMap) {
   Tmp tmp;
-  const std::string base = kScenes + "balls-1.nff --size 16x16 --pes 2 --set front_buffer_capacity=2";
+  const std::string base =
+      kScenes + "balls-1.nff --size 16x16 --pes 2 --set front_buffer_capacity=2";
   ASSERT_FALSE(render(tmp, "ideal", base).is_null());
   const Image ideal = read_image(tmp / "ideal.exr");
   const Image ideal_ids = read_id_map(tmp / "ideal-id.exr");
@@ -65,14 +66,18 @@ TEST(LocalMemory, OneSlowPortSharedByFourSearchUnitsIsNamedTheBottleneck) {
   ASSERT_FALSE(ideal.is_null() || slow.is_null());
   EXPECT_NE(ideal["bottleneck"], "memory") << ideal["bottleneck_reason"];
   EXPECT_EQ(slow["bottleneck"], "memory") << slow["bottleneck_reason"];
-  EXPECT_NE(slow["bottleneck_reason"].get<std::string>().find("reads of local memory"), std::string::npos);
+  EXPECT_NE(slow["bottleneck_reason"].get<std::string>().find("reads of local memory"),
+            std::string::npos);
   EXPECT_GT(slow["cycles"].get<uint64_t>(), ideal["cycles"].get<uint64_t>());
   EXPECT_FALSE(slow["memory"]["ideal"].get<bool>());
   ASSERT_EQ(slow["memory"]["ports"].size(), 1u);
-  EXPECT_EQ(slow["memory"]["ports"][0]["busy_cycles"], slow["memory"]["beats"]) << "one port carries every beat";
+  EXPECT_EQ(slow["memory"]["ports"][0]["busy_cycles"], slow["memory"]["beats"])
+      << "one port carries every beat";
   // The search units' requests: one voxel entry of 8 bytes per voxel step.
   uint64_t entries = 0;
-  for (int k = 0; k < 4; ++k) entries += slow["memory"]["requesters"]["search" + std::to_string(k)]["requests"].get<uint64_t>();
+  for (int k = 0; k < 4; ++k)
+    entries +=
+        slow["memory"]["requesters"]["search" + std::to_string(k)]["requests"].get<uint64_t>();
   EXPECT_EQ(entries, slow["summary"]["voxel_steps"].get<uint64_t>());
 }
 
@@ -87,9 +92,11 @@ TEST(LocalMemory, ASmallCoefficientRamMissesAndTheMissesCostCycles) {
   const json& ram = small["memory"]["coefficient_ram"];
   EXPECT_GT(ram["misses"].get<uint64_t>(), 0u);
   EXPECT_LT(ram["hit_rate"].get<double>(), 1.0);
-  EXPECT_EQ(ram["hits"].get<uint64_t>() + ram["misses"].get<uint64_t>(), all["memory"]["coefficient_ram"]["hits"].get<uint64_t>())
+  EXPECT_EQ(ram["hits"].get<uint64_t>() + ram["misses"].get<uint64_t>(),
+            all["memory"]["coefficient_ram"]["hits"].get<uint64_t>())
       << "one access per primitive tested";
-  EXPECT_GT(small["cycles"].get<uint64_t>(), all["cycles"].get<uint64_t>()) << "each miss loads its record first";
+  EXPECT_GT(small["cycles"].get<uint64_t>(), all["cycles"].get<uint64_t>())
+      << "each miss loads its record first";
   EXPECT_GT(small["memory"]["requesters"]["lane0"]["bytes"].get<uint64_t>(),
             all["memory"]["requesters"]["lane0"]["bytes"].get<uint64_t>());
   EXPECT_EQ(read_image(tmp / "small.exr").rgb, read_image(tmp / "all.exr").rgb);
@@ -125,20 +132,26 @@ TEST(LocalMemory, TheConstantsItNowTimesAreRefusedNamingTheirReplacement) {
 TEST(LocalMemory, TheHostsWritesComeInBurstsAndContendWithTheUnits) {
   Tmp tmp;
   constexpr uint64_t kBurst = 64, kRay = 28, kPixel = 16, kBlock = 8, kPixels = 16 * 16;
-  const std::string args = kScenes + "balls-1.nff --size 16x16 --set ray_block=8 --set link_bandwidth_mb_s=10000" + kNoHostWork;
+  const std::string args =
+      kScenes + "balls-1.nff --size 16x16 --set ray_block=8 --set link_bandwidth_mb_s=10000" +
+      kNoHostWork;
   const json ideal = render(tmp, "ideal", args);
-  const json one = render(tmp, "one", args + " --set memory_ports=1 --set memory_bytes_per_cycle=1");
+  const json one =
+      render(tmp, "one", args + " --set memory_ports=1 --set memory_bytes_per_cycle=1");
   ASSERT_FALSE(ideal.is_null() || one.is_null());
   const uint64_t scene = one["host"]["scene_bytes"].get<uint64_t>();
-  const uint64_t bursts = (scene + kBurst - 1) / kBurst + kPixels / kBlock * ((kBlock * kRay + kBurst - 1) / kBurst);
+  const uint64_t bursts =
+      (scene + kBurst - 1) / kBurst + kPixels / kBlock * ((kBlock * kRay + kBurst - 1) / kBurst);
   for (const json* j : {&ideal, &one}) {
     const json& host = (*j)["memory"]["requesters"]["host"];
     EXPECT_EQ(host["requests"].get<uint64_t>(), bursts + 1) << "every burst, and the gather's read";
     EXPECT_EQ(host["bytes"].get<uint64_t>(), scene + kPixels * (kRay + kPixel));
   }
   EXPECT_EQ(ideal["memory"]["requesters"]["host"]["stall_cycles"], 0);
-  EXPECT_GT(one["memory"]["requesters"]["host"]["stall_cycles"].get<uint64_t>(), 0u) << "a burst waited for the units' reads";
-  EXPECT_EQ(one["memory"]["ports"][0]["busy_cycles"], one["memory"]["beats"]) << "the port carried the host's bursts too";
+  EXPECT_GT(one["memory"]["requesters"]["host"]["stall_cycles"].get<uint64_t>(), 0u)
+      << "a burst waited for the units' reads";
+  EXPECT_EQ(one["memory"]["ports"][0]["busy_cycles"], one["memory"]["beats"])
+      << "the port carried the host's bursts too";
   EXPECT_EQ(read_image(tmp / "one.exr").rgb, read_image(tmp / "ideal.exr").rgb);
 }
 

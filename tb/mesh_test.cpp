@@ -35,7 +35,8 @@ TEST(MeshRender, ObjOnTheReferenceAndTheMachine) {
 TEST(MeshRender, BadMeshFileExitsOneNamingIt) {
   Tmp tmp;
   spit(tmp / "bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n");
-  const Proc r = run_rtm("render " + tmp / "bad.ply" + " --reference -q --size 8x8 --out " + tmp / "b.png", tmp);
+  const Proc r = run_rtm(
+      "render " + tmp / "bad.ply" + " --reference -q --size 8x8 --out " + tmp / "b.png", tmp);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err.rfind("rtm: " + tmp / "bad.ply" + ":0: ", 0), 0u) << r.err;
   EXPECT_FALSE(std::filesystem::exists(tmp / "b.png"));
@@ -44,14 +45,19 @@ TEST(MeshRender, BadMeshFileExitsOneNamingIt) {
 TEST(MeshRender, DegenerateTrianglesWarnAndStrictRefuses) {
   Tmp tmp;
   spit(tmp / "deg.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 4\nf 1 2 3\n");
-  const Proc r = run_rtm("render " + tmp / "deg.obj" + " --reference -q --size 8x8 --out " + tmp / "d.png", tmp);
+  const Proc r = run_rtm(
+      "render " + tmp / "deg.obj" + " --reference -q --size 8x8 --out " + tmp / "d.png", tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("rtm: warning: " + tmp / "deg.obj" + ":0: skipped 1 degenerate triangle record ("),
-            std::string::npos)
+  EXPECT_NE(
+      r.err.find("rtm: warning: " + tmp / "deg.obj" + ":0: skipped 1 degenerate triangle record ("),
+      std::string::npos)
       << r.err;
-  const Proc s = run_rtm("render " + tmp / "deg.obj" + " --reference -q --strict --size 8x8 --out " + tmp / "s.png", tmp);
+  const Proc s = run_rtm(
+      "render " + tmp / "deg.obj" + " --reference -q --strict --size 8x8 --out " + tmp / "s.png",
+      tmp);
   EXPECT_EQ(s.exit_code, 1);
-  EXPECT_EQ(s.err, "rtm: " + tmp / "deg.obj" + ":0: triangle 1: polygon has zero area (--strict)\n");
+  EXPECT_EQ(s.err,
+            "rtm: " + tmp / "deg.obj" + ":0: triangle 1: polygon has zero area (--strict)\n");
 }
 
 TEST(MeshRender, CameraOnTheCommandLine) {
@@ -66,14 +72,16 @@ TEST(MeshRender, CameraOnTheCommandLine) {
     for (const int32_t id : rtm::read_id_map(tmp / (name + "-id.exr")).ids) n += id >= 0;
     return n;
   };
-  // A 2-unit cube 40 away in a 20° view spans 2 / (2 × 40 × tan 10°) = 14% of the width: about 5 of 256 pixels.
+  // A 2-unit cube 40 away in a 20° view spans 2 / (2 × 40 × tan 10°) = 14% of the width: about 5 of
+  // 256 pixels.
   EXPECT_GT(hits("far"), 0);
   EXPECT_LT(hits("far"), 20);
   EXPECT_EQ(hits("near"), 256);  // inside the cube's front face's view
   const Proc bad = run_rtm("render " + args + "'{fov: 200}' -q --out " + tmp / "b.png", tmp);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_EQ(bad.err, "rtm: --camera: camera.fov: must be in (0, 180) degrees, got 200\n");
-  const Proc typo = run_rtm("render " + args + "'{eyes: [0, 0, 1]}' -q --out " + tmp / "b.png", tmp);
+  const Proc typo =
+      run_rtm("render " + args + "'{eyes: [0, 0, 1]}' -q --out " + tmp / "b.png", tmp);
   EXPECT_EQ(typo.exit_code, 2);
   EXPECT_NE(typo.err.find("unknown key 'eyes'"), std::string::npos) << typo.err;
 }
@@ -81,7 +89,9 @@ TEST(MeshRender, CameraOnTheCommandLine) {
 /// A mesh of about n triangles from scripts/mesh-generate (a rippled torus), at `path`; returns
 /// how many it has, as the script says ("PATH: N triangles, M vertices").
 int generate_mesh(const Tmp& tmp, int n, const std::string& path) {
-  const Proc g = sh(std::string("python3 ") + RTM_SOURCE_DIR + "/scripts/mesh-generate " + std::to_string(n) + " " + path, tmp);
+  const Proc g = sh(std::string("python3 ") + RTM_SOURCE_DIR + "/scripts/mesh-generate " +
+                        std::to_string(n) + " " + path,
+                    tmp);
   EXPECT_EQ(g.exit_code, 0) << g.err;
   const size_t at = g.out.find(": ");
   return at == std::string::npos ? 0 : std::stoi(g.out.substr(at + 2));
@@ -95,11 +105,14 @@ TEST(MeshScale, TheMemoryBudgetHoldsOnALargeMesh) {
   Tmp tmp;
   const int triangles = generate_mesh(tmp, 200000, tmp / "torus.ply");
   ASSERT_GT(triangles, 190000);
-  const std::string args = "render " + tmp / "torus.ply" + " --reference --threads 2 -q --size 32x32 --out " + tmp / "t.png";
+  const std::string args = "render " + tmp / "torus.ply" +
+                           " --reference --threads 2 -q --size 32x32 --out " + tmp / "t.png";
   const Proc small = run_rtm(args + " --max-memory 200M", tmp);
   EXPECT_EQ(small.exit_code, 2) << small.err;
   EXPECT_NE(small.err.find("the largest part is the scene: "), std::string::npos) << small.err;
-  EXPECT_NE(small.err.find("for " + std::to_string(triangles) + " primitives at "), std::string::npos) << small.err;
+  EXPECT_NE(small.err.find("for " + std::to_string(triangles) + " primitives at "),
+            std::string::npos)
+      << small.err;
   EXPECT_FALSE(std::filesystem::exists(tmp / "t.png"));
   // The estimate, from the refusal's total, within the budget it is run under.
   const size_t at = small.err.find("needs about ");
@@ -107,8 +120,8 @@ TEST(MeshScale, TheMemoryBudgetHoldsOnALargeMesh) {
   const double mib = std::stod(small.err.substr(at + 12));
   ASSERT_NE(small.err.find(" MiB, more than", at), std::string::npos) << small.err;
   EXPECT_GT(mib, 400);  // 200000 triangles: about a kilobyte and a half each, and the program
-  const Proc enough = sh("/usr/bin/time -f %M -o " + tmp / "peak" + " " + RTM_BINARY + " " + args + " --max-memory " +
-                             std::to_string(int(mib + 20)) + "M",
+  const Proc enough = sh("/usr/bin/time -f %M -o " + tmp / "peak" + " " + RTM_BINARY + " " + args +
+                             " --max-memory " + std::to_string(int(mib + 20)) + "M",
                          tmp);
   ASSERT_EQ(enough.exit_code, 0) << enough.err;
   const double peak_mib = std::stod(slurp(tmp / "peak")) / 1024;  // GNU time: kilobytes
@@ -120,7 +133,8 @@ TEST(MeshScale, TheMemoryBudgetHoldsOnALargeMesh) {
 TEST(MeshScale, APeWhoseSceneCopyDoesNotFitIsRefusedWithTheSizes) {
   Tmp tmp;
   generate_mesh(tmp, 10000, tmp / "torus.ply");
-  const Proc r = run_rtm("render " + tmp / "torus.ply" + " --pes 2 --size 16x16 -q --set local_memory_bytes=1000000 --out " +
+  const Proc r = run_rtm("render " + tmp / "torus.ply" +
+                             " --pes 2 --size 16x16 -q --set local_memory_bytes=1000000 --out " +
                              tmp / "t.png",
                          tmp);
   EXPECT_EQ(r.exit_code, 1) << r.err;
@@ -134,11 +148,14 @@ TEST(MeshScale, APeWhoseSceneCopyDoesNotFitIsRefusedWithTheSizes) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "t.png"));
 }
 
-/// POV-Ray's ID image decoded to primitive numbers (-1: background), as `rtm pov --id` encodes them.
+/// POV-Ray's ID image decoded to primitive numbers (-1: background), as `rtm pov --id` encodes
+/// them.
 std::vector<int32_t> pov_ids(const std::string& png) {
   std::vector<int32_t> ids;
   for (const rtm::Vec3& c : rtm::read_image(png).rgb)
-    ids.push_back((int(std::lround(c.x * 255)) << 16 | int(std::lround(c.y * 255)) << 8 | int(std::lround(c.z * 255))) - 1);
+    ids.push_back((int(std::lround(c.x * 255)) << 16 | int(std::lround(c.y * 255)) << 8 |
+                   int(std::lround(c.z * 255))) -
+                  1);
   return ids;
 }
 
@@ -154,13 +171,18 @@ TEST(MeshPov, Mesh2AgreesWithPovRaysPrimaryHits) {
   const nlohmann::json ours = render(tmp, "ours", tmp / "torus.ply --reference" + size);
   ASSERT_FALSE(ours.is_null());
   ASSERT_EQ(ours["primitives"], triangles);
-  ASSERT_EQ(run_rtm("pov " + tmp / "torus.ply" + size + " --out " + tmp / "t.pov", tmp).exit_code, 0);
-  ASSERT_EQ(run_rtm("pov " + tmp / "torus.ply" + size + " --id --out " + tmp / "tid.pov", tmp).exit_code, 0);
+  ASSERT_EQ(run_rtm("pov " + tmp / "torus.ply" + size + " --out " + tmp / "t.pov", tmp).exit_code,
+            0);
+  ASSERT_EQ(
+      run_rtm("pov " + tmp / "torus.ply" + size + " --id --out " + tmp / "tid.pov", tmp).exit_code,
+      0);
   const std::string text = slurp(tmp / "t.pov");
   EXPECT_LT(std::count(text.begin(), text.end(), '\n'), 3 * triangles);  // shared corners once
   EXPECT_NE(text.find("mesh2 {"), std::string::npos);
   EXPECT_EQ(text.find("polygon {"), std::string::npos);
-  const Proc r = sh("povray +I" + tmp / "tid.pov" + " +O" + tmp / "pov-id.png" + " +W160 +H120 -D -A +FN8 File_Gamma=1.0 +WT1", tmp);
+  const Proc r = sh("povray +I" + tmp / "tid.pov" + " +O" + tmp / "pov-id.png" +
+                        " +W160 +H120 -D -A +FN8 File_Gamma=1.0 +WT1",
+                    tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<int32_t> theirs = pov_ids(tmp / "pov-id.png");
   const std::vector<int32_t> mine = rtm::read_id_map(tmp / "ours-id.exr").ids;
@@ -168,30 +190,40 @@ TEST(MeshPov, Mesh2AgreesWithPovRaysPrimaryHits) {
   int same = 0, hit = 0;
   for (size_t i = 0; i < mine.size(); ++i) same += mine[i] == theirs[i], hit += mine[i] >= 0;
   EXPECT_GT(hit, int(mine.size()) / 4);  // the torus fills a good part of the view
-  std::cout << same << " of " << mine.size() << " pixels show the same triangle (" << hit << " on the torus)\n";
-  EXPECT_GE(double(same) / double(mine.size()), 0.999) << same << " of " << mine.size() << " pixels agree";
+  std::cout << same << " of " << mine.size() << " pixels show the same triangle (" << hit
+            << " on the torus)\n";
+  EXPECT_GE(double(same) / double(mine.size()), 0.999)
+      << same << " of " << mine.size() << " pixels agree";
   // The shaded scene parses and renders too.
-  const Proc shaded = sh("povray +I" + tmp / "t.pov" + " +O" + tmp / "pov.png" + " +W160 +H120 -D -A +FN8 File_Gamma=1.0 +WT1", tmp);
+  const Proc shaded = sh("povray +I" + tmp / "t.pov" + " +O" + tmp / "pov.png" +
+                             " +W160 +H120 -D -A +FN8 File_Gamma=1.0 +WT1",
+                         tmp);
   EXPECT_EQ(shaded.exit_code, 0) << shaded.err;
 }
 
 // The same triangles as an OBJ file and as NFF polygons, in the same order. Their corners are
 // dyadic, so Assimp's single-precision reading keeps them exact: a pyramid on a floor.
-const std::vector<std::array<double, 9>> kPyramid = {
-    {-1, 1.5, 0, 1, 0, 1, 1, 0, -1},    {-1, 1.5, 0, 1, 0, -1, -1, 0, -1}, {-1, 1.5, 0, -1, 0, -1, -1, 0, 1},
-    {-1, 1.5, 0, -1, 0, 1, 1, 0, 1},    {-4, 0, -4, -4, 0, 4, 4, 0, 4},    {-4, 0, -4, 4, 0, 4, 4, 0, -4},
-    {0.5, 0.75, 1.5, 1.5, 0, 2.5, 2.5, 0, 0.5}};
+const std::vector<std::array<double, 9>> kPyramid = {{-1, 1.5, 0, 1, 0, 1, 1, 0, -1},
+                                                     {-1, 1.5, 0, 1, 0, -1, -1, 0, -1},
+                                                     {-1, 1.5, 0, -1, 0, -1, -1, 0, 1},
+                                                     {-1, 1.5, 0, -1, 0, 1, 1, 0, 1},
+                                                     {-4, 0, -4, -4, 0, 4, 4, 0, 4},
+                                                     {-4, 0, -4, 4, 0, 4, 4, 0, -4},
+                                                     {0.5, 0.75, 1.5, 1.5, 0, 2.5, 2.5, 0, 0.5}};
 
 std::string pyramid_obj() {
   std::ostringstream o;
   for (const auto& t : kPyramid)
-    for (int k = 0; k < 3; ++k) o << "v " << t[3 * k] << " " << t[3 * k + 1] << " " << t[3 * k + 2] << "\n";
-  for (size_t i = 0; i < kPyramid.size(); ++i) o << "f " << 3 * i + 1 << " " << 3 * i + 2 << " " << 3 * i + 3 << "\n";
+    for (int k = 0; k < 3; ++k)
+      o << "v " << t[3 * k] << " " << t[3 * k + 1] << " " << t[3 * k + 2] << "\n";
+  for (size_t i = 0; i < kPyramid.size(); ++i)
+    o << "f " << 3 * i + 1 << " " << 3 * i + 2 << " " << 3 * i + 3 << "\n";
   return o.str();
 }
 
-const std::string kView = "v from 3 4 6 at 0 0.5 0 up 0 1 0 angle 40 hither 1 resolution 64 48\nb 0.1 0.1 0.2\nl 4 8 6\n"
-                          "f 0.8 0.6 0.4 0.7 0.2 0 0 0\n";
+const std::string kView =
+    "v from 3 4 6 at 0 0.5 0 up 0 1 0 angle 40 hither 1 resolution 64 48\nb 0.1 0.1 0.2\nl 4 8 6\n"
+    "f 0.8 0.6 0.4 0.7 0.2 0 0 0\n";
 
 std::string pyramid_nff() {
   std::ostringstream o;
@@ -207,7 +239,8 @@ std::string pyramid_nff() {
 /// "NFF": one light at sqrt(1)/2, the ambient light too, ambient = Kd), the triangles the OBJ's.
 const std::string kPyramidYaml =
     "camera: {eye: [3, 4, 6], look_at: [0, 0.5, 0], up: [0, 1, 0], fov: 40, resolution: [64, 48]}\n"
-    "background: [0.1, 0.1, 0.2]\nambient: [0.5, 0.5, 0.5]\nlights:\n  - {position: [4, 8, 6], color: [0.5, 0.5, 0.5]}\n"
+    "background: [0.1, 0.1, 0.2]\nambient: [0.5, 0.5, 0.5]\nlights:\n  - {position: [4, 8, 6], "
+    "color: [0.5, 0.5, 0.5]}\n"
     "materials:\n  f: {color: [0.8, 0.6, 0.4], ambient: 0.7, diffuse: 0.7, specular: 0.2}\n"
     "primitives:\n  - mesh: {file: pyramid.obj, material: f}\n";
 
@@ -235,10 +268,12 @@ TEST(MeshRender, ObjAndNffPolygonsGiveTheSamePicture) {
     }
     EXPECT_EQ(differ, 0);
     EXPECT_GT(lit, 500);  // the floor and the pyramid fill most of the frame
-    const std::vector<int32_t> ia = rtm::read_id_map(tmp / "nff-id.exr").ids, ib = rtm::read_id_map(tmp / "obj-id.exr").ids;
+    const std::vector<int32_t> ia = rtm::read_id_map(tmp / "nff-id.exr").ids,
+                               ib = rtm::read_id_map(tmp / "obj-id.exr").ids;
     ASSERT_EQ(ia.size(), ib.size());
     int masks = 0, ids = 0, seen = 0;
-    for (size_t i = 0; i < ia.size(); ++i) masks += (ia[i] >= 0) != (ib[i] >= 0), ids += ia[i] != ib[i], seen += ia[i] >= 0;
+    for (size_t i = 0; i < ia.size(); ++i)
+      masks += (ia[i] >= 0) != (ib[i] >= 0), ids += ia[i] != ib[i], seen += ia[i] >= 0;
     EXPECT_EQ(masks, 0);
     EXPECT_EQ(ids, 0);
     EXPECT_GT(seen, 1000);
@@ -255,14 +290,17 @@ std::string faceted_sphere_obj() {
     for (int j = 0; j < segments; ++j) {
       const double a = M_PI * i / rings, b = 2 * M_PI * j / segments;
       const Vec3 n(std::sin(a) * std::cos(b), std::cos(a), std::sin(a) * std::sin(b));
-      o << "v " << n.x << " " << n.y << " " << n.z << "\nvn " << n.x << " " << n.y << " " << n.z << "\n";
+      o << "v " << n.x << " " << n.y << " " << n.z << "\nvn " << n.x << " " << n.y << " " << n.z
+        << "\n";
     }
   auto at = [&](int i, int j) { return i * segments + (j % segments) + 1; };
   for (int i = 0; i < rings; ++i)
     for (int j = 0; j < segments; ++j) {
       const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
-      if (i > 0) o << "f " << a << "//" << a << " " << b << "//" << b << " " << d << "//" << d << "\n";
-      if (i < rings - 1) o << "f " << b << "//" << b << " " << c << "//" << c << " " << d << "//" << d << "\n";
+      if (i > 0)
+        o << "f " << a << "//" << a << " " << b << "//" << b << " " << d << "//" << d << "\n";
+      if (i < rings - 1)
+        o << "f " << b << "//" << b << " " << c << "//" << c << " " << d << "//" << d << "\n";
     }
   return o.str();
 }
@@ -271,9 +309,12 @@ std::string faceted_sphere_obj() {
 double share_within(const rtm::Image& a, const rtm::Image& b, double tolerance) {
   int within = 0;
   for (size_t i = 0; i < a.rgb.size(); ++i)
-    within += std::abs(std::clamp(a.rgb[i].x, 0.0, 1.0) - std::clamp(b.rgb[i].x, 0.0, 1.0)) <= tolerance &&
-              std::abs(std::clamp(a.rgb[i].y, 0.0, 1.0) - std::clamp(b.rgb[i].y, 0.0, 1.0)) <= tolerance &&
-              std::abs(std::clamp(a.rgb[i].z, 0.0, 1.0) - std::clamp(b.rgb[i].z, 0.0, 1.0)) <= tolerance;
+    within +=
+        std::abs(std::clamp(a.rgb[i].x, 0.0, 1.0) - std::clamp(b.rgb[i].x, 0.0, 1.0)) <=
+            tolerance &&
+        std::abs(std::clamp(a.rgb[i].y, 0.0, 1.0) - std::clamp(b.rgb[i].y, 0.0, 1.0)) <=
+            tolerance &&
+        std::abs(std::clamp(a.rgb[i].z, 0.0, 1.0) - std::clamp(b.rgb[i].z, 0.0, 1.0)) <= tolerance;
   return double(within) / double(a.rgb.size());
 }
 
@@ -283,17 +324,21 @@ double share_within(const rtm::Image& a, const rtm::Image& b, double tolerance) 
 TEST(MeshRender, VertexNormalsShadeSmoothByDefaultAndFlatInThePaperPreset) {
   Tmp tmp;
   spit(tmp / "ball.obj", faceted_sphere_obj());
-  const std::string args = tmp / "ball.obj --size 48x48 --camera '{eye: [0, 0, 4], look_at: [0, 0, 0]}'";
+  const std::string args =
+      tmp / "ball.obj --size 48x48 --camera '{eye: [0, 0, 4], look_at: [0, 0, 0]}'";
   const nlohmann::json smooth = render(tmp, "smooth", args + " --pes 2");
   const nlohmann::json flat = render(tmp, "flat", args + " --pes 2 --preset paper");
   const nlohmann::json ref_smooth = render(tmp, "ref-smooth", args + " --reference");
-  const nlohmann::json ref_flat = render(tmp, "ref-flat", args + " --reference --set normal_interpolation=flat");
+  const nlohmann::json ref_flat =
+      render(tmp, "ref-flat", args + " --reference --set normal_interpolation=flat");
   ASSERT_FALSE(smooth.is_null() || flat.is_null() || ref_smooth.is_null() || ref_flat.is_null());
   EXPECT_EQ(smooth["config"]["normal_interpolation"], "barycentric");
   EXPECT_EQ(flat["config"]["normal_interpolation"], "flat");
   EXPECT_EQ(rtm::read_id_map(tmp / "smooth-id.exr").ids, rtm::read_id_map(tmp / "flat-id.exr").ids);
-  EXPECT_EQ(rtm::read_id_map(tmp / "ref-smooth-id.exr").ids, rtm::read_id_map(tmp / "ref-flat-id.exr").ids);
-  const rtm::Image s = rtm::read_image(tmp / "ref-smooth.exr"), f = rtm::read_image(tmp / "ref-flat.exr");
+  EXPECT_EQ(rtm::read_id_map(tmp / "ref-smooth-id.exr").ids,
+            rtm::read_id_map(tmp / "ref-flat-id.exr").ids);
+  const rtm::Image s = rtm::read_image(tmp / "ref-smooth.exr"),
+                   f = rtm::read_image(tmp / "ref-flat.exr");
   EXPECT_LT(share_within(s, f, 0.01), 0.9);  // smooth shading changes most lit pixels of the ball
   EXPECT_EQ(smooth["error"]["primary_ids_differing"], 0);
   EXPECT_GT(smooth["error"]["psnr_db"].get<double>(), 50) << smooth["error"].dump();
@@ -306,15 +351,18 @@ TEST(MeshRender, VertexNormalsShadeSmoothByDefaultAndFlatInThePaperPreset) {
     for (const auto& pe : j["per_pe"]) c += pe["busy_cycles"]["shading"].get<uint64_t>();
     return c;
   };
-  const nlohmann::json plain = render(tmp, "plain", args + " --pes 2 --set normal_interpolation=flat");
+  const nlohmann::json plain =
+      render(tmp, "plain", args + " --pes 2 --set normal_interpolation=flat");
   ASSERT_FALSE(plain.is_null());
   EXPECT_GT(shading_cycles(smooth), shading_cycles(plain));
   // 12 words more a triangle: its 3 normals and 3 reciprocals.
   const uint64_t more = smooth["memory"]["sections_bytes"]["primitives"].get<uint64_t>() -
                         plain["memory"]["sections_bytes"]["primitives"].get<uint64_t>();
   const uint64_t triangles = smooth["primitives"].get<uint64_t>();
-  EXPECT_TRUE(more == 12 * 4 * triangles || more == 12 * 8 * triangles) << more << " for " << triangles;
-  EXPECT_EQ(rtm::read_id_map(tmp / "plain-id.exr").ids, rtm::read_id_map(tmp / "smooth-id.exr").ids);
+  EXPECT_TRUE(more == 12 * 4 * triangles || more == 12 * 8 * triangles)
+      << more << " for " << triangles;
+  EXPECT_EQ(rtm::read_id_map(tmp / "plain-id.exr").ids,
+            rtm::read_id_map(tmp / "smooth-id.exr").ids);
 }
 
 // POV-Ray's smooth triangles (mesh2 normals) are lit as ours: the images agree within the
@@ -326,16 +374,27 @@ TEST(MeshPov, SmoothNormalsAgreeWithPovRay) {
   spit(tmp / "ball.obj", faceted_sphere_obj());
   const std::string size = " --size 64x64";
   ASSERT_FALSE(render(tmp, "ours", tmp / "ball.obj --reference" + size).is_null());
-  ASSERT_EQ(run_rtm("pov " + tmp / "ball.obj" + size + " --out " + tmp / "b.pov", tmp).exit_code, 0);
+  ASSERT_EQ(run_rtm("pov " + tmp / "ball.obj" + size + " --out " + tmp / "b.pov", tmp).exit_code,
+            0);
   EXPECT_NE(slurp(tmp / "b.pov").find("normal_indices"), std::string::npos);
-  const Proc r = sh("povray +I" + tmp / "b.pov" + " +O" + tmp / "pov.exr" + " +W64 +H64 -D -A +FE File_Gamma=1.0 +WT1", tmp);
+  const Proc r = sh("povray +I" + tmp / "b.pov" + " +O" + tmp / "pov.exr" +
+                        " +W64 +H64 -D -A +FE File_Gamma=1.0 +WT1",
+                    tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const double within = share_within(rtm::read_image(tmp / "ours.exr"), rtm::read_image(tmp / "pov.exr"), 0.05);
+  const double within =
+      share_within(rtm::read_image(tmp / "ours.exr"), rtm::read_image(tmp / "pov.exr"), 0.05);
   std::cout << 100 * within << " % of pixels within 0.05 of POV-Ray's\n";
   EXPECT_GT(within, 0.99);
-  ASSERT_EQ(run_rtm("pov " + tmp / "ball.obj" + size + " --normal-interpolation flat --out " + tmp / "f.pov", tmp).exit_code, 0);
+  ASSERT_EQ(run_rtm("pov " + tmp / "ball.obj" + size + " --normal-interpolation flat --out " +
+                        tmp / "f.pov",
+                    tmp)
+                .exit_code,
+            0);
   EXPECT_EQ(slurp(tmp / "f.pov").find("normal_indices"), std::string::npos);
-  EXPECT_EQ(run_rtm("pov " + tmp / "ball.obj --normal-interpolation phong --out " + tmp / "x.pov", tmp).exit_code, 2);
+  EXPECT_EQ(
+      run_rtm("pov " + tmp / "ball.obj --normal-interpolation phong --out " + tmp / "x.pov", tmp)
+          .exit_code,
+      2);
 }
 
 /// Where Debian's assimp-testmodels puts its files.
@@ -343,13 +402,14 @@ const std::string kTestModels = "/usr/share/assimp/models";
 
 TEST(MeshCorpus, EveryTestModelRendersOrFailsWithAMessage) {
   namespace fs = std::filesystem;
-  if (!fs::is_directory(kTestModels)) GTEST_SKIP() << "assimp-testmodels is not installed (" << kTestModels << ")";
+  if (!fs::is_directory(kTestModels))
+    GTEST_SKIP() << "assimp-testmodels is not installed (" << kTestModels << ")";
   std::vector<std::string> files;
   for (const auto& e : fs::recursive_directory_iterator(kTestModels)) {
     std::string ext = e.path().extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (e.is_regular_file() && (ext == ".obj" || ext == ".ply" || ext == ".stl" || ext == ".off" || ext == ".gltf" ||
-                                ext == ".glb"))
+    if (e.is_regular_file() && (ext == ".obj" || ext == ".ply" || ext == ".stl" || ext == ".off" ||
+                                ext == ".gltf" || ext == ".glb"))
       files.push_back(e.path().string());
   }
   std::sort(files.begin(), files.end());
@@ -363,10 +423,11 @@ TEST(MeshCorpus, EveryTestModelRendersOrFailsWithAMessage) {
       const std::string& f = files[i];
       // A hang would be a finding: `timeout` ends it, and its exit code 137 fails the test.
       const std::string err = tmp / (std::to_string(i) + ".err");
-      const int status = std::system(("timeout -s KILL 200 " + std::string(RTM_BINARY) + " render '" + f +
-                                      "' --reference -q --threads 1 --size 16x16 --out " + tmp / (std::to_string(i) + ".png") +
-                                      " >/dev/null 2>" + err + " </dev/null")
-                                         .c_str());
+      const int status =
+          std::system(("timeout -s KILL 200 " + std::string(RTM_BINARY) + " render '" + f +
+                       "' --reference -q --threads 1 --size 16x16 --out " +
+                       tmp / (std::to_string(i) + ".png") + " >/dev/null 2>" + err + " </dev/null")
+                          .c_str());
       Proc r;
       r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
       r.err = slurp(err).substr(0, 2000);

@@ -21,22 +21,28 @@ namespace {
 
 const std::string kScenes = std::string(RTM_SOURCE_DIR) + "/scenes/spd/";
 const std::string kUnpipelined =
-    " --set dispatch_interval=0 --set search_interval=0 --set mac_streaming=false --set root_interval=0"
+    " --set dispatch_interval=0 --set search_interval=0 --set mac_streaming=false --set "
+    "root_interval=0"
     " --set shade_interval=0";
 
 TEST(Pipelining, MovesTimingOnly) {
   for (const std::string schedule : {"sparse", "full"}) {
     Tmp tmp;
     // Reflections and refractions: every path of the loop.
-    const std::string args = kScenes + "shells-1.nff --size 32x32 --pes 2 --mac-schedule " + schedule;
+    const std::string args =
+        kScenes + "shells-1.nff --size 32x32 --pes 2 --mac-schedule " + schedule;
     const json on = render(tmp, "on", args);
     const json off = render(tmp, "off", args + kUnpipelined);
     ASSERT_FALSE(on.is_null() || off.is_null()) << schedule;
-    EXPECT_EQ(rtm::read_image(tmp / "on.exr").rgb, rtm::read_image(tmp / "off.exr").rgb) << schedule;
-    EXPECT_EQ(rtm::read_id_map(tmp / "on-id.exr").ids, rtm::read_id_map(tmp / "off-id.exr").ids) << schedule;
-    for (const char* key : {"rays", "voxel_steps", "intersection_tests"}) EXPECT_EQ(on[key], off[key]) << key;
+    EXPECT_EQ(rtm::read_image(tmp / "on.exr").rgb, rtm::read_image(tmp / "off.exr").rgb)
+        << schedule;
+    EXPECT_EQ(rtm::read_id_map(tmp / "on-id.exr").ids, rtm::read_id_map(tmp / "off-id.exr").ids)
+        << schedule;
+    for (const char* key : {"rays", "voxel_steps", "intersection_tests"})
+      EXPECT_EQ(on[key], off[key]) << key;
     EXPECT_EQ(on["mac"]["products"], off["mac"]["products"]);
-    EXPECT_LT(on["cycles"].get<uint64_t>(), off["cycles"].get<uint64_t>()) << "pipelining buys cycles";
+    EXPECT_LT(on["cycles"].get<uint64_t>(), off["cycles"].get<uint64_t>())
+        << "pipelining buys cycles";
   }
 }
 
@@ -44,10 +50,11 @@ TEST(Pipelining, FastAndClockedAgreeUnderBothPresetsAndSchedules) {
   for (const std::string preset : {"default", "paper"})
     for (const std::string schedule : {"sparse", "full"}) {
       Tmp tmp;
-      const std::string args =
-          kScenes + "rings-1.nff --size 16x16 --pes 2 --preset " + preset + " --mac-schedule " + schedule;
+      const std::string args = kScenes + "rings-1.nff --size 16x16 --pes 2 --preset " + preset +
+                               " --mac-schedule " + schedule;
       const json fast = render(tmp, "fast", args + " --event-log " + (tmp / "fast.log"));
-      const json clocked = render(tmp, "clocked", args + " --timing clocked --event-log " + (tmp / "clocked.log"));
+      const json clocked =
+          render(tmp, "clocked", args + " --timing clocked --event-log " + (tmp / "clocked.log"));
       ASSERT_FALSE(fast.is_null() || clocked.is_null()) << preset << " " << schedule;
       EXPECT_EQ(fast["cycles"], clocked["cycles"]) << preset << " " << schedule;
       EXPECT_EQ(slurp(tmp / "fast.log"), slurp(tmp / "clocked.log")) << preset << " " << schedule;
@@ -57,7 +64,8 @@ TEST(Pipelining, FastAndClockedAgreeUnderBothPresetsAndSchedules) {
 
 /// The value changes of one VCD signal (by its name's last two parts, e.g. "mac/abg_select"),
 /// as time -> value text, from the first PE's first intersection unit.
-std::map<uint64_t, std::string> changes(const std::string& vcd, const std::string& unit, const std::string& name) {
+std::map<uint64_t, std::string> changes(const std::string& vcd, const std::string& unit,
+                                        const std::string& name) {
   std::istringstream in(vcd);
   std::string line, id;
   std::vector<std::string> scope;
@@ -76,8 +84,8 @@ std::map<uint64_t, std::string> changes(const std::string& vcd, const std::strin
     } else if (first == "$var") {
       std::string type, width, code, var;
       w >> type >> width >> code >> var;
-      const bool here = scope.size() >= 3 && scope[scope.size() - 3] == "pe0" && scope[scope.size() - 2] == "intersection0" &&
-                        scope.back() == unit;
+      const bool here = scope.size() >= 3 && scope[scope.size() - 3] == "pe0" &&
+                        scope[scope.size() - 2] == "intersection0" && scope.back() == unit;
       if (here && var == name) id = code;
     } else if (!first.empty() && first[0] == '#') {
       t = std::stoull(first.substr(1));
@@ -95,8 +103,10 @@ std::map<uint64_t, std::string> changes(const std::string& vcd, const std::strin
 TEST(Pipelining, TheClockedMacShowsWhichSumItAccumulatesAndHandsThemOn) {
   // The paper's machine: the full schedule, 6 products for α, 12 for β, 10 for γ, one a cycle.
   Tmp tmp;
-  const json j = render(tmp, "w", kScenes + "balls-1.nff --size 16x16 --preset paper --timing clocked --vcd " +
-                                      (tmp / "w.vcd") + " --vcd-window pe0+0:3000");
+  const json j =
+      render(tmp, "w",
+             kScenes + "balls-1.nff --size 16x16 --preset paper --timing clocked --vcd " +
+                 (tmp / "w.vcd") + " --vcd-window pe0+0:3000");
   ASSERT_FALSE(j.is_null());
   const std::string vcd = slurp(tmp / "w.vcd");
   const auto select = changes(vcd, "mac", "abg_select");
@@ -128,7 +138,8 @@ TEST(Pipelining, TheClockedMacShowsWhichSumItAccumulatesAndHandsThemOn) {
   ASSERT_GT(gamma.size(), 1u) << "γ never changes in the window";
   for (auto g = std::next(gamma.begin()); g != gamma.end(); ++g) {
     const auto h = handed.find(g->first);
-    EXPECT_TRUE(h != handed.end() && h->second == "1") << "γ changed at " << g->first << " with no sums handed on";
+    EXPECT_TRUE(h != handed.end() && h->second == "1")
+        << "γ changed at " << g->first << " with no sums handed on";
   }
 }
 

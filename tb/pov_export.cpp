@@ -52,12 +52,14 @@ void write_shape(std::ostream& o, const Primitive& p, bool smooth) {
     case ShapeKind::Cylinder:
     case ShapeKind::Cone:
       // NFF `c` has no caps; POV's cone with equal radii is its cylinder.
-      o << "cone { " << vec(p.p0) << ", " << num(p.r0) << ", " << vec(p.p1) << ", " << num(p.r1) << " open\n";
+      o << "cone { " << vec(p.p0) << ", " << num(p.r0) << ", " << vec(p.p1) << ", " << num(p.r1)
+        << " open\n";
       return;
     case ShapeKind::Polygon: {
       if (smooth) {  // POV-Ray blends a smooth_triangle's normals by the same barycentric weights
-        o << "smooth_triangle { " << vec(p.vertices[0]) << ", " << vec(p.normals[0]) << ", " << vec(p.vertices[1])
-          << ", " << vec(p.normals[1]) << ", " << vec(p.vertices[2]) << ", " << vec(p.normals[2]) << "\n";
+        o << "smooth_triangle { " << vec(p.vertices[0]) << ", " << vec(p.normals[0]) << ", "
+          << vec(p.vertices[1]) << ", " << vec(p.normals[1]) << ", " << vec(p.vertices[2]) << ", "
+          << vec(p.normals[2]) << "\n";
         return;
       }
       // A concave polygon's pieces are written as the whole polygon, once, so POV-Ray's own
@@ -72,13 +74,14 @@ void write_shape(std::ostream& o, const Primitive& p, bool smooth) {
       // Everything else as the clipped quadric the machine itself intersects. POV orders the
       // cross terms xy, xz, yz; the paper's are D xy, E yz, F zx.
       const auto& c = p.q.c;
-      o << "quadric { <" << num(c[kA]) << ", " << num(c[kB]) << ", " << num(c[kC]) << ">, <" << num(c[kD]) << ", "
-        << num(c[kF]) << ", " << num(c[kE]) << ">, <" << num(c[kG]) << ", " << num(c[kH]) << ", " << num(c[kI])
-        << ">, " << num(c[kJ]) << "\n";
+      o << "quadric { <" << num(c[kA]) << ", " << num(c[kB]) << ", " << num(c[kC]) << ">, <"
+        << num(c[kD]) << ", " << num(c[kF]) << ", " << num(c[kE]) << ">, <" << num(c[kG]) << ", "
+        << num(c[kH]) << ", " << num(c[kI]) << ">, " << num(c[kJ]) << "\n";
       write_clips(o, p.clips);
       // A little larger than the bound, so POV's bounding box cannot shave the surface.
       const Vec3 pad = 1e-6 * (p.bounds.extent() + Vec3(1));
-      o << "  bounded_by { box { " << vec(p.bounds.lo - pad) << ", " << vec(p.bounds.hi + pad) << " } }\n";
+      o << "  bounded_by { box { " << vec(p.bounds.lo - pad) << ", " << vec(p.bounds.hi + pad)
+        << " } }\n";
       return;
     }
   }
@@ -93,10 +96,11 @@ void write_material(std::ostream& o, size_t i, const Material& m) {
   const double opacity = 1 - kt;
   o << "#declare M" << i << " = material {  // " << m.name << "\n"
     << "  texture {\n"
-    << "    pigment { rgbt <" << num(m.color.x) << ", " << num(m.color.y) << ", " << num(m.color.z) << ", " << num(kt)
-    << "> }\n"
-    << "    finish { ambient " << num(m.ambient / opacity) << " diffuse " << num(m.diffuse / opacity)
-    << " reflection " << num(m.specular) << " brilliance 1 specular 0 phong 0 }\n"
+    << "    pigment { rgbt <" << num(m.color.x) << ", " << num(m.color.y) << ", " << num(m.color.z)
+    << ", " << num(kt) << "> }\n"
+    << "    finish { ambient " << num(m.ambient / opacity) << " diffuse "
+    << num(m.diffuse / opacity) << " reflection " << num(m.specular)
+    << " brilliance 1 specular 0 phong 0 }\n"
     << "  }\n"
     << "  interior { ior " << num(m.ior) << " }\n"
     << "}\n";
@@ -113,22 +117,24 @@ constexpr double kTwinGap = 2e-3;
 void write_shadow_twin(std::ostream& o, const Primitive& p) {
   const double r = p.r0 - std::max(kTwinGap, 1e-3 * p.r0);
   if (p.kind != ShapeKind::Sphere || r <= 0) return;
-  o << "sphere { " << vec(p.p0) << ", " << num(r) << " pigment { rgb 0 } no_image no_reflection }\n";
+  o << "sphere { " << vec(p.p0) << ", " << num(r)
+    << " pigment { rgb 0 } no_image no_reflection }\n";
 }
 
 /// A triangle of a mesh file, a polygon of three corners at line 0 (docs/scene-format.md,
 /// "Mesh files"), written with its neighbours as one `mesh2`.
 bool mesh_triangle(const Scene& s, size_t i) {
   const Primitive& p = s.primitives[i];
-  return !s.origins.empty() && s.origins[i].line == 0 && p.kind == ShapeKind::Polygon && p.pieces == 1 &&
-         p.vertices.size() == 3;
+  return !s.origins.empty() && s.origins[i].line == 0 && p.kind == ShapeKind::Polygon &&
+         p.pieces == 1 && p.vertices.size() == 3;
 }
 
 /// A triangle shaded with its vertex normals (render/shade.h, shading_normal).
 bool smooth_triangle(const Scene& s, size_t i) {
   const Primitive& p = s.primitives[i];
-  return s.normal_interpolation == NormalInterpolation::Barycentric && p.kind == ShapeKind::Polygon &&
-         p.vertices.size() == 3 && p.clips.size() == 3 && p.normals.size() == 3;
+  return s.normal_interpolation == NormalInterpolation::Barycentric &&
+         p.kind == ShapeKind::Polygon && p.vertices.size() == 3 && p.clips.size() == 3 &&
+         p.normals.size() == 3;
 }
 
 /// The flat ID colour of primitive i: its number + 1 in 24 bits, so black stays the background.
@@ -150,7 +156,8 @@ void write_mesh2(std::ostream& o, const Scene& s, size_t first, size_t last, boo
   };
   struct Hash {
     size_t operator()(const Key& k) const {
-      return std::hash<double>()(k.x) * 31 * 31 + std::hash<double>()(k.y) * 31 + std::hash<double>()(k.z);
+      return std::hash<double>()(k.x) * 31 * 31 + std::hash<double>()(k.y) * 31 +
+             std::hash<double>()(k.z);
     }
   };
   // Each distinct vector once, and every face's three indices into the list.
@@ -214,8 +221,8 @@ std::string to_pov(const Scene& s, bool id) {
 
   // Global settings: our ray tree (depth, threshold) and ambient light.
   const Vec3 ambient = id ? Vec3(1) : s.ambient_light;
-  o << "global_settings { assumed_gamma 1.0 max_trace_level " << (id ? 1 : s.max_depth) << " adc_bailout "
-    << num(s.threshold) << " ambient_light rgb " << vec(ambient) << " }\n";
+  o << "global_settings { assumed_gamma 1.0 max_trace_level " << (id ? 1 : s.max_depth)
+    << " adc_bailout " << num(s.threshold) << " ambient_light rgb " << vec(ambient) << " }\n";
 
   // Camera: the exact vectors of render/camera.cpp. POV shoots direction + u·right + v·up with u,
   // v in [-0.5, 0.5] at pixel centres, which is our ray for any handedness, so no look_at (which
@@ -234,17 +241,20 @@ std::string to_pov(const Scene& s, bool id) {
 
   o << "background { rgb " << vec(id ? Vec3(0) : s.background) << " }\n";
   if (!id) {
-    for (const Light& l : s.lights) o << "light_source { " << vec(l.position) << " rgb " << vec(l.color) << " }\n";
+    for (const Light& l : s.lights)
+      o << "light_source { " << vec(l.position) << " rgb " << vec(l.color) << " }\n";
     for (size_t i = 0; i < s.materials.size(); ++i) write_material(o, i, s.materials[i]);
   }
 
   for (size_t i = 0; i < s.primitives.size(); ++i) {
     const Primitive& p = s.primitives[i];
     if (mesh_triangle(s, i)) {
-      // The run of mesh triangles from here (of one material, unless every face has its own colour).
+      // The run of mesh triangles from here (of one material, unless every face has its own
+      // colour).
       size_t last = i + 1;
       while (last < s.primitives.size() && mesh_triangle(s, last) &&
-             (id || s.primitives[last].material == p.material) && smooth_triangle(s, last) == smooth_triangle(s, i))
+             (id || s.primitives[last].material == p.material) &&
+             smooth_triangle(s, last) == smooth_triangle(s, i))
         ++last;
       write_mesh2(o, s, i, last, id);
       i = last - 1;
@@ -266,14 +276,21 @@ std::string to_pov(const Scene& s, bool id) {
 }
 
 CLI::App* add_pov_command(CLI::App& app, PovOptions& opt) {
-  CLI::App* pov = app.add_subcommand("pov", "Export a scene to POV-Ray 3.7 SDL (for validation against POV-Ray)");
-  pov->add_option("scene", opt.scene, "Scene file: .nff or .yaml (the built-in default scene if omitted)");
-  pov->add_option("--size", opt.size, "Image size WxH, or N for NxN (keeps the scene's horizontal field of view)");
-  pov->add_flag("--id", opt.id, "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
-  pov->add_flag("--strict", opt.strict, "Degenerate shapes are errors instead of skipped (as rtm render --strict)");
-  pov->add_flag("--skip-unknown", opt.skip_unknown, "Skip unknown NFF records (as rtm render --skip-unknown)");
+  CLI::App* pov = app.add_subcommand(
+      "pov", "Export a scene to POV-Ray 3.7 SDL (for validation against POV-Ray)");
+  pov->add_option("scene", opt.scene,
+                  "Scene file: .nff or .yaml (the built-in default scene if omitted)");
+  pov->add_option("--size", opt.size,
+                  "Image size WxH, or N for NxN (keeps the scene's horizontal field of view)");
+  pov->add_flag("--id", opt.id,
+                "Flat colours encoding primitive number + 1 (24 bits), for ID maps");
+  pov->add_flag("--strict", opt.strict,
+                "Degenerate shapes are errors instead of skipped (as rtm render --strict)");
+  pov->add_flag("--skip-unknown", opt.skip_unknown,
+                "Skip unknown NFF records (as rtm render --skip-unknown)");
   pov->add_option("--normal-interpolation", opt.normal_interpolation,
-                  "flat or barycentric: triangles with vertex normals as smooth_triangle / mesh2 normals (default: "
+                  "flat or barycentric: triangles with vertex normals as smooth_triangle / mesh2 "
+                  "normals (default: "
                   "the default preset's, barycentric; the paper preset's is flat)");
   pov->add_option("--out", opt.out, "The .pov file to write")->required();
   return pov;
@@ -287,7 +304,8 @@ int run_pov(const PovOptions& opt) {
     read.strict = opt.strict;
     read.skip_unknown = opt.skip_unknown;
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, read);
-    for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
+    for (const std::string& w : skipped_warnings(scene, opt.scene))
+      std::cerr << "rtm: warning: " << w << "\n";
     if (!opt.size.empty()) apply_size(opt.size, scene);
     if (!opt.normal_interpolation.empty()) {
       MachineConfig c;  // the key's own parsing and message
@@ -298,10 +316,12 @@ int run_pov(const PovOptions& opt) {
       }
       scene.normal_interpolation = c.normal_interpolation;
     }
-    if (opt.id && scene.primitives.size() >= (1u << 24) - 1) throw UsageError("--id: more primitives than 24 bits can number");
+    if (opt.id && scene.primitives.size() >= (1u << 24) - 1)
+      throw UsageError("--id: more primitives than 24 bits can number");
     write_text_atomically(opt.out, to_pov(scene, opt.id));
-    std::printf("pov: %s (%s%zu primitives, %dx%d)\n", opt.out.c_str(), opt.id ? "ID colours, " : "",
-                scene.primitives.size(), scene.camera.width, scene.camera.height);
+    std::printf("pov: %s (%s%zu primitives, %dx%d)\n", opt.out.c_str(),
+                opt.id ? "ID colours, " : "", scene.primitives.size(), scene.camera.width,
+                scene.camera.height);
     return 0;
   });
 }

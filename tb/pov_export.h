@@ -13,10 +13,10 @@ namespace rtm {
 struct Scene;
 
 struct PovOptions {
-  std::string scene;  ///< empty: the built-in default scene
-  std::string size;   ///< "WxH", empty: the scene's own
-  std::string out;    ///< .pov file to write
-  bool id = false;    ///< flat primitive-ID colours instead of shading
+  std::string scene;          ///< empty: the built-in default scene
+  std::string size;           ///< "WxH", empty: the scene's own
+  std::string out;            ///< .pov file to write
+  bool id = false;            ///< flat primitive-ID colours instead of shading
   bool strict = false;        ///< degenerate shapes are errors (as `rtm render --strict`)
   bool skip_unknown = false;  ///< unknown NFF records are skipped (as `rtm render --skip-unknown`)
   std::string normal_interpolation;  ///< flat or barycentric; empty: the default preset's

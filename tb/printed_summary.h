@@ -19,13 +19,13 @@ struct RenderFiles {
 };
 
 /// After a --reference render.
-void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds, const ReferenceResult& r,
-                             const RenderFiles& files);
+void print_reference_summary(const Scene& s, const Grid& g, double grid_seconds,
+                             const ReferenceResult& r, const RenderFiles& files);
 
 /// After a machine render, compared with the reference.
-void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds, const MachineConfig& c, const MachineResult& m,
-                           const MachineCost& cost,
-                           const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
-                           bool ref_cached, const RenderFiles& files);
+void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds,
+                           const MachineConfig& c, const MachineResult& m, const MachineCost& cost,
+                           const ImageError& err, const ErrorCauses& causes,
+                           const ReferenceResult& ref, bool ref_cached, const RenderFiles& files);
 
 }  // namespace rtm

@@ -55,8 +55,8 @@ constexpr char kMagic[8] = {'r', 't', 'm', 'r', 'e', 'f', '0', '2'};
 constexpr size_t kHeaderBytes = sizeof kMagic + sizeof(uint64_t) + 2 * sizeof(int32_t);
 
 size_t entry_bytes(int w, int h) {
-  return kHeaderBytes + size_t(w) * size_t(h) * (sizeof(Vec3) + sizeof(int32_t)) + sizeof(TraceCounts) +
-         sizeof(double) + sizeof(uint64_t);
+  return kHeaderBytes + size_t(w) * size_t(h) * (sizeof(Vec3) + sizeof(int32_t)) +
+         sizeof(TraceCounts) + sizeof(double) + sizeof(uint64_t);
 }
 
 template <class T>
@@ -71,10 +71,13 @@ T take(const char*& p) {
   return v;
 }
 
-bool is_entry(const fs::path& p) { return p.extension() == ".ref" && p.filename().string()[0] != '.'; }
+bool is_entry(const fs::path& p) {
+  return p.extension() == ".ref" && p.filename().string()[0] != '.';
+}
 
 /// Reads an entry; on any problem returns false with `why` saying what (empty: there is none).
-bool load(const fs::path& p, const Scene& s, uint64_t digest, ReferenceResult& r, std::string& why, struct stat& st) {
+bool load(const fs::path& p, const Scene& s, uint64_t digest, ReferenceResult& r, std::string& why,
+          struct stat& st) {
   why.clear();
   const auto fail = [&](std::string w) {
     why = std::move(w);
@@ -88,12 +91,14 @@ bool load(const fs::path& p, const Scene& s, uint64_t digest, ReferenceResult& r
   } closer{fd};
   char magic[sizeof kMagic] = {};
   if (fstat(fd, &st) != 0 || ::pread(fd, magic, sizeof magic, 0) < 0) return fail("cannot be read");
-  if (std::memcmp(magic, kMagic, sizeof kMagic - 2) == 0 && std::memcmp(magic, kMagic, sizeof kMagic) != 0)
+  if (std::memcmp(magic, kMagic, sizeof kMagic - 2) == 0 &&
+      std::memcmp(magic, kMagic, sizeof kMagic) != 0)
     return fail("is of another format (" + std::string(magic, sizeof magic) + ")");
   const size_t want = entry_bytes(s.camera.width, s.camera.height);
   // The size is checked before anything is allocated, so a damaged header cannot ask for memory.
   if (size_t(st.st_size) != want)
-    return fail("has " + std::to_string(st.st_size) + " bytes, not the " + std::to_string(want) + " of its frame");
+    return fail("has " + std::to_string(st.st_size) + " bytes, not the " + std::to_string(want) +
+                " of its frame");
   std::string data(want, '\0');
   for (size_t got = 0; got < want;) {
     const ssize_t n = ::pread(fd, data.data() + got, want - got, off_t(got));
@@ -126,8 +131,8 @@ uint64_t size_cap() {
     try {
       return parse_byte_size(v);
     } catch (const std::invalid_argument& e) {
-      std::cerr << "rtm: RTM_CACHE_SIZE: " << e.what() << "; using the default " << format_bytes(double(kDefaultCacheCap))
-                << "\n";
+      std::cerr << "rtm: RTM_CACHE_SIZE: " << e.what() << "; using the default "
+                << format_bytes(double(kDefaultCacheCap)) << "\n";
     }
   }
   return kDefaultCacheCap;
@@ -173,7 +178,8 @@ Listing list(const fs::path& dir, bool remove_abandoned) {
 /// temporaries writers left behind.
 void trim(const fs::path& dir, uint64_t cap) {
   Listing l = list(dir, true);
-  std::sort(l.entries.begin(), l.entries.end(), [](const auto& a, const auto& b) { return a.used < b.used; });
+  std::sort(l.entries.begin(), l.entries.end(),
+            [](const auto& a, const auto& b) { return a.used < b.used; });
   std::error_code ec;
   for (const auto& e : l.entries) {
     if (l.bytes <= cap) break;
@@ -192,7 +198,8 @@ void store(const fs::path& p, uint64_t digest, const ReferenceResult& r) {
   put(data, int32_t(r.image.width));
   put(data, int32_t(r.image.height));
   data.append(reinterpret_cast<const char*>(r.image.rgb.data()), r.image.rgb.size() * sizeof(Vec3));
-  data.append(reinterpret_cast<const char*>(r.image.ids.data()), r.image.ids.size() * sizeof(int32_t));
+  data.append(reinterpret_cast<const char*>(r.image.ids.data()),
+              r.image.ids.size() * sizeof(int32_t));
   put(data, r.counts);
   put(data, r.wall_seconds);
   put(data, checksum(data.data(), data.size()));
@@ -214,18 +221,24 @@ void store(const fs::path& p, uint64_t digest, const ReferenceResult& r) {
 
 }  // namespace
 
-ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit,
-                                 const ReferenceWatch& watch, PeFrame frame) {
+ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text,
+                                 bool* hit, const ReferenceWatch& watch, PeFrame frame) {
   std::ostringstream key;
   key.precision(17);
   const Camera& c = s.camera;  // --camera may change it without changing scene_text
-  key << scene_text << "|" << c.width << "x" << c.height << "|eye " << c.eye.x << "," << c.eye.y << "," << c.eye.z
-      << "|at " << c.look_at.x << "," << c.look_at.y << "," << c.look_at.z << "|up " << c.up.x << "," << c.up.y << ","
-      << c.up.z << "|fov " << c.fov_deg << "|grid " << g.n[0] << "," << g.n[1] << ","
-      << g.n[2] << "|t " << s.threshold << "|d " << s.max_depth << "|o " << s.spawn_offset << " " << to_string(s.spawn_policy) << "|normals " << to_string(s.normal_interpolation) << "|frame " << to_string(frame) << "|" << __DATE__ << " "
-      << __TIME__ << "|" << reference_build_id();
-  key << "|refs " << fnv1a(std::string(reinterpret_cast<const char*>(g.items.data()), g.items.size() * sizeof(uint32_t)))
-      << " " << fnv1a(std::string(reinterpret_cast<const char*>(g.start.data()), g.start.size() * sizeof(uint32_t)));
+  key << scene_text << "|" << c.width << "x" << c.height << "|eye " << c.eye.x << "," << c.eye.y
+      << "," << c.eye.z << "|at " << c.look_at.x << "," << c.look_at.y << "," << c.look_at.z
+      << "|up " << c.up.x << "," << c.up.y << "," << c.up.z << "|fov " << c.fov_deg << "|grid "
+      << g.n[0] << "," << g.n[1] << "," << g.n[2] << "|t " << s.threshold << "|d " << s.max_depth
+      << "|o " << s.spawn_offset << " " << to_string(s.spawn_policy) << "|normals "
+      << to_string(s.normal_interpolation) << "|frame " << to_string(frame) << "|" << __DATE__
+      << " " << __TIME__ << "|" << reference_build_id();
+  key << "|refs "
+      << fnv1a(std::string(reinterpret_cast<const char*>(g.items.data()),
+                           g.items.size() * sizeof(uint32_t)))
+      << " "
+      << fnv1a(std::string(reinterpret_cast<const char*>(g.start.data()),
+                           g.start.size() * sizeof(uint32_t)));
   const fs::path dir = cache_dir();
   char name[32];
   std::snprintf(name, sizeof name, "%016llx.ref", (unsigned long long)fnv1a(key.str()));
@@ -244,8 +257,10 @@ ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::strin
     if (!why.empty()) {
       // Reported once: the entry is deleted (unless another writer has replaced it meanwhile).
       struct stat now {};
-      if (::stat(p.c_str(), &now) == 0 && now.st_ino == st.st_ino && now.st_dev == st.st_dev) ::unlink(p.c_str());
-      std::cerr << "rtm: reference cache: " << p.string() << " " << why << "; deleted, rendering the reference again\n";
+      if (::stat(p.c_str(), &now) == 0 && now.st_ino == st.st_ino && now.st_dev == st.st_dev)
+        ::unlink(p.c_str());
+      std::cerr << "rtm: reference cache: " << p.string() << " " << why
+                << "; deleted, rendering the reference again\n";
     }
   }
   if (hit) *hit = false;
@@ -263,10 +278,12 @@ int run_cache(const std::string& action) {
   if (action == "info") {
     const Listing l = list(dir, false);
     std::cout << "reference cache: " << dir.string() << "\n"
-              << "entries: " << l.entries.size() << ", " << format_bytes(double(l.bytes)) << " (" << l.bytes
-              << " bytes)\n"
-              << "size cap: " << format_bytes(double(size_cap())) << " (RTM_CACHE_SIZE; least recently used go first)\n"
-              << "partial files: " << l.partials << " (" << l.abandoned << " left by writers that are gone)\n";
+              << "entries: " << l.entries.size() << ", " << format_bytes(double(l.bytes)) << " ("
+              << l.bytes << " bytes)\n"
+              << "size cap: " << format_bytes(double(size_cap()))
+              << " (RTM_CACHE_SIZE; least recently used go first)\n"
+              << "partial files: " << l.partials << " (" << l.abandoned
+              << " left by writers that are gone)\n";
     return 0;
   }
   if (action == "clean") {
@@ -278,11 +295,13 @@ int run_cache(const std::string& action) {
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
       std::error_code e2;
       const std::string n = it->path().filename().string();
-      if (n.find(".partial-") != std::string::npos && abandoned_partial(n, fs::last_write_time(it->path(), e2)) && !e2)
+      if (n.find(".partial-") != std::string::npos &&
+          abandoned_partial(n, fs::last_write_time(it->path(), e2)) && !e2)
         partials += fs::remove(it->path(), e2);
     }
-    std::cout << "removed " << removed << (removed == 1 ? " entry (" : " entries (") << format_bytes(double(l.bytes))
-              << ") and " << partials << (partials == 1 ? " partial file" : " partial files") << " from " << dir.string()
+    std::cout << "removed " << removed << (removed == 1 ? " entry (" : " entries (")
+              << format_bytes(double(l.bytes)) << ") and " << partials
+              << (partials == 1 ? " partial file" : " partial files") << " from " << dir.string()
               << "\n";
     return 0;
   }

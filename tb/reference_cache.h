@@ -18,8 +18,8 @@ namespace rtm {
 /// each store the least recently used entries go until the cache holds at most $RTM_CACHE_SIZE
 /// (default kDefaultCacheCap), and temporaries left by writers that are gone are removed. A
 /// render the watch stops (render_reference) is not stored.
-ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text, bool* hit,
-                                 const ReferenceWatch& watch, PeFrame frame);
+ReferenceResult cached_reference(const Scene& s, const Grid& g, const std::string& scene_text,
+                                 bool* hit, const ReferenceWatch& watch, PeFrame frame);
 
 constexpr uint64_t kDefaultCacheCap = uint64_t(2) << 30;  ///< 2 GiB: about 1100 entries of 256x256
 

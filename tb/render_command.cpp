@@ -76,9 +76,12 @@ int run_render(const RenderOptions& opt) {
     if (!opt.id_map.empty() && !is_exr_path(opt.id_map))
       throw UsageError("--id-map: " + opt.id_map + ": must be an .exr file");
     if (!opt.error_map.empty() && opt.reference)
-      throw UsageError("--error-map: it explains the machine's image against the reference; not with --reference");
+      throw UsageError(
+          "--error-map: it explains the machine's image against the reference; not with "
+          "--reference");
     if (!opt.error_map.empty() && !is_exr_path(opt.error_map))
-      throw UsageError("--error-map: " + opt.error_map + ": must be an .exr file (its picture is written beside it as .png)");
+      throw UsageError("--error-map: " + opt.error_map +
+                       ": must be an .exr file (its picture is written beside it as .png)");
     // The PE engines' threads start before the image library loads: one started during the load
     // would wait for it. A configuration that is not valid is read again below and reported
     // there, after the scene's errors, as before.
@@ -98,7 +101,8 @@ int run_render(const RenderOptions& opt) {
     struct LoadFinished {
       ~LoadFinished() { finish_loading_image_library(); }
     } load_finished;
-    // A mesh of a million triangles takes seconds to load and to voxelise: a line shows how it goes.
+    // A mesh of a million triangles takes seconds to load and to voxelise: a line shows how it
+    // goes.
     StepLine steps(!opt.quiet && isatty(2));
     const StepProgress progress = std::ref(steps);
     const auto loading = std::chrono::steady_clock::now();
@@ -107,15 +111,19 @@ int run_render(const RenderOptions& opt) {
     read.skip_unknown = opt.skip_unknown;
     read.progress = progress;
     Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene, read);
-    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loading).count();
+    const double load_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - loading).count();
     steps.erase();
-    for (const std::string& w : skipped_warnings(scene, opt.scene)) std::cerr << "rtm: warning: " << w << "\n";
-    std::string scene_text = opt.scene.empty() ? std::string(kDefaultSceneYaml) : read_text(opt.scene);
+    for (const std::string& w : skipped_warnings(scene, opt.scene))
+      std::cerr << "rtm: warning: " << w << "\n";
+    std::string scene_text =
+        opt.scene.empty() ? std::string(kDefaultSceneYaml) : read_text(opt.scene);
     // The mesh files a YAML scene includes are as much the scene as its own text (the reference
     // cache's key and the stats' scene_fnv1a).
     std::set<std::string> included;
     for (const SourceLocation& o : scene.origins)
-      if (!opt.scene.empty() && o.file != opt.scene && included.insert(o.file).second) scene_text += "\n" + read_text(o.file);
+      if (!opt.scene.empty() && o.file != opt.scene && included.insert(o.file).second)
+        scene_text += "\n" + read_text(o.file);
     apply_scene_options(opt, scene);
     validate(scene);
     // The reference alone reads the configuration too: its shading follows the machine's
@@ -124,20 +132,25 @@ int run_render(const RenderOptions& opt) {
     scene.normal_interpolation = config.normal_interpolation;
     MachineOptions mopt = opt.reference ? MachineOptions{} : machine_options(opt, config);
     if (engine_pool) mopt.pool = &*engine_pool;
-    if (const int idle = opt.reference ? 0 : pes_without_pixels(scene.camera.width, scene.camera.height, config))
-      std::cerr << "rtm: warning: " << idle << " of " << config.pes << " PEs have no pixels to render (partition "
-                << to_string(config.partition)
-                << (config.partition == Partition::Blocks ? ", tile " + std::to_string(config.tile) : std::string())
-                << ", " << scene.camera.width << "x" << scene.camera.height << " pixels): they stay idle\n";
+    if (const int idle =
+            opt.reference ? 0 : pes_without_pixels(scene.camera.width, scene.camera.height, config))
+      std::cerr << "rtm: warning: " << idle << " of " << config.pes
+                << " PEs have no pixels to render (partition " << to_string(config.partition)
+                << (config.partition == Partition::Blocks ? ", tile " + std::to_string(config.tile)
+                                                          : std::string())
+                << ", " << scene.camera.width << "x" << scene.camera.height
+                << " pixels): they stay idle\n";
     if (!mopt.vcd.empty() && config.timing == Timing::Fast)
-      std::cerr << "rtm: warning: --vcd in fast timing records the FIFOs and each unit's busy flag and ray; the MAC "
+      std::cerr << "rtm: warning: --vcd in fast timing records the FIFOs and each unit's busy flag "
+                   "and ray; the MAC "
                    "pipeline's signals (m1_*, m2_*, acc, product_counter) need --timing clocked\n";
     mopt.max_memory = budget;
 
     RenderFiles files;
     files.image = opt.out.empty() ? "out/" + scene.name + ".png" : opt.out;
-    files.stats =
-        opt.stats.empty() ? (std::filesystem::path(files.image).replace_extension(".json")).string() : opt.stats;
+    files.stats = opt.stats.empty()
+                      ? (std::filesystem::path(files.image).replace_extension(".json")).string()
+                      : opt.stats;
     files.id_map = opt.id_map;
     if (!opt.error_map.empty()) {
       files.error_map = opt.error_map;
@@ -155,27 +168,30 @@ int run_render(const RenderOptions& opt) {
     check_writable("--vcd", files.gtkw);
     if (!opt.reference) check_writable("--event-log", opt.event_log);
     // The statistics are written last: an image without them is from a run that did not finish.
-    clear_outputs({files.image, files.stats, files.id_map, files.error_map, files.error_picture, files.vcd, files.gtkw,
-                   opt.reference ? "" : opt.event_log});
+    clear_outputs({files.image, files.stats, files.id_map, files.error_map, files.error_picture,
+                   files.vcd, files.gtkw, opt.reference ? "" : opt.event_log});
 
     const auto t0 = std::chrono::steady_clock::now();
     // One thread: a thread started while the image library loads waits for the dynamic loader's
     // lock until the load is done (measured: 0.3 s instead of 0.05 s for balls-4 with two).
     const Grid grid = build_grid(scene.primitives, scene.grid, 1, progress);
-    const double grid_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double grid_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     steps.erase();
     nlohmann::json stats = run_json(opt.command_line, opt.scene, scene_text);
     stats.update(scene_json(scene, grid, grid_seconds));
     stats["load_seconds"] = load_seconds;
 
     // Before any frame-sized allocation: what it will need, against the budget.
-    check_memory_budget(estimate_memory(scene, grid, opt.reference ? nullptr : &config, !opt.vcd.empty(), opt.threads), budget,
-                        !opt.max_memory.empty());
+    check_memory_budget(estimate_memory(scene, grid, opt.reference ? nullptr : &config,
+                                        !opt.vcd.empty(), opt.threads),
+                        budget, !opt.max_memory.empty());
     if (const double tree = rays_per_primary_bound(scene); tree > 1e6)
       std::cerr << "rtm: note: one primary ray can grow into up to " << std::setprecision(3) << tree
                 << " rays (max_depth " << scene.max_depth << ", threshold " << scene.threshold
                 << "): the render may not finish; it stops if its ray trees "
-                << (opt.reference ? "" : "outgrow --max-memory or ") << "pass --max-rays, and Ctrl-C stops it cleanly\n";
+                << (opt.reference ? "" : "outgrow --max-memory or ")
+                << "pass --max-rays, and Ctrl-C stops it cleanly\n";
     // The reference, alone or after the machine, is watched as the simulation is.
     const ReferenceWatch watch{!opt.quiet && isatty(2), budget, uint64_t(opt.max_rays)};
 
@@ -198,7 +214,8 @@ int run_render(const RenderOptions& opt) {
       return 3;
     }
     bool cache_hit = false;
-    const ReferenceResult ref = cached_reference(scene, grid, scene_text, &cache_hit, watch, config.pe_frame);
+    const ReferenceResult ref =
+        cached_reference(scene, grid, scene_text, &cache_hit, watch, config.pe_frame);
     ImageError err;
     try {
       err = compare_images(m.image, ref.image);
@@ -218,12 +235,15 @@ int run_render(const RenderOptions& opt) {
       write_channels(files.error_map, error_map_channels(causes));
       write_image(files.error_picture, error_map_picture(causes, m.image));
     }
-    const MachineCost cost = frame_cost(m, config, uint64_t(scene.camera.width) * uint64_t(scene.camera.height),
-                                        scene.primitives.size(), technology(config.tech));
+    const MachineCost cost =
+        frame_cost(m, config, uint64_t(scene.camera.width) * uint64_t(scene.camera.height),
+                   scene.primitives.size(), technology(config.tech));
     stats.update(machine_render_json(m, config, cost, err, causes, ref, cache_hit));
     stats["grid_build_seconds"] = grid_seconds;  // beside the model's wall_seconds
     write_text_atomically(files.stats, stats.dump(2) + "\n");
-    if (!opt.quiet) print_machine_summary(scene, grid, grid_seconds, config, m, cost, err, causes, ref, cache_hit, files);
+    if (!opt.quiet)
+      print_machine_summary(scene, grid, grid_seconds, config, m, cost, err, causes, ref, cache_hit,
+                            files);
     return 0;
   });
 }

@@ -51,12 +51,16 @@ std::array<int, 3> parse_grid(const std::string& text) {
 void check_writable(const char* option, const std::string& path) {
   namespace fs = std::filesystem;
   if (path.empty()) return;
-  const fs::path folder = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  const fs::path folder =
+      fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
   std::error_code ec, ignored;
   fs::create_directories(folder, ec);
-  if (!ec && !fs::is_directory(fs::status(folder, ignored))) ec = std::make_error_code(std::errc::not_a_directory);
-  if (!ec && fs::is_directory(fs::status(path, ignored))) ec = std::make_error_code(std::errc::is_a_directory);
-  if (!ec && access(folder.c_str(), W_OK) != 0) ec = std::error_code(errno, std::generic_category());
+  if (!ec && !fs::is_directory(fs::status(folder, ignored)))
+    ec = std::make_error_code(std::errc::not_a_directory);
+  if (!ec && fs::is_directory(fs::status(path, ignored)))
+    ec = std::make_error_code(std::errc::is_a_directory);
+  if (!ec && access(folder.c_str(), W_OK) != 0)
+    ec = std::error_code(errno, std::generic_category());
   if (ec) throw UsageError(std::string(option) + ": " + path + ": cannot write: " + ec.message());
 }
 
@@ -66,7 +70,8 @@ void apply_size(const std::string& size, Scene& scene) {
   if (!std::regex_match(size, m, std::regex(R"((\d{1,6})(?:x(\d{1,6}))?)")))
     throw UsageError("--size: expected WxH (e.g. 320x240) or N (NxN), got '" + size + "'");
   const int w = std::stoi(m[1]), h = m[2].matched ? std::stoi(m[2]) : w;
-  if (w < 1 || h < 1) throw UsageError("--size: the image must have at least one pixel, got '" + size + "'");
+  if (w < 1 || h < 1)
+    throw UsageError("--size: the image must have at least one pixel, got '" + size + "'");
   try {
     set_resolution(scene, w, h);
   } catch (const std::invalid_argument& e) {
@@ -163,7 +168,8 @@ Technology technology(const std::string& spec) {
 MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c) {
   MachineOptions m;
   m.vcd = opt.vcd;
-  if (!opt.vcd.empty()) m.gtkw = std::filesystem::path(vcd_file(opt.vcd)).replace_extension(".gtkw").string();
+  if (!opt.vcd.empty())
+    m.gtkw = std::filesystem::path(vcd_file(opt.vcd)).replace_extension(".gtkw").string();
   m.event_log = opt.event_log;
   m.progress = !opt.quiet;
   m.max_rays = uint64_t(opt.max_rays);
@@ -171,8 +177,10 @@ MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c)
   if (!opt.vcd_window.empty()) {
     std::smatch w;
     if (!std::regex_match(opt.vcd_window, w, std::regex(R"((?:pe(\d{1,6})\+)?(\d*):(\d*))")))
-      throw UsageError("--vcd-window: expected FROM:TO in cycles, or peN+FROM:TO in cycles after PE N's first "
-                       "primary ray, got '" + opt.vcd_window + "'");
+      throw UsageError(
+          "--vcd-window: expected FROM:TO in cycles, or peN+FROM:TO in cycles after PE N's first "
+          "primary ray, got '" +
+          opt.vcd_window + "'");
     try {
       if (w[2].length()) m.vcd_from_cycle = std::stoull(w[2]);
       if (w[3].length()) m.vcd_to_cycle = std::stoull(w[3]);
@@ -183,9 +191,10 @@ MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c)
     if (w[1].length()) {
       m.vcd_anchor_pe = std::stoi(w[1]);
       if (m.vcd_anchor_pe >= c.pes)
-        throw UsageError("--vcd-window: '" + opt.vcd_window + "' names PE " + w[1].str() + ", but there " +
-                         (c.pes == 1 ? "is 1 PE" : "are " + std::to_string(c.pes) + " PEs") + " (pe0..pe" +
-                         std::to_string(c.pes - 1) + ")");
+        throw UsageError("--vcd-window: '" + opt.vcd_window + "' names PE " + w[1].str() +
+                         ", but there " +
+                         (c.pes == 1 ? "is 1 PE" : "are " + std::to_string(c.pes) + " PEs") +
+                         " (pe0..pe" + std::to_string(c.pes - 1) + ")");
     }
   }
   if (!opt.vcd_pes.empty()) {
@@ -193,7 +202,8 @@ MachineOptions machine_options(const RenderOptions& opt, const MachineConfig& c)
     std::stringstream s(opt.vcd_pes);
     for (std::string item; std::getline(s, item, ',');) {
       if (!std::regex_match(item, std::regex(R"(\d{1,6})")) || std::stoi(item) >= c.pes)
-        throw UsageError("--vcd-pes: '" + item + "' is not a PE number below " + std::to_string(c.pes));
+        throw UsageError("--vcd-pes: '" + item + "' is not a PE number below " +
+                         std::to_string(c.pes));
       m.vcd_pes.push_back(std::stoi(item));
     }
   }

@@ -67,7 +67,8 @@ nlohmann::json error_json(const ImageError& e) {
 nlohmann::json causes_json(const ErrorCauses& e) {
   nlohmann::json by_cause = nlohmann::json::object(), by_shape = nlohmann::json::object(),
                  partings = nlohmann::json::array();
-  for (int k = 1; k < kErrorCauses; ++k) by_cause[error_cause_name(ErrorCause(k))] = e.by_cause[size_t(k)];
+  for (int k = 1; k < kErrorCauses; ++k)
+    by_cause[error_cause_name(ErrorCause(k))] = e.by_cause[size_t(k)];
   for (int k = 0; k < kShapeKinds; ++k)
     if (e.by_shape[size_t(k)]) by_shape[shape_name(ShapeKind(k))] = e.by_shape[size_t(k)];
   for (const CauseCount& c : e.counts)
@@ -86,11 +87,15 @@ nlohmann::json causes_json(const ErrorCauses& e) {
 nlohmann::json config_value(const ConfigKey& k, const MachineConfig& c) {
   const std::string v = k.get(c);
   switch (k.type) {
-    case ConfigKey::Type::Integer: return std::stoll(v);
-    case ConfigKey::Type::Number: return std::stod(v);
-    case ConfigKey::Type::Flag: return v == "true";
+    case ConfigKey::Type::Integer:
+      return std::stoll(v);
+    case ConfigKey::Type::Number:
+      return std::stod(v);
+    case ConfigKey::Type::Flag:
+      return v == "true";
     case ConfigKey::Type::Choice:
-    case ConfigKey::Type::Text: break;
+    case ConfigKey::Type::Text:
+      break;
   }
   return v;
 }
@@ -124,7 +129,9 @@ nlohmann::json interconnect_json(const MachineResult& m, const MachineConfig& c)
 
 namespace {
 
-double rate(uint64_t hits, uint64_t misses) { return hits + misses == 0 ? 1.0 : double(hits) / double(hits + misses); }
+double rate(uint64_t hits, uint64_t misses) {
+  return hits + misses == 0 ? 1.0 : double(hits) / double(hits + misses);
+}
 
 /// The local memory of the PE that needs the most (all PEs hold the same scene copy), and what
 /// every PE's memory did, summed (docs/memory.md).
@@ -139,8 +146,10 @@ nlohmann::json memory_json(const MachineResult& r, const MachineConfig& c) {
   for (const MemoryUse& u : r.memory_use) {
     for (const MemoryUse::Requester& q : u.requesters) {
       nlohmann::json& j = requesters[q.name];
-      for (auto [key, v] : {std::pair<const char*, uint64_t>{"requests", q.requests}, {"bytes", q.bytes},
-                            {"stall_cycles", q.stall_cycles}, {"wait_cycles", q.wait_cycles},
+      for (auto [key, v] : {std::pair<const char*, uint64_t>{"requests", q.requests},
+                            {"bytes", q.bytes},
+                            {"stall_cycles", q.stall_cycles},
+                            {"wait_cycles", q.wait_cycles},
                             {"access_cycles", q.access_cycles}})
         j[key] = (j.contains(key) ? j[key].get<uint64_t>() : 0) + v;
     }
@@ -157,16 +166,24 @@ nlohmann::json memory_json(const MachineResult& r, const MachineConfig& c) {
   }
   nlohmann::json port_json = nlohmann::json::array();
   const double pe_cycles = double(r.cycles) * double(c.pes);
-  for (uint64_t busy : ports) port_json.push_back({{"busy_cycles", busy}, {"utilisation", pe_cycles > 0 ? double(busy) / pe_cycles : 0.0}});
+  for (uint64_t busy : ports)
+    port_json.push_back(
+        {{"busy_cycles", busy}, {"utilisation", pe_cycles > 0 ? double(busy) / pe_cycles : 0.0}});
   uint64_t wait = 0, access = 0;
   for (const MemoryUse& u : r.memory_use) wait += u.wait_cycles(), access += u.access_cycles();
   const nlohmann::json cache =
-      c.voxel_cache_bytes > 0
-          ? nlohmann::json{{"bytes", c.voxel_cache_bytes}, {"hits", sum.cache_hits}, {"misses", sum.cache_misses},
-                           {"line_fills", sum.cache_line_fills}, {"hit_rate", rate(sum.cache_hits, sum.cache_misses)}}
-          : nlohmann::json(nullptr);
-  return {{"capacity_bytes", m.capacity}, {"fullest_pe", fullest},     {"sections_bytes", sections},
-          {"used_bytes", m.used},         {"spill_area_bytes", m.spill_bytes()}, {"spill_area_rays", m.spill_rays()},
+      c.voxel_cache_bytes > 0 ? nlohmann::json{{"bytes", c.voxel_cache_bytes},
+                                               {"hits", sum.cache_hits},
+                                               {"misses", sum.cache_misses},
+                                               {"line_fills", sum.cache_line_fills},
+                                               {"hit_rate", rate(sum.cache_hits, sum.cache_misses)}}
+                              : nlohmann::json(nullptr);
+  return {{"capacity_bytes", m.capacity},
+          {"fullest_pe", fullest},
+          {"sections_bytes", sections},
+          {"used_bytes", m.used},
+          {"spill_area_bytes", m.spill_bytes()},
+          {"spill_area_rays", m.spill_rays()},
           {"spill_record_bytes", kSpillRecordBytes},
           {"ideal", r.memory_use.empty() || r.memory_use.front().ideal},
           {"requesters", requesters},
@@ -176,17 +193,25 @@ nlohmann::json memory_json(const MachineResult& r, const MachineConfig& c) {
           {"wait_cycles", wait},
           {"access_cycles", access},
           {"coefficient_ram",
-           {{"capacity_primitives", c.mac_ram_primitives}, {"hits", sum.coef_hits}, {"misses", sum.coef_misses},
-            {"evictions", sum.coef_evictions}, {"hit_rate", rate(sum.coef_hits, sum.coef_misses)}}},
+           {{"capacity_primitives", c.mac_ram_primitives},
+            {"hits", sum.coef_hits},
+            {"misses", sum.coef_misses},
+            {"evictions", sum.coef_evictions},
+            {"hit_rate", rate(sum.coef_hits, sum.coef_misses)}}},
           {"voxel_cache", cache}};
 }
 
 /// One PE's memory traffic.
 nlohmann::json memory_access_json(const MemoryUse& u) {
   uint64_t requests = 0, bytes = 0, stall = 0;
-  for (const MemoryUse::Requester& q : u.requesters) requests += q.requests, bytes += q.bytes, stall += q.stall_cycles;
-  return {{"requests", requests}, {"bytes", bytes}, {"stall_cycles", stall}, {"wait_cycles", u.wait_cycles()},
-          {"port_busy_cycles", u.port_busy_cycles}, {"bank_conflicts", u.bank_conflicts},
+  for (const MemoryUse::Requester& q : u.requesters)
+    requests += q.requests, bytes += q.bytes, stall += q.stall_cycles;
+  return {{"requests", requests},
+          {"bytes", bytes},
+          {"stall_cycles", stall},
+          {"wait_cycles", u.wait_cycles()},
+          {"port_busy_cycles", u.port_busy_cycles},
+          {"bank_conflicts", u.bank_conflicts},
           {"coefficient_ram_misses", u.coef_misses}};
 }
 
@@ -194,13 +219,16 @@ nlohmann::json memory_access_json(const MemoryUse& u) {
 
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   auto cyc = [&](const sc_core::sc_time& t) { return whole_cycles(t, c); };
-  auto ticks = [&](uint64_t t) { return cyc(sc_core::sc_time::from_value(t)); };  // PeCounters' times
+  auto ticks = [&](uint64_t t) {
+    return cyc(sc_core::sc_time::from_value(t));
+  };  // PeCounters' times
   const FrameStats& s = m.stats;
   nlohmann::json per_pe = nlohmann::json::array();
   for (size_t i = 0; i < m.per_pe.size(); ++i) {
     const PeCounters& p = m.per_pe[i];
     nlohmann::json search_units = nlohmann::json::array();
-    for (const SearchUnitShares& u : s.search_units[i]) search_units.push_back({{"busy", u.busy}, {"issue", u.issue}});
+    for (const SearchUnitShares& u : s.search_units[i])
+      search_units.push_back({{"busy", u.busy}, {"issue", u.issue}});
     per_pe.push_back({{"cycles", ticks(p.finish)},
                       {"start_cycle", ticks(p.start)},
                       {"credit_stall_cycles", ticks(p.credit_stall)},
@@ -216,63 +244,71 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"search_units", search_units}});
   }
   nlohmann::json fifo;
-  for (const FifoSummary& f : m.fifos) fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
+  for (const FifoSummary& f : m.fifos)
+    fifo[f.kind] = {{"depth", f.depth}, {"peak", f.peak}, {"mean", f.mean}};
   nlohmann::json config;
   for (const ConfigKey& k : config_keys()) config[k.name] = config_value(k, c);
-  return {{"pes", c.pes},
-          {"timing", to_string(c.timing)},
-          {"precision", to_string(c.precision)},
-          {"partition", to_string(c.partition)},
-          {"search_units", c.search_units},
-          {"pe_simulation",
-           {{"engine", m.engine_unsupported.empty()},
-            {"modules_because", m.engine_unsupported.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.engine_unsupported)}}},
-          {"cycles", m.cycles},
-          {"sim_time_ns", sim_time_ns(m)},
-          {"mac", {{"products", m.mac_products}, {"busy_cycles", m.mac_busy_cycles}, {"issue_cycles", m.mac_issue_cycles}}},
-          {"spills", m.spills},
-          {"host",
-           {{"voxels_done_cycle", cyc(m.host.voxels)},
-            {"rays_done_cycle", cyc(m.host.rays)},
-            {"work_cycles", cyc(m.host.work)},
-            {"transfer_done_cycle", cyc(m.host.transfer)},
-            {"pes_done_cycle", cyc(m.host.pes_done)},
-            {"gathered_cycle", cyc(m.host.gathered)},
-            {"link_busy_cycles", cyc(m.host.link_busy)},
-            {"scene_bytes", m.scene_bytes}}},
-          {"interconnect", interconnect_json(m, c)},
-          {"memory", memory_json(m, c)},
-          {"utilisation", utilisation_json(s.utilisation)},
-          {"pe_utilisation", pe_utilisation_json(s.profile)},
-          {"pe_issue", utilisation_json(s.profile.issue)},
-          {"pe_occupancy", utilisation_json(s.profile.occupancy)},
-          {"pe_starved", utilisation_json(s.profile.starved)},
-          {"phases", phases_json(s.profile)},
-          {"load_imbalance", s.profile.imbalance},
-          {"mac_bound_cycles", s.mac_bound_cycles},
-          {"cycles_over_mac_bound", s.cycles_over_mac_bound},
-          {"bottleneck", s.bottleneck.name},
-          {"bottleneck_reason", s.bottleneck.reason},
-          {"left_out",
-           {{"units", m.left_out_units},
-            {"mac_schedule", to_string(c.mac_schedule)},
-            {"mac_products_saved", m.mac_products_saved},
-            {"mac_cycles_saved", m.mac_cycles_saved},
-            {"scene_needs",
-             {{"shadow_rays", m.needs.shadow_rays},
-              {"reflected_rays", m.needs.reflected_rays},
-              {"transmitted_rays", m.needs.transmitted_rays},
-              {"background", m.needs.background},
-              {"deepest_generation", m.needs.deepest_generation},
-              {"clipped_primitives", m.needs.clipped_primitives},
-              {"mac_products_per_test_full", kMacProducts},
-              {"mac_products_per_test_sparse",
-               m.needs.mac_ops.empty() ? 0.0 : double(m.needs.products_sparse) / double(m.needs.mac_ops.size())},
-              {"grid", m.needs.grid}}}}},
-          {"per_pe", per_pe},
-          {"fifo", fifo},
-          {"preset", c.preset},
-          {"config", config}};
+  return {
+      {"pes", c.pes},
+      {"timing", to_string(c.timing)},
+      {"precision", to_string(c.precision)},
+      {"partition", to_string(c.partition)},
+      {"search_units", c.search_units},
+      {"pe_simulation",
+       {{"engine", m.engine_unsupported.empty()},
+        {"modules_because", m.engine_unsupported.empty() ? nlohmann::json(nullptr)
+                                                         : nlohmann::json(m.engine_unsupported)}}},
+      {"cycles", m.cycles},
+      {"sim_time_ns", sim_time_ns(m)},
+      {"mac",
+       {{"products", m.mac_products},
+        {"busy_cycles", m.mac_busy_cycles},
+        {"issue_cycles", m.mac_issue_cycles}}},
+      {"spills", m.spills},
+      {"host",
+       {{"voxels_done_cycle", cyc(m.host.voxels)},
+        {"rays_done_cycle", cyc(m.host.rays)},
+        {"work_cycles", cyc(m.host.work)},
+        {"transfer_done_cycle", cyc(m.host.transfer)},
+        {"pes_done_cycle", cyc(m.host.pes_done)},
+        {"gathered_cycle", cyc(m.host.gathered)},
+        {"link_busy_cycles", cyc(m.host.link_busy)},
+        {"scene_bytes", m.scene_bytes}}},
+      {"interconnect", interconnect_json(m, c)},
+      {"memory", memory_json(m, c)},
+      {"utilisation", utilisation_json(s.utilisation)},
+      {"pe_utilisation", pe_utilisation_json(s.profile)},
+      {"pe_issue", utilisation_json(s.profile.issue)},
+      {"pe_occupancy", utilisation_json(s.profile.occupancy)},
+      {"pe_starved", utilisation_json(s.profile.starved)},
+      {"phases", phases_json(s.profile)},
+      {"load_imbalance", s.profile.imbalance},
+      {"mac_bound_cycles", s.mac_bound_cycles},
+      {"cycles_over_mac_bound", s.cycles_over_mac_bound},
+      {"bottleneck", s.bottleneck.name},
+      {"bottleneck_reason", s.bottleneck.reason},
+      {"left_out",
+       {{"units", m.left_out_units},
+        {"mac_schedule", to_string(c.mac_schedule)},
+        {"mac_products_saved", m.mac_products_saved},
+        {"mac_cycles_saved", m.mac_cycles_saved},
+        {"scene_needs",
+         {{"shadow_rays", m.needs.shadow_rays},
+          {"reflected_rays", m.needs.reflected_rays},
+          {"transmitted_rays", m.needs.transmitted_rays},
+          {"background", m.needs.background},
+          {"deepest_generation", m.needs.deepest_generation},
+          {"clipped_primitives", m.needs.clipped_primitives},
+          {"mac_products_per_test_full", kMacProducts},
+          {"mac_products_per_test_sparse",
+           m.needs.mac_ops.empty()
+               ? 0.0
+               : double(m.needs.products_sparse) / double(m.needs.mac_ops.size())},
+          {"grid", m.needs.grid}}}}},
+      {"per_pe", per_pe},
+      {"fifo", fifo},
+      {"preset", c.preset},
+      {"config", config}};
 }
 
 constexpr double kJoulesPerPj = 1e-12;
@@ -289,10 +325,13 @@ nlohmann::json cost_json(const MachineCost& m) {
         const bool integer = Op(o) == Op::IntAdd || Op(o) == Op::IntCompare;
         if (integer && p == Precision::Fp64) continue;
         const uint64_t n = i.elements.of(Op(o), p);
-        if (n) elements[integer ? std::string(op_name(Op(o))) : std::string(op_name(Op(o))) + "_" + to_string(p)] = n;
+        if (n)
+          elements[integer ? std::string(op_name(Op(o)))
+                           : std::string(op_name(Op(o))) + "_" + to_string(p)] = n;
       }
     nlohmann::json srams = nlohmann::json::array();
-    for (const Sram& r : i.srams) srams.push_back({{"name", r.name}, {"bytes", r.bytes}, {"word_bits", r.word_bits}});
+    for (const Sram& r : i.srams)
+      srams.push_back({{"name", r.name}, {"bytes", r.bytes}, {"word_bits", r.word_bits}});
     units[unit_name(i.kind)] = {{"units", i.units},
                                 {"elements", elements},
                                 {"register_bits", i.register_bits},
@@ -327,14 +366,16 @@ nlohmann::json cost_json(const MachineCost& m) {
 /// second per mm², frames per joule, and energy times delay.
 nlohmann::json cost_summary_json(const MachineCost& m) {
   const double e = m.energy_pj * kJoulesPerPj, a = m.area_mm2(), frame_seconds = m.frame_seconds;
-  nlohmann::json j = {{"area_mm2", a},
-          {"energy_j", e},
-          {"power_w", m.power_w},
-          {"frames_per_s_per_mm2", frame_seconds > 0 && a > 0 ? 1 / frame_seconds / a : 0.0},
-          {"frames_per_j", e > 0 ? 1 / e : 0.0},
-          {"energy_delay", e * frame_seconds}};
+  nlohmann::json j = {
+      {"area_mm2", a},
+      {"energy_j", e},
+      {"power_w", m.power_w},
+      {"frames_per_s_per_mm2", frame_seconds > 0 && a > 0 ? 1 / frame_seconds / a : 0.0},
+      {"frames_per_j", e > 0 ? 1 / e : 0.0},
+      {"energy_delay", e * frame_seconds}};
   // The frame's energy split: each unit's dynamic energy, the local memories', the link's, leakage.
-  for (const UnitCost& u : m.units) j[std::string("energy_") + unit_name(u.inventory.kind) + "_j"] = u.dynamic_pj * kJoulesPerPj;
+  for (const UnitCost& u : m.units)
+    j[std::string("energy_") + unit_name(u.inventory.kind) + "_j"] = u.dynamic_pj * kJoulesPerPj;
   j["energy_local_memory_j"] = m.memory_dynamic_pj * kJoulesPerPj;
   j["energy_link_j"] = m.link_dynamic_pj * kJoulesPerPj;
   j["energy_leakage_j"] = m.leakage_pj * kJoulesPerPj;
@@ -348,7 +389,8 @@ void flatten_into(nlohmann::json& to, const std::string& prefix, const nlohmann:
 
 /// One flat object of the run's headline figures: exactly the metric columns of a sweep's
 /// results.csv (scripts/rtmsweep reads its metrics from it alone).
-nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, const MachineCost& cost, const ImageError& err) {
+nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, const MachineCost& cost,
+                            const ImageError& err) {
   const FrameStats& s = m.stats;
   nlohmann::json j = {{"cycles", m.cycles},
                       {"wall_seconds", m.wall_seconds},
@@ -391,15 +433,18 @@ nlohmann::json run_json(const std::vector<std::string>& command_line, const std:
 }
 
 nlohmann::json scene_json(const Scene& s, const Grid& g, double grid_seconds) {
-  nlohmann::json skipped = nlohmann::json::array();  // what the reader left out (docs/scene-format.md)
+  nlohmann::json skipped =
+      nlohmann::json::array();  // what the reader left out (docs/scene-format.md)
   for (const SkippedRecords& k : s.skipped)
-    skipped.push_back({{"kind", k.kind}, {"reason", k.reason}, {"count", k.count}, {"lines", k.lines}});
+    skipped.push_back(
+        {{"kind", k.kind}, {"reason", k.reason}, {"count", k.count}, {"lines", k.lines}});
   return {{"scene", s.name},
           {"skipped", skipped},
           {"width", s.camera.width},
           {"height", s.camera.height},
           {"primitives", s.primitives.size()},
-          {"grid", {{"resolution", g.n}, {"references", g.items.size()}, {"build_seconds", grid_seconds}}},
+          {"grid",
+           {{"resolution", g.n}, {"references", g.items.size()}, {"build_seconds", grid_seconds}}},
           {"spawn", {{"offset", s.spawn_offset}, {"policy", to_string(s.spawn_policy)}}}};
 }
 
@@ -410,8 +455,9 @@ nlohmann::json reference_render_json(const ReferenceResult& r) {
   return j;
 }
 
-nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const MachineCost& cost,
-                                   const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
+nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c,
+                                   const MachineCost& cost, const ImageError& err,
+                                   const ErrorCauses& causes, const ReferenceResult& ref,
                                    bool ref_cached) {
   nlohmann::json j = counts_json(m.counts);
   j["renderer"] = "machine";

@@ -36,8 +36,9 @@ nlohmann::json reference_render_json(const ReferenceResult& r);
 /// The rest of a machine render's stats file: the machine's figures, its error against the
 /// reference, the machine's `cost` (cost/unit_cost.h), the flat `summary` (a sweep's results.csv
 /// columns) and the reference's run.
-nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c, const MachineCost& cost,
-                                   const ImageError& err, const ErrorCauses& causes, const ReferenceResult& ref,
+nlohmann::json machine_render_json(const MachineResult& m, const MachineConfig& c,
+                                   const MachineCost& cost, const ImageError& err,
+                                   const ErrorCauses& causes, const ReferenceResult& ref,
                                    bool ref_cached);
 
 }  // namespace rtm

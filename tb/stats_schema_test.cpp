@@ -1,6 +1,7 @@
 // The statistics' contract: real renders of every kind validate against docs/stats.schema.json
 // (through scripts/check-stats), and the head of a stats file names the run and the exact scene it
-// read. That the schema names what the unit table declares is model/machine/stats_schema_test.cpp's.
+// read. That the schema names what the unit table declares is
+// model/machine/stats_schema_test.cpp's.
 #include <cstdio>
 #include <set>
 #include <string>
@@ -47,20 +48,26 @@ TEST_P(StatsSchema, ARealRenderValidates) {
   Tmp tmp;
   const json j = render(tmp, "s", GetParam().args);
   ASSERT_FALSE(j.is_null());
-  const Proc check = sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "s.json"), tmp);
+  const Proc check =
+      sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "s.json"), tmp);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
-  EXPECT_EQ(check.out, (tmp / "s.json") + ": ok (schema_version " + std::to_string(j["schema_version"].get<int>()) + ")\n");
+  EXPECT_EQ(check.out, (tmp / "s.json") + ": ok (schema_version " +
+                           std::to_string(j["schema_version"].get<int>()) + ")\n");
 }
 
 INSTANTIATE_TEST_SUITE_P(Renders, StatsSchema, testing::ValuesIn(kCases),
-                         [](const testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
+                         [](const testing::TestParamInfo<Case>& i) {
+                           return std::string(i.param.name);
+                         });
 
 // The cases above reach what they are meant to.
 TEST(StatsContract, CoverWhatTheyAreNamedFor) {
   Tmp tmp;
-  const json idle = render(tmp, "idle", kScenes + "balls-1.nff --size 10x10 --pes 3 --partition blocks");
+  const json idle =
+      render(tmp, "idle", kScenes + "balls-1.nff --size 10x10 --pes 3 --partition blocks");
   const json fp64 = render(tmp, "fp64", kScenes + "rings-1.nff --size 16x16 --precision fp64");
-  const json fp32 = render(tmp, "fp32", kScenes + "rings-1.nff --size 48x48 --pes 3 --partition blocks");
+  const json fp32 =
+      render(tmp, "fp32", kScenes + "rings-1.nff --size 48x48 --pes 3 --partition blocks");
   ASSERT_FALSE(idle.is_null() || fp64.is_null() || fp32.is_null());
   EXPECT_EQ(idle["per_pe"][2]["rays"], 0) << "a PE without pixels";
   EXPECT_EQ(fp64["reference"]["counts_match"], true);
@@ -74,7 +81,8 @@ TEST(StatsContract, BrokenStatsAreRejected) {
   ASSERT_FALSE(good.is_null());
   auto rejected = [&](json j, const std::string& what) {
     spit(tmp / "bad.json", j.dump());
-    const Proc check = sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "bad.json"), tmp);
+    const Proc check =
+        sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "bad.json"), tmp);
     EXPECT_EQ(check.exit_code, 1) << what << "\n" << check.out << check.err;
   };
   json j = good;
@@ -105,7 +113,8 @@ TEST(StatsContract, BrokenStatsAreRejected) {
   j.erase("build");
   rejected(j, "no build");
   spit(tmp / "bad.json", "{\"schema_version\": ");
-  const Proc truncated = sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "bad.json"), tmp);
+  const Proc truncated =
+      sh("/usr/bin/python3 " + kSource + "scripts/check-stats " + (tmp / "bad.json"), tmp);
   EXPECT_EQ(truncated.exit_code, 1) << truncated.out << truncated.err;
   EXPECT_EQ(truncated.err, "") << "a message, not a traceback";
   EXPECT_NE(truncated.out.find(tmp / "bad.json"), std::string::npos) << truncated.out;
@@ -118,7 +127,8 @@ TEST(StatsContract, TheHeadNamesTheRunAndTheScene) {
   const Proc r = run_rtm("render " + scene + " --size 8x8 --out " + (tmp / "m.png") + " -q", tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(slurp(tmp / "m.json"));
-  EXPECT_EQ(j["command_line"], json({RTM_BINARY, "render", scene, "--size", "8x8", "--out", tmp / "m.png", "-q"}));
+  EXPECT_EQ(j["command_line"],
+            json({RTM_BINARY, "render", scene, "--size", "8x8", "--out", tmp / "m.png", "-q"}));
   EXPECT_EQ(j["scene_path"], scene);
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)rtm::fnv1a(slurp(scene)));
@@ -127,7 +137,8 @@ TEST(StatsContract, TheHeadNamesTheRunAndTheScene) {
   const json d = render(tmp, "d", "--size 8x8 --reference");
   ASSERT_FALSE(d.is_null());
   EXPECT_TRUE(d["scene_path"].is_null());
-  std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)rtm::fnv1a(slurp(kSource + "scenes/default.yaml")));
+  std::snprintf(hash, sizeof hash, "%016llx",
+                (unsigned long long)rtm::fnv1a(slurp(kSource + "scenes/default.yaml")));
   EXPECT_EQ(d["scene_fnv1a"], hash);
 }
 

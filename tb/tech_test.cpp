@@ -31,7 +31,8 @@ TEST(Tech, ADerivedFilePrintsItsScaledFigures) {
   Tmp tmp;
   spit(tmp / "half.yaml",
        "scale_from: 45nm\n"
-       "factors: {energy: {value: 0.5, source: e}, area: {value: 1, source: a}, leakage: {value: 1, source: l}}\n");
+       "factors: {energy: {value: 0.5, source: e}, area: {value: 1, source: a}, leakage: {value: "
+       "1, source: l}}\n");
   const Proc r = run_rtm("tech " + (tmp / "half.yaml"), tmp);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find(" 1.85 pJ "), std::string::npos) << r.out;  // fp32 multiply 3.7 x 0.5
@@ -41,22 +42,27 @@ TEST(Tech, ABadFileIsRefusedWithItsLineAndExit2) {
   Tmp tmp;
   spit(tmp / "bad.yaml",
        "scale_from: 45nm\n"
-       "factors: {energy: {value: 1, source: e}, area: {value: 1, source: a}, leakage: {value: 1, source: l}}\n"
+       "factors: {energy: {value: 1, source: e}, area: {value: 1, source: a}, leakage: {value: 1, "
+       "source: l}}\n"
        "fp32_add_pj:\n"
        "  value: -1\n"
        "  source: x\n");
   const std::string bad = tmp / "bad.yaml";
-  for (const std::string& args : {"tech " + bad, "config --set tech=" + bad,
-                                  "render --size 4x4 -q --out " + (tmp / "x.png") + " --tech " + bad}) {
+  for (const std::string& args :
+       {"tech " + bad, "config --set tech=" + bad,
+        "render --size 4x4 -q --out " + (tmp / "x.png") + " --tech " + bad}) {
     const Proc r = run_rtm(args, tmp);
     EXPECT_EQ(r.exit_code, 2) << args;
-    EXPECT_NE(r.err.find(bad + ":4: fp32_add_pj.value: expected a number >= 0, got '-1'"), std::string::npos)
+    EXPECT_NE(r.err.find(bad + ":4: fp32_add_pj.value: expected a number >= 0, got '-1'"),
+              std::string::npos)
         << args << ": " << r.err;
   }
   EXPECT_FALSE(std::filesystem::exists(tmp / "x.png"));
-  const Proc missing = run_rtm("render --size 4x4 -q --out " + (tmp / "x.png") + " --tech " + (tmp / "none.yaml"), tmp);
+  const Proc missing = run_rtm(
+      "render --size 4x4 -q --out " + (tmp / "x.png") + " --tech " + (tmp / "none.yaml"), tmp);
   EXPECT_EQ(missing.exit_code, 2);
-  EXPECT_NE(missing.err.find("none.yaml:0: cannot read the technology file '"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("none.yaml:0: cannot read the technology file '"), std::string::npos)
+      << missing.err;
 }
 
 TEST(Tech, RenderTakesTheFileAndTheStatsRecordIt) {
@@ -83,8 +89,10 @@ TEST(Tech, ATechnologyFileChangesTheCostAndNotTheFrame) {
   Tmp tmp;
   spit(tmp / "double.yaml",
        "scale_from: 45nm\n"
-       "factors: {energy: {value: 2, source: e}, area: {value: 1, source: a}, leakage: {value: 1, source: l}}\n");
-  const nlohmann::json a = render(tmp, "a", kBalls), b = render(tmp, "b", kBalls + " --tech " + (tmp / "double.yaml"));
+       "factors: {energy: {value: 2, source: e}, area: {value: 1, source: a}, leakage: {value: 1, "
+       "source: l}}\n");
+  const nlohmann::json a = render(tmp, "a", kBalls),
+                       b = render(tmp, "b", kBalls + " --tech " + (tmp / "double.yaml"));
   ASSERT_FALSE(a.is_null());
   ASSERT_FALSE(b.is_null());
   EXPECT_EQ(a["cycles"], b["cycles"]);
@@ -96,7 +104,8 @@ TEST(Tech, ATechnologyFileChangesTheCostAndNotTheFrame) {
   EXPECT_NEAR(b["cost"]["dynamic_j"].get<double>(), 2 * a["cost"]["dynamic_j"].get<double>(),
               1e-12 * a["cost"]["dynamic_j"].get<double>());
   for (const auto& [unit, figures] : a["cost"]["units"].items())
-    EXPECT_NEAR(b["cost"]["units"][unit]["dynamic_j"].get<double>(), 2 * figures["dynamic_j"].get<double>(),
+    EXPECT_NEAR(b["cost"]["units"][unit]["dynamic_j"].get<double>(),
+                2 * figures["dynamic_j"].get<double>(),
                 1e-12 * figures["dynamic_j"].get<double>() + 1e-30)
         << unit;
 }
@@ -117,8 +126,12 @@ TEST(Tech, TheCostBlockAddsUpAndTheSummaryRepeatsIt) {
   EXPECT_NEAR(c["pe_logic_mm2"].get<double>(), logic, rel * logic);
   EXPECT_NEAR(c["logic_mm2"].get<double>(), 2 * logic, rel * logic);
   EXPECT_NEAR(c["sram_mm2"].get<double>(), 2 * sram, rel * sram);
-  EXPECT_NEAR(c["area_mm2"].get<double>(), c["logic_mm2"].get<double>() + c["sram_mm2"].get<double>() + c["interconnect_mm2"].get<double>(), rel);
-  const double dynamic = units + c["local_memory_dynamic_j"].get<double>() + c["link_dynamic_j"].get<double>();
+  EXPECT_NEAR(c["area_mm2"].get<double>(),
+              c["logic_mm2"].get<double>() + c["sram_mm2"].get<double>() +
+                  c["interconnect_mm2"].get<double>(),
+              rel);
+  const double dynamic =
+      units + c["local_memory_dynamic_j"].get<double>() + c["link_dynamic_j"].get<double>();
   EXPECT_NEAR(c["dynamic_j"].get<double>(), dynamic, rel * dynamic);
   const double frame = c["energy_per_frame_j"].get<double>();
   EXPECT_NEAR(frame, dynamic + c["leakage_j"].get<double>(), rel * frame);
@@ -130,7 +143,8 @@ TEST(Tech, TheCostBlockAddsUpAndTheSummaryRepeatsIt) {
   EXPECT_EQ(s["energy_j"], c["energy_per_frame_j"]);
   EXPECT_EQ(s["power_w"], c["power_w"]);
   EXPECT_NEAR(s["frames_per_j"].get<double>(), 1 / frame, rel / frame);
-  double split = s["energy_local_memory_j"].get<double>() + s["energy_link_j"].get<double>() + s["energy_leakage_j"].get<double>();
+  double split = s["energy_local_memory_j"].get<double>() + s["energy_link_j"].get<double>() +
+                 s["energy_leakage_j"].get<double>();
   for (const auto& [unit, f] : c["units"].items()) {
     EXPECT_EQ(s["energy_" + unit + "_j"], f["dynamic_j"]) << unit;
     split += f["dynamic_j"].get<double>();

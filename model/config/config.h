@@ -47,9 +47,10 @@ struct MachineConfig {
   Precision precision = Precision::Fp32;
   /// A unit's own arithmetic: as `precision` says (the default), or fp32 or fp64 whatever it says.
   enum class UnitPrecision { Precision, Fp32, Fp64 };
-  UnitPrecision intersection_precision = UnitPrecision::Precision;  ///< the MAC, root unit and clip tests
-  UnitPrecision dda_precision = UnitPrecision::Precision;           ///< the search units' 3DDDA
-  UnitPrecision shading_precision = UnitPrecision::Precision;       ///< the shading unit
+  UnitPrecision intersection_precision =
+      UnitPrecision::Precision;                            ///< the MAC, root unit and clip tests
+  UnitPrecision dda_precision = UnitPrecision::Precision;  ///< the search units' 3DDDA
+  UnitPrecision shading_precision = UnitPrecision::Precision;  ///< the shading unit
   enum class MacSchedule { Full, Sparse };
   MacSchedule mac_schedule = MacSchedule::Sparse;
   bool leave_out = true;  ///< what is left out: render/scene_needs.h
@@ -64,7 +65,8 @@ struct MachineConfig {
   OriginLatch origin_latch = OriginLatch::Advance;
   HitRefine hit_refine = HitRefine::Newton;
   /// Triangles with vertex normals (NFF pp, mesh files) shaded smooth: what the files ask for;
-  /// interpolate_cycles more shading latency on such a hit (docs/scene-format.md, "Vertex normals").
+  /// interpolate_cycles more shading latency on such a hit (docs/scene-format.md, "Vertex
+  /// normals").
   NormalInterpolation normal_interpolation = kDefaultNormalInterpolation;
   /// The coordinates the PEs compute in (scene/grid_frame.h): the grid's own, so that fp32
   /// accuracy does not depend on where the scene is (docs/numerics.md, "Where the scene is").
@@ -94,9 +96,9 @@ struct MachineConfig {
   // Pipelining (units/pipeline.h, paper §2 ③): cycles between items a unit accepts; 0: each
   // item's own latency, i.e. the unit holds one item at a time (unpipelined).
   int dispatch_interval = 1;
-  int search_interval = 1;     ///< per 3DDDA pass
-  bool mac_streaming = true;   ///< the next job's products issue while the previous ones drain
-  int root_interval = 1;       ///< per primitive
+  int search_interval = 1;    ///< per 3DDDA pass
+  bool mac_streaming = true;  ///< the next job's products issue while the previous ones drain
+  int root_interval = 1;      ///< per primitive
   int shade_interval = 1;
 
   // Buffers (rays)
@@ -110,7 +112,8 @@ struct MachineConfig {
   int loop_credits = 0;
   FlowControl flow_control = FlowControl::Credits;
 
-  // Local memory and the MAC's coefficient RAM: the timing models of model/memory/ (docs/memory.md).
+  // Local memory and the MAC's coefficient RAM: the timing models of model/memory/
+  // (docs/memory.md).
   int memory_ports = 0;  ///< 0: as many as the requests need (no port contention)
   int memory_banks = 0;  ///< 0: no bank conflicts
   int memory_interleave_bytes = 16;
@@ -165,7 +168,9 @@ struct MachineConfig {
   int refine_cycles_in_force() const { return hit_refine == HitRefine::Newton ? refine_cycles : 0; }
   /// Shading latency of a hit on primitive `p` beyond shade_cycles: the vertex normals' weighting.
   int interpolate_cycles_for(const Primitive& p) const {
-    return normal_interpolation == NormalInterpolation::Barycentric && !p.normals.empty() ? interpolate_cycles : 0;
+    return normal_interpolation == NormalInterpolation::Barycentric && !p.normals.empty()
+               ? interpolate_cycles
+               : 0;
   }
   /// The MAC and root unit's numerical options, as SceneMemory takes them.
   MacNumerics numerics() const { return {discriminant, coef_scaling, origin_latch}; }
@@ -173,7 +178,9 @@ struct MachineConfig {
   int safe_credits() const;
   /// The front buffer's credits: loop_credits, its safe value, or unlimited without flow control.
   int loop_credits_in_force() const {
-    return flow_control == FlowControl::None ? INT_MAX : loop_credits > 0 ? loop_credits : safe_credits();
+    return flow_control == FlowControl::None ? INT_MAX
+           : loop_credits > 0                ? loop_credits
+                                             : safe_credits();
   }
   /// Each key's range, then the rules across keys; throws std::invalid_argument naming the
   /// offending key and why.
@@ -181,7 +188,9 @@ struct MachineConfig {
 
  private:
   Precision in_force(UnitPrecision u) const {
-    return u == UnitPrecision::Precision ? precision : u == UnitPrecision::Fp32 ? Precision::Fp32 : Precision::Fp64;
+    return u == UnitPrecision::Precision ? precision
+           : u == UnitPrecision::Fp32    ? Precision::Fp32
+                                         : Precision::Fp64;
   }
 };
 
@@ -210,10 +219,13 @@ struct ConfigKey {
   Range range;                      ///< Integer and Number
   std::vector<std::string> values;  ///< Flag and Choice: the names it takes
   std::function<std::string(const MachineConfig&)> get;
-  std::function<void(MachineConfig&, const std::string&)> set;  ///< parses and checks the range; throws std::invalid_argument
-  std::function<void(const MachineConfig&)> check;              ///< throws std::invalid_argument if out of range
+  std::function<void(MachineConfig&, const std::string&)>
+      set;  ///< parses and checks the range; throws std::invalid_argument
+  std::function<void(const MachineConfig&)>
+      check;  ///< throws std::invalid_argument if out of range
 
-  /// "an integer in 1..65536", "a number > 0", "true or false", "one of fast, clocked", "a name or a path".
+  /// "an integer in 1..65536", "a number > 0", "true or false", "one of fast, clocked", "a name or
+  /// a path".
   std::string accepted() const;
 };
 const std::vector<ConfigKey>& config_keys();

@@ -77,7 +77,8 @@ TEST(ConfigKeys, NamesAreUniqueAndMeaningsOneLine) {
     EXPECT_TRUE(names.insert(k.name).second) << k.name;
     EXPECT_FALSE(k.meaning.empty()) << k.name;
     EXPECT_EQ(k.meaning.find('\n'), std::string::npos) << k.name;
-    EXPECT_EQ(k.values.empty(), k.type == ConfigKey::Type::Integer || k.type == ConfigKey::Type::Number ||
+    EXPECT_EQ(k.values.empty(), k.type == ConfigKey::Type::Integer ||
+                                    k.type == ConfigKey::Type::Number ||
                                     k.type == ConfigKey::Type::Text)
         << k.name;
   }
@@ -137,15 +138,20 @@ TEST(ConfigKeys, EachRangeEndIsAcceptedAndOnePastItRefused) {
     } else if (k.type == ConfigKey::Type::Number) {
       EXPECT_EQ(refusal(k.name, text(r.min)), "") << k.name;
       EXPECT_EQ(refusal(k.name, text(r.max)), "") << k.name;
-      EXPECT_NE(refused(text(std::nextafter(r.min, -HUGE_VAL))).find(k.accepted()), std::string::npos) << k.name;
-      EXPECT_NE(refused(text(std::nextafter(r.max, HUGE_VAL))).find(k.accepted()), std::string::npos) << k.name;
+      EXPECT_NE(refused(text(std::nextafter(r.min, -HUGE_VAL))).find(k.accepted()),
+                std::string::npos)
+          << k.name;
+      EXPECT_NE(refused(text(std::nextafter(r.max, HUGE_VAL))).find(k.accepted()),
+                std::string::npos)
+          << k.name;
       refused("inf");
     } else if (k.type == ConfigKey::Type::Text) {
       EXPECT_EQ(refusal(k.name, "tech/16nm-v2.yaml"), "") << k.name;
       for (const std::string v : {"a b", "a#b", "-a", "'a'"})
         EXPECT_NE(refused(v).find(k.accepted()), std::string::npos) << k.name;
     } else {
-      for (const std::string& v : k.values) EXPECT_EQ(refusal(k.name, v), "") << k.name << " = " << v;
+      for (const std::string& v : k.values)
+        EXPECT_EQ(refusal(k.name, v), "") << k.name << " = " << v;
       EXPECT_NE(refused("bogus").find(k.accepted()), std::string::npos) << k.name;
     }
   }
@@ -165,13 +171,17 @@ TEST(ConfigKeys, TheRangesAreTheModelsLimits) {
   EXPECT_EQ(key("link_bandwidth_mb_s").accepted(), "a number in 0.001..1e+09");
   EXPECT_EQ(key("broadcast").accepted(), "true or false");
   EXPECT_EQ(refusal("pes", "0"), "pes: expected an integer in 1..16384, got 0");
-  EXPECT_EQ(refusal("clock_ns", "1e-300"), "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 1e-300");
-  EXPECT_EQ(refusal("clock_ns", "1e300"), "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 1e300");
+  EXPECT_EQ(refusal("clock_ns", "1e-300"),
+            "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 1e-300");
+  EXPECT_EQ(refusal("clock_ns", "1e300"),
+            "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 1e300");
   // Whole picoseconds, SystemC's time resolution: 2.5 ps would silently become 3 (or 2).
-  EXPECT_EQ(refusal("clock_ns", "0.0025"), "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 0.0025");
+  EXPECT_EQ(refusal("clock_ns", "0.0025"),
+            "clock_ns: expected a number in 0.002..1000, a multiple of 0.001, got 0.0025");
   EXPECT_EQ(refusal("clock_ns", "0.3"), "");
   EXPECT_EQ(refusal("host_clock_ns", "7.5"), "");
-  EXPECT_EQ(refusal("mul_latency", "2147483647"), "mul_latency: expected an integer in 1..1024, got 2147483647");
+  EXPECT_EQ(refusal("mul_latency", "2147483647"),
+            "mul_latency: expected an integer in 1..1024, got 2147483647");
 }
 
 TEST(ConfigKeys, ValidateChecksEachRangeAndTheRulesAcrossKeys) {
@@ -197,7 +207,10 @@ TEST(ConfigKeys, ValidateChecksEachRangeAndTheRulesAcrossKeys) {
   bad = {};
   bad.root_fifo_depth = 3;
   bad.loop_credits = 4;
-  EXPECT_EQ(refused(bad).rfind("loop_credits: must not exceed the smallest FIFO depth past the front buffer (3)", 0), 0u)
+  EXPECT_EQ(
+      refused(bad).rfind(
+          "loop_credits: must not exceed the smallest FIFO depth past the front buffer (3)", 0),
+      0u)
       << refused(bad);
   // A broadcast on a star needs every link driven at once; serial keeps its old broadcast.
   bad = {};
@@ -205,11 +218,14 @@ TEST(ConfigKeys, ValidateChecksEachRangeAndTheRulesAcrossKeys) {
   bad.link_topology = MachineConfig::LinkTopology::Star;
   bad.host_ports = 3;
   bad.broadcast = true;
-  EXPECT_EQ(refused(bad).rfind("broadcast: true with link_topology = star needs host_ports >= pes (3 < 4)", 0), 0u)
+  EXPECT_EQ(refused(bad).rfind(
+                "broadcast: true with link_topology = star needs host_ports >= pes (3 < 4)", 0),
+            0u)
       << refused(bad);
   bad.host_ports = 4;
   EXPECT_NO_THROW(bad.validate());
-  for (auto t : {MachineConfig::LinkTopology::Serial, MachineConfig::LinkTopology::Bus, MachineConfig::LinkTopology::Tree}) {
+  for (auto t : {MachineConfig::LinkTopology::Serial, MachineConfig::LinkTopology::Bus,
+                 MachineConfig::LinkTopology::Tree}) {
     bad.link_topology = t;
     bad.host_ports = 1;
     EXPECT_NO_THROW(bad.validate()) << to_string(t);
@@ -243,7 +259,8 @@ TEST(ConfigKeys, EveryEnumNameParsesToItsValueAndBack) {
 }
 
 TEST(ConfigKeys, AnUnknownKeyIsRefusedWithWhereTheyAreListed) {
-  EXPECT_EQ(refusal("warp_drive", "1"), "warp_drive: unknown machine configuration key (rtm config lists them)");
+  EXPECT_EQ(refusal("warp_drive", "1"),
+            "warp_drive: unknown machine configuration key (rtm config lists them)");
 }
 
 const Preset& preset(const std::string& name) {
@@ -279,7 +296,8 @@ TEST(Presets, EachIsDeclaredOnceWithKnownKeysAndValuesAsTheKeysPrintThem) {
     ASSERT_EQ(preset_refusal(c, p.name), "");
     apply_preset(c, p.name);
     EXPECT_NO_THROW(c.validate()) << p.name;
-    for (const Preset::Override& o : p.overrides) EXPECT_EQ(key(o.key).get(c), o.value) << p.name << ": " << o.key;
+    for (const Preset::Override& o : p.overrides)
+      EXPECT_EQ(key(o.key).get(c), o.value) << p.name << ": " << o.key;
   }
   EXPECT_EQ(presets().front().name, kDefaultPreset);
   EXPECT_TRUE(preset(kDefaultPreset).overrides.empty()) << "default is MachineConfig{} itself";
@@ -289,7 +307,8 @@ TEST(Presets, PaperSetsEveryKeyAsDeclaredAndLeavesTheOthers) {
   MachineConfig c;
   apply_preset(c, "paper");
   EXPECT_EQ(c.preset, "paper");
-  for (const Preset::Override& o : preset("paper").overrides) EXPECT_EQ(key(o.key).get(c), o.value) << o.key;
+  for (const Preset::Override& o : preset("paper").overrides)
+    EXPECT_EQ(key(o.key).get(c), o.value) << o.key;
   // Every key the preset does not set is the default's.
   std::set<std::string> set_keys;
   for (const Preset::Override& o : preset("paper").overrides) set_keys.insert(o.key);
@@ -318,13 +337,16 @@ TEST(Presets, AnUnknownOrASecondDifferentPresetIsRefused) {
   MachineConfig paper;
   apply_preset(paper, "paper");
   EXPECT_EQ(preset_refusal(paper, "paper"), "") << "the same one again changes nothing";
-  EXPECT_EQ(preset_refusal(paper, "default"), "preset: 'default' after 'paper': a configuration starts from one preset");
+  EXPECT_EQ(preset_refusal(paper, "default"),
+            "preset: 'default' after 'paper': a configuration starts from one preset");
   MachineConfig d;
   apply_preset(d, kDefaultPreset);
   EXPECT_EQ(values(d), values(MachineConfig{}));
-  EXPECT_EQ(preset_refusal(d, "paper"), "") << "default changes no key, so any preset may follow it";
+  EXPECT_EQ(preset_refusal(d, "paper"), "")
+      << "default changes no key, so any preset may follow it";
   EXPECT_EQ(refusal("preset", "paper"),
-            "preset: not a key but where the keys start: --preset NAME, or preset: NAME in a --config file");
+            "preset: not a key but where the keys start: --preset NAME, or preset: NAME in a "
+            "--config file");
 }
 
 // docs/machine.md's table: the keys on which paper differs from default, each with its why.
@@ -346,7 +368,8 @@ TEST(Presets, TheMarkdownTableListsExactlyTheKeysThatDiffer) {
       EXPECT_NE(table.find(" | " + o.why + " |\n"), std::string::npos) << o.key;
     }
   }
-  EXPECT_EQ(preset_markdown(kDefaultPreset), "| key | default | default | why |\n|---|---|---|---|\n");
+  EXPECT_EQ(preset_markdown(kDefaultPreset),
+            "| key | default | default | why |\n|---|---|---|---|\n");
   EXPECT_THROW(preset_markdown("papr"), std::invalid_argument);
 }
 
@@ -383,7 +406,8 @@ TEST_F(ConfigFile, ThePresetGoesFirstWhereverItIsWritten) {
   MachineConfig c;
   load_config_file(c, path);
   EXPECT_EQ(c.preset, "paper");
-  EXPECT_EQ(c.mac_schedule, MachineConfig::MacSchedule::Sparse) << "the file's key wins over its preset";
+  EXPECT_EQ(c.mac_schedule, MachineConfig::MacSchedule::Sparse)
+      << "the file's key wins over its preset";
   EXPECT_FALSE(c.recentre) << "the preset's other keys stay";
   EXPECT_EQ(c.pes, 3);
 }
@@ -396,7 +420,8 @@ TEST_F(ConfigFile, ABadPresetNamesTheFileAndTheLine) {
     FAIL() << "preset: papr was taken";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.line(), 3);
-    EXPECT_EQ(std::string(e.what()), path + ":3: preset: expected one of default, paper, got 'papr'");
+    EXPECT_EQ(std::string(e.what()),
+              path + ":3: preset: expected one of default, paper, got 'papr'");
   }
   write("preset: [paper]\n");
   EXPECT_THROW(load_config_file(c, path), ConfigError);
@@ -407,7 +432,8 @@ TEST_F(ConfigFile, ABadPresetNamesTheFileAndTheLine) {
     load_config_file(paper, path);
     FAIL() << "a file starting from default was applied on top of paper";
   } catch (const ConfigError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ":1: preset: 'default' after 'paper': a configuration starts from one preset");
+    EXPECT_EQ(std::string(e.what()),
+              path + ":1: preset: 'default' after 'paper': a configuration starts from one preset");
   }
 }
 
@@ -419,7 +445,8 @@ TEST_F(ConfigFile, ErrorsNameTheFileTheLineAndTheKey) {
     FAIL() << "search_units: 0 was taken";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.line(), 3);
-    EXPECT_EQ(std::string(e.what()), path + ":3: search_units: expected an integer in 1..256, got 0");
+    EXPECT_EQ(std::string(e.what()),
+              path + ":3: search_units: expected an integer in 1..256, got 0");
   }
   write("pes: 4\nwarp_drive: 9\n");
   EXPECT_THROW(load_config_file(c, path), ConfigError);

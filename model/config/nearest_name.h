@@ -31,7 +31,8 @@ inline std::string nearest_name(const std::string& typed, const std::vector<std:
   for (const std::string& k : known) {
     // The distance is at least the difference in length: a name that long cannot be near, and a
     // long typed name (a configuration file's 1 MB key) would cost its length times each name's.
-    if (std::max(typed.size(), k.size()) - std::min(typed.size(), k.size()) >= best_distance) continue;
+    if (std::max(typed.size(), k.size()) - std::min(typed.size(), k.size()) >= best_distance)
+      continue;
     if (const size_t d = edit_distance(typed, k); d < best_distance) {
       best = k;
       best_distance = d;

@@ -17,7 +17,8 @@ TEST(NearestName, EditDistanceCountsInsertionsDeletionsAndSubstitutions) {
 }
 
 TEST(NearestName, SuggestsOnlyANameCloseEnoughToHaveBeenMeant) {
-  const std::vector<std::string> options{"--pes", "--size", "--stats", "--set", "--vcd", "--vcd-window"};
+  const std::vector<std::string> options{"--pes", "--size", "--stats",
+                                         "--set", "--vcd",  "--vcd-window"};
   EXPECT_EQ(nearest_name("--pe", options), "--pes");
   EXPECT_EQ(nearest_name("--sizee", options), "--size");
   EXPECT_EQ(nearest_name("--vcdwindow", options), "--vcd-window");
@@ -34,7 +35,7 @@ TEST(NearestName, ALongNameIsComparedOnlyWithNamesOfNearlyItsLength) {
   EXPECT_EQ(nearest_name(long_name, keys), "");
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.1);
   EXPECT_EQ(nearest_name("search_unitsxx", keys), "search_units");  // two longer: still near
-  EXPECT_EQ(nearest_name("pe", keys), "");                          // one edit in a short name: a guess
+  EXPECT_EQ(nearest_name("pe", keys), "");  // one edit in a short name: a guess
 }
 
 }  // namespace

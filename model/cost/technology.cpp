@@ -35,13 +35,17 @@ std::string read_text(const std::string& path, const std::string& file, int line
   std::ifstream f(path);
   if (ec || !f) throw TechnologyError(file, line, "cannot read the technology file '" + path + "'");
   if (size > kMaxFileBytes)
-    throw TechnologyError(file, line, "'" + path + "' is " + std::to_string(size) + " bytes: not a technology file (at most 1 MiB)");
+    throw TechnologyError(file, line,
+                          "'" + path + "' is " + std::to_string(size) +
+                              " bytes: not a technology file (at most 1 MiB)");
   std::stringstream text;
   text << f.rdbuf();
   return text.str();
 }
 
-int line_of(const YAML::Node& n) { return n.IsDefined() && !n.Mark().is_null() ? n.Mark().line + 1 : 1; }
+int line_of(const YAML::Node& n) {
+  return n.IsDefined() && !n.Mark().is_null() ? n.Mark().line + 1 : 1;
+}
 
 std::string fmt(double x) {
   std::ostringstream s;
@@ -51,10 +55,14 @@ std::string fmt(double x) {
 
 const char* to_string(TechScaling s) {
   switch (s) {
-    case S::Energy: return "energy";
-    case S::Area: return "area";
-    case S::Leakage: return "leakage";
-    case S::None: return "none";
+    case S::Energy:
+      return "energy";
+    case S::Area:
+      return "area";
+    case S::Leakage:
+      return "leakage";
+    case S::None:
+      return "none";
   }
   return "?";
 }
@@ -71,7 +79,8 @@ class Parser {
       fail(e.mark.is_null() ? 1 : e.mark.line + 1, "YAML syntax error: " + e.msg);
     }
     const YAML::Node& doc = loaded;  // const: looking up a missing key must not add it
-    if (!doc.IsMap()) fail(line_of(doc), "expected a mapping of name, node entries and their values");
+    if (!doc.IsMap())
+      fail(line_of(doc), "expected a mapping of name, node entries and their values");
     std::map<std::string, YAML::Node> keys;
     for (auto it = doc.begin(); it != doc.end(); ++it) {
       if (!it->first.IsScalar()) fail(line_of(it->first), "keys must be plain names");
@@ -88,20 +97,24 @@ class Parser {
     } else if (doc["factors"]) {
       fail(line_of(keys["factors"]), "factors without scale_from: they scale a base technology");
     }
-    t.name = doc["name"] ? text_of(doc["name"], "name") : std::filesystem::path(file_).stem().string();
+    t.name =
+        doc["name"] ? text_of(doc["name"], "name") : std::filesystem::path(file_).stem().string();
     t.file = file_;
     for (const TechEntry& e : technology_entries()) {
       const YAML::Node n = doc[e.name];
       if (n)
         t.*e.member = value(n, e);
       else if (!doc["scale_from"])
-        fail(line_of(doc), std::string("missing entry '") + e.name + "' (" + e.meaning + ", " + e.unit + ")");
+        fail(line_of(doc),
+             std::string("missing entry '") + e.name + "' (" + e.meaning + ", " + e.unit + ")");
     }
     return t;
   }
 
  private:
-  [[noreturn]] void fail(int line, const std::string& what) const { throw TechnologyError(file_, line, what); }
+  [[noreturn]] void fail(int line, const std::string& what) const {
+    throw TechnologyError(file_, line, what);
+  }
 
   static const TechEntry* entry(const std::string& name) {
     for (const TechEntry& e : technology_entries())
@@ -110,7 +123,8 @@ class Parser {
   }
 
   std::string text_of(const YAML::Node& n, const std::string& what) const {
-    if (!n.IsScalar() || n.Scalar().empty()) fail(line_of(n), what + ": expected a non-empty string");
+    if (!n.IsScalar() || n.Scalar().empty())
+      fail(line_of(n), what + ": expected a non-empty string");
     return n.Scalar();
   }
 
@@ -129,20 +143,27 @@ class Parser {
     const std::string s = v.Scalar();
     char* end = nullptr;
     const double x = std::strtod(s.c_str(), &end);
-    if (s.empty() || end == s.c_str() || *end) fail(line_of(v), what + ".value: expected a number, got '" + s + "'");
-    if (!std::isfinite(x)) fail(line_of(v), what + ".value: expected a finite number, got '" + s + "'");
+    if (s.empty() || end == s.c_str() || *end)
+      fail(line_of(v), what + ".value: expected a number, got '" + s + "'");
+    if (!std::isfinite(x))
+      fail(line_of(v), what + ".value: expected a finite number, got '" + s + "'");
     if (positive ? !(x > 0) : x < 0)
-      fail(line_of(v), what + ".value: expected a number " + (positive ? "> 0" : ">= 0") + ", got '" + s + "'");
+      fail(line_of(v),
+           what + ".value: expected a number " + (positive ? "> 0" : ">= 0") + ", got '" + s + "'");
     return {x, text_of(n["source"], what + ".source")};
   }
 
-  TechValue value(const YAML::Node& n, const TechEntry& e) const { return figure(n, e.name, e.positive); }
+  TechValue value(const YAML::Node& n, const TechEntry& e) const {
+    return figure(n, e.name, e.positive);
+  }
 
   Technology base(const YAML::Node& n) const {
     const std::string spec = text_of(n, "scale_from");
     if (depth_ >= kMaxScaleDepth)
-      fail(line_of(n), "scale_from: more than " + std::to_string(kMaxScaleDepth) + " files deep (does a file scale from itself?)");
-    if (spec == kBuiltInTechnology) return Parser("<built-in 45nm>", depth_ + 1).parse(kDefaultTechYaml);
+      fail(line_of(n), "scale_from: more than " + std::to_string(kMaxScaleDepth) +
+                           " files deep (does a file scale from itself?)");
+    if (spec == kBuiltInTechnology)
+      return Parser("<built-in 45nm>", depth_ + 1).parse(kDefaultTechYaml);
     const std::string path = (std::filesystem::path(file_).parent_path() / spec).string();
     return Parser(path, depth_ + 1).parse(read_text(path, file_, line_of(n)));
   }
@@ -157,11 +178,14 @@ class Parser {
       S s = S::None;
       for (S c : {S::Energy, S::Area, S::Leakage})
         if (k == to_string(c)) s = c;
-      if (s == S::None) fail(line_of(it->first), "factors: unknown key '" + k + "' (expected energy, area, leakage)");
+      if (s == S::None)
+        fail(line_of(it->first),
+             "factors: unknown key '" + k + "' (expected energy, area, leakage)");
       factor[s] = figure(it->second, "factors." + k, true);
     }
     for (S c : {S::Energy, S::Area, S::Leakage})
-      if (!factor.count(c)) fail(line_of(n), std::string("factors: missing '") + to_string(c) + "'");
+      if (!factor.count(c))
+        fail(line_of(n), std::string("factors: missing '") + to_string(c) + "'");
     for (const TechEntry& e : technology_entries()) {
       if (e.scaling == S::None) continue;
       TechValue& v = t.*e.member;
@@ -182,7 +206,8 @@ const std::vector<TechEntry>& technology_entries() {
       {"int32_add_pj", "pJ", "32-bit integer add", S::Energy, false, &T::int32_add_pj},
       {"int32_add_um2", "um2", "32-bit integer adder", S::Area, false, &T::int32_add_um2},
       {"int32_compare_pj", "pJ", "32-bit integer compare", S::Energy, false, &T::int32_compare_pj},
-      {"int32_compare_um2", "um2", "32-bit integer comparator", S::Area, false, &T::int32_compare_um2},
+      {"int32_compare_um2", "um2", "32-bit integer comparator", S::Area, false,
+       &T::int32_compare_um2},
       {"fp32_add_pj", "pJ", "fp32 add", S::Energy, false, &T::fp32_add_pj},
       {"fp32_add_um2", "um2", "fp32 adder", S::Area, false, &T::fp32_add_um2},
       {"fp32_mul_pj", "pJ", "fp32 multiply", S::Energy, false, &T::fp32_mul_pj},
@@ -203,24 +228,36 @@ const std::vector<TechEntry>& technology_entries() {
       {"fp64_div_um2", "um2", "fp64 divider", S::Area, false, &T::fp64_div_um2},
       {"fp64_sqrt_pj", "pJ", "fp64 square root", S::Energy, false, &T::fp64_sqrt_pj},
       {"fp64_sqrt_um2", "um2", "fp64 square-root unit", S::Area, false, &T::fp64_sqrt_um2},
-      {"register_bit_write_pj", "pJ", "one register or FIFO bit written", S::Energy, false, &T::register_bit_write_pj},
-      {"register_bit_um2", "um2", "one register or FIFO bit (a flip-flop)", S::Area, false, &T::register_bit_um2},
-      {"sram_access_pj", "pJ", "one access of a word of sram_word_bits in an SRAM of sram_bytes", S::Energy, true, &T::sram_access_pj},
-      {"sram_bytes", "bytes", "the capacity sram_access_pj is given at", S::None, true, &T::sram_bytes},
-      {"sram_word_bits", "bits", "the word sram_access_pj is given at", S::None, true, &T::sram_word_bits},
-      {"sram_energy_exponent", "1", "access energy grows as capacity to this power", S::None, true, &T::sram_energy_exponent},
-      {"sram_bit_um2", "um2", "SRAM area per bit, cell and periphery", S::Area, false, &T::sram_bit_um2},
+      {"register_bit_write_pj", "pJ", "one register or FIFO bit written", S::Energy, false,
+       &T::register_bit_write_pj},
+      {"register_bit_um2", "um2", "one register or FIFO bit (a flip-flop)", S::Area, false,
+       &T::register_bit_um2},
+      {"sram_access_pj", "pJ", "one access of a word of sram_word_bits in an SRAM of sram_bytes",
+       S::Energy, true, &T::sram_access_pj},
+      {"sram_bytes", "bytes", "the capacity sram_access_pj is given at", S::None, true,
+       &T::sram_bytes},
+      {"sram_word_bits", "bits", "the word sram_access_pj is given at", S::None, true,
+       &T::sram_word_bits},
+      {"sram_energy_exponent", "1", "access energy grows as capacity to this power", S::None, true,
+       &T::sram_energy_exponent},
+      {"sram_bit_um2", "um2", "SRAM area per bit, cell and periphery", S::Area, false,
+       &T::sram_bit_um2},
       {"dram_read_bit_pj", "pJ", "one DRAM bit read", S::Energy, false, &T::dram_read_bit_pj},
       {"dram_write_bit_pj", "pJ", "one DRAM bit written", S::Energy, false, &T::dram_write_bit_pj},
-      {"dram_bit_um2", "um2", "DRAM area per bit (reported apart from logic)", S::Area, false, &T::dram_bit_um2},
+      {"dram_bit_um2", "um2", "DRAM area per bit (reported apart from logic)", S::Area, false,
+       &T::dram_bit_um2},
       {"link_bit_pj", "pJ", "one bit over the host-PE link", S::Energy, false, &T::link_bit_pj},
-      {"logic_leakage_nw_per_um2", "nW/um2", "leakage of logic per um2", S::Leakage, false, &T::logic_leakage_nw_per_um2},
-      {"sram_leakage_pw_per_bit", "pW/bit", "leakage of an SRAM bit", S::Leakage, false, &T::sram_leakage_pw_per_bit},
+      {"logic_leakage_nw_per_um2", "nW/um2", "leakage of logic per um2", S::Leakage, false,
+       &T::logic_leakage_nw_per_um2},
+      {"sram_leakage_pw_per_bit", "pW/bit", "leakage of an SRAM bit", S::Leakage, false,
+       &T::sram_leakage_pw_per_bit},
   };
   return all;
 }
 
-Technology parse_technology(const std::string& text, const std::string& file) { return Parser(file, 0).parse(text); }
+Technology parse_technology(const std::string& text, const std::string& file) {
+  return Parser(file, 0).parse(text);
+}
 
 Technology load_technology(const std::string& spec) {
   if (spec == kBuiltInTechnology) return parse_technology(kDefaultTechYaml, "<built-in 45nm>");
@@ -232,15 +269,19 @@ double sram_access_energy_pj(const Technology& t, double capacity_bytes, double 
          std::pow(capacity_bytes / t.sram_bytes.value, t.sram_energy_exponent.value);
 }
 
-double sram_area_um2(const Technology& t, double capacity_bytes) { return capacity_bytes * 8 * t.sram_bit_um2.value; }
+double sram_area_um2(const Technology& t, double capacity_bytes) {
+  return capacity_bytes * 8 * t.sram_bit_um2.value;
+}
 
 double mac_product_energy_pj(const Technology& t, Precision p) {
-  return p == Precision::Fp64 ? t.fp64_mul_pj.value + t.fp64_add_pj.value : t.fp32_mul_pj.value + t.fp32_add_pj.value;
+  return p == Precision::Fp64 ? t.fp64_mul_pj.value + t.fp64_add_pj.value
+                              : t.fp32_mul_pj.value + t.fp32_add_pj.value;
 }
 
 std::string describe_technology(const Technology& t) {
   size_t width = 0;
-  for (const TechEntry& e : technology_entries()) width = std::max(width, std::string(e.name).size());
+  for (const TechEntry& e : technology_entries())
+    width = std::max(width, std::string(e.name).size());
   std::ostringstream s;
   s << "# technology " << t.name << " from " << t.file << ": entry  value unit  source\n";
   for (const TechEntry& e : technology_entries()) {
@@ -256,7 +297,8 @@ std::string technology_entries_markdown() {
   std::ostringstream s;
   s << "| entry | unit | meaning | a derived node scales it by |\n|---|---|---|---|\n";
   for (const TechEntry& e : technology_entries())
-    s << "| `" << e.name << "` | " << e.unit << " | " << e.meaning << " | " << to_string(e.scaling) << " |\n";
+    s << "| `" << e.name << "` | " << e.unit << " | " << e.meaning << " | " << to_string(e.scaling)
+      << " |\n";
   return s.str();
 }
 

@@ -49,7 +49,8 @@ struct Technology {
 /// factor, or not at all (sizes and exponents).
 enum class TechScaling { Energy, Area, Leakage, None };
 
-/// One entry of the technology file, declared once: `rtm tech`, the parser and docs/cost.md read it.
+/// One entry of the technology file, declared once: `rtm tech`, the parser and docs/cost.md read
+/// it.
 struct TechEntry {
   const char* name;
   const char* unit;

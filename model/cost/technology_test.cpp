@@ -68,7 +68,8 @@ TEST(Technology, ReadsHorowitzsFiguresAndTheirSources) {
 TEST(Technology, Fp32MacProductIsTheTablesMultiplyPlusAdd) {
   const Technology t = load_technology(kBuiltInTechnology);
   EXPECT_DOUBLE_EQ(mac_product_energy_pj(t, Precision::Fp32), 3.7 + 0.9);
-  EXPECT_DOUBLE_EQ(mac_product_energy_pj(t, Precision::Fp64), t.fp64_mul_pj.value + t.fp64_add_pj.value);
+  EXPECT_DOUBLE_EQ(mac_product_energy_pj(t, Precision::Fp64),
+                   t.fp64_mul_pj.value + t.fp64_add_pj.value);
   EXPECT_GT(mac_product_energy_pj(t, Precision::Fp64), mac_product_energy_pj(t, Precision::Fp32));
 }
 
@@ -111,9 +112,11 @@ TEST(Technology, ADerivedFileFindsItsBaseBesideIt) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("rtm-tech-" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
-  std::filesystem::copy_file(kTechFile, dir / "base.yaml", std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(kTechFile, dir / "base.yaml",
+                             std::filesystem::copy_options::overwrite_existing);
   const std::string factors =
-      "factors: {energy: {value: 2, source: e}, area: {value: 1, source: a}, leakage: {value: 1, source: l}}\n";
+      "factors: {energy: {value: 2, source: e}, area: {value: 1, source: a}, leakage: {value: 1, "
+      "source: l}}\n";
   std::ofstream(dir / "derived.yaml") << "scale_from: base.yaml\n" << factors;
   std::ofstream(dir / "loop.yaml") << "scale_from: loop.yaml\n" << factors;
   EXPECT_DOUBLE_EQ(load_technology((dir / "derived.yaml").string()).fp32_add_pj.value, 1.8);
@@ -137,17 +140,27 @@ TEST(Technology, BadFilesAreRefusedWithTheirLine) {
   const std::string good = file_text(kTechFile);
   ASSERT_EQ(refusal(good), "");
   const std::vector<BadFile> cases = {
-      {"negative", "  value: 3.7\n", "  value: -3.7\n", "  value: -3.7", "fp32_mul_pj.value: expected a number >= 0, got '-3.7'"},
-      {"NaN", "  value: 3.7\n", "  value: nan\n", "  value: nan", "fp32_mul_pj.value: expected a finite number, got 'nan'"},
-      {"not a number", "  value: 3.7\n", "  value: lots\n", "  value: lots", "fp32_mul_pj.value: expected a number, got 'lots'"},
-      {"wrong type", "  value: 3.7\n", "  value: [3.7]\n", "  value: [3.7]", "fp32_mul_pj.value: expected a number"},
-      {"entry not a map", "fp32_mul_um2:\n  value: 7700\n  source: \"Horowitz, ISSCC 2014: fp32 multiplier area, 45 nm\"\n",
+      {"negative", "  value: 3.7\n", "  value: -3.7\n", "  value: -3.7",
+       "fp32_mul_pj.value: expected a number >= 0, got '-3.7'"},
+      {"NaN", "  value: 3.7\n", "  value: nan\n", "  value: nan",
+       "fp32_mul_pj.value: expected a finite number, got 'nan'"},
+      {"not a number", "  value: 3.7\n", "  value: lots\n", "  value: lots",
+       "fp32_mul_pj.value: expected a number, got 'lots'"},
+      {"wrong type", "  value: 3.7\n", "  value: [3.7]\n", "  value: [3.7]",
+       "fp32_mul_pj.value: expected a number"},
+      {"entry not a map",
+       "fp32_mul_um2:\n  value: 7700\n  source: \"Horowitz, ISSCC 2014: fp32 multiplier area, 45 "
+       "nm\"\n",
        "fp32_mul_um2: 7700\n", "fp32_mul_um2: 7700",
        "fp32_mul_um2: expected {value: NUMBER, source: TEXT}"},
-      {"unknown key", "fp32_mul_pj:", "fp32_mult_pj:", "fp32_mult_pj:", "unknown key 'fp32_mult_pj'"},
-      {"missing source", "fp32_mul_um2:\n  value: 7700\n  source: \"Horowitz, ISSCC 2014: fp32 multiplier area, 45 nm\"\n",
+      {"unknown key",
+       "fp32_mul_pj:", "fp32_mult_pj:", "fp32_mult_pj:", "unknown key 'fp32_mult_pj'"},
+      {"missing source",
+       "fp32_mul_um2:\n  value: 7700\n  source: \"Horowitz, ISSCC 2014: fp32 multiplier area, 45 "
+       "nm\"\n",
        "fp32_mul_um2:\n  value: 7700\n", "  value: 7700", "fp32_mul_um2: missing 'source'"},
-      {"zero size", "  value: 8192\n", "  value: 0\n", "  value: 0\n", "sram_bytes.value: expected a number > 0, got '0'"},
+      {"zero size", "  value: 8192\n", "  value: 0\n", "  value: 0\n",
+       "sram_bytes.value: expected a number > 0, got '0'"},
       {"syntax", "fp32_mul_pj:\n", "fp32_mul_pj: [\n", "fp32_mul_pj: [", "YAML syntax error"},
   };
   for (const BadFile& c : cases) {
@@ -155,14 +168,17 @@ TEST(Technology, BadFilesAreRefusedWithTheirLine) {
     const std::string m = refusal(text);
     EXPECT_NE(m.find(c.message), std::string::npos) << c.what << ": " << m;
     if (std::string(c.what) != "syntax")
-      EXPECT_EQ(m.rfind("t.yaml:" + std::to_string(line_of(text, c.at)) + ": ", 0), 0u) << c.what << ": " << m;
+      EXPECT_EQ(m.rfind("t.yaml:" + std::to_string(line_of(text, c.at)) + ": ", 0), 0u)
+          << c.what << ": " << m;
     else
       EXPECT_EQ(m.rfind("t.yaml:", 0), 0u) << m;
   }
   // A missing entry names it, at the top of the file.
   const std::string missing = replaced(good, "fp32_add_pj:\n  value: 0.9\n", "");
-  const std::string m = refusal(replaced(missing, "  source: \"Horowitz, ISSCC 2014: fp32 add, 45 nm\"\n", ""));
-  EXPECT_NE(m.find("t.yaml:" + std::to_string(line_of(good, "name: 45nm")) + ": missing entry 'fp32_add_pj'"),
+  const std::string m =
+      refusal(replaced(missing, "  source: \"Horowitz, ISSCC 2014: fp32 add, 45 nm\"\n", ""));
+  EXPECT_NE(m.find("t.yaml:" + std::to_string(line_of(good, "name: 45nm")) +
+                   ": missing entry 'fp32_add_pj'"),
             std::string::npos)
       << m;
 }
@@ -172,18 +188,21 @@ TEST(Technology, AnUnreadableFileIsNamed) {
     load_technology("no/such/tech.yaml");
     FAIL();
   } catch (const TechnologyError& e) {
-    EXPECT_EQ(std::string(e.what()), "no/such/tech.yaml:0: cannot read the technology file 'no/such/tech.yaml'");
+    EXPECT_EQ(std::string(e.what()),
+              "no/such/tech.yaml:0: cannot read the technology file 'no/such/tech.yaml'");
   }
 }
 
 TEST(Technology, AFileTooLargeToBeOneIsNotRead) {
-  const std::string path = std::filesystem::temp_directory_path() / ("rtm-tech-big-" + std::to_string(getpid()) + ".yaml");
+  const std::string path = std::filesystem::temp_directory_path() /
+                           ("rtm-tech-big-" + std::to_string(getpid()) + ".yaml");
   std::ofstream(path) << std::string((1 << 20) + 1, '#');
   try {
     load_technology(path);
     ADD_FAILURE() << "a 1 MiB + 1 file was read";
   } catch (const TechnologyError& e) {
-    EXPECT_NE(std::string(e.what()).find("1048577 bytes: not a technology file"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1048577 bytes: not a technology file"), std::string::npos)
+        << e.what();
   }
   std::filesystem::remove(path);
 }

@@ -50,8 +50,10 @@ UnitBuild front_buffer(const MachineConfig& c, const PeUnits&, uint64_t) {
   const Elements credit = ops({{Op::IntAdd, 1}, {Op::IntCompare, 1}}, P::Fp32);
   b.elements = credit;
   b.register_bits = ray_bits();
-  b.srams.push_back({"front_buffer", double(c.front_buffer_capacity) * double(ray_bits()) / 8, double(ray_bits())});
-  b.actions.push_back({[](const A& a) { return a.items[size_t(U::FrontBuffer)]; }, credit, ray_bits(), 2});
+  b.srams.push_back({"front_buffer", double(c.front_buffer_capacity) * double(ray_bits()) / 8,
+                     double(ray_bits())});
+  b.actions.push_back(
+      {[](const A& a) { return a.items[size_t(U::FrontBuffer)]; }, credit, ray_bits(), 2});
   return b;
 }
 
@@ -65,7 +67,8 @@ UnitBuild shading(const MachineConfig& c, const PeUnits& u, uint64_t) {
   const P p = c.shading_precision_in_force();
   UnitBuild b;
   Elements e = ops({{Op::FpMul, 18}, {Op::FpAdd, 17}, {Op::FpSqrt, 1}, {Op::FpDiv, 1}}, p);
-  if (u.shadow_rays)  // towards each light (3 add), its length (3 mul, 2 add, root, divide), contribution x kd
+  if (u.shadow_rays)  // towards each light (3 add), its length (3 mul, 2 add, root, divide),
+                      // contribution x kd
     e += ops({{Op::FpAdd, 5}, {Op::FpMul, 6}, {Op::FpSqrt, 1}, {Op::FpDiv, 1}}, p);
   if (u.reflection)  // d - 2(d.n)n (6 mul, 5 add), contribution x ks, the threshold
     e += ops({{Op::FpMul, 9}, {Op::FpAdd, 5}, {Op::FpCompare, 1}}, p);
@@ -86,16 +89,25 @@ UnitBuild search(const MachineConfig& c, const PeUnits&, uint64_t) {
   const P p = c.dda_precision_in_force();
   const uint64_t n = uint64_t(c.search_units);
   UnitBuild b;
-  b.elements = ops({{Op::FpCompare, 2}, {Op::FpAdd, 1}, {Op::FpMul, 1}, {Op::FpDiv, 1}, {Op::IntAdd, 1}, {Op::IntCompare, 2}}, p)
+  b.elements = ops({{Op::FpCompare, 2},
+                    {Op::FpAdd, 1},
+                    {Op::FpMul, 1},
+                    {Op::FpDiv, 1},
+                    {Op::IntAdd, 1},
+                    {Op::IntCompare, 2}},
+                   p)
                    .times(n);
   // Each unit's walk: the voxel index (3 integers), the next crossings and their steps (6 words).
   const uint64_t walk_bits = 3 * 32 + 6 * word_bits(p);
   b.register_bits = n * (walk_bits + ray_bits());
   const bool cache = c.voxel_cache_bytes > 0;
   if (cache) b.srams.push_back({"voxel_cache", double(c.voxel_cache_bytes), 32});
-  b.actions.push_back({[](const A& a) { return a.voxel_steps; },
-                       ops({{Op::FpCompare, 2}, {Op::FpAdd, 1}, {Op::IntAdd, 1}, {Op::IntCompare, 2}}, p), walk_bits});
-  b.actions.push_back({[](const A& a) { return a.rays; }, ops({{Op::FpDiv, 3}, {Op::FpMul, 3}, {Op::FpAdd, 3}}, p), walk_bits});
+  b.actions.push_back(
+      {[](const A& a) { return a.voxel_steps; },
+       ops({{Op::FpCompare, 2}, {Op::FpAdd, 1}, {Op::IntAdd, 1}, {Op::IntCompare, 2}}, p),
+       walk_bits});
+  b.actions.push_back({[](const A& a) { return a.rays; },
+                       ops({{Op::FpDiv, 3}, {Op::FpMul, 3}, {Op::FpAdd, 3}}, p), walk_bits});
   if (cache) {
     const double line_words = double(VoxelCache::from(c).line_bytes()) / 4;
     b.actions.push_back({[](const A& a) { return a.cache_accesses; }, {}, 0, 1});
@@ -114,14 +126,19 @@ UnitBuild mac(const MachineConfig& c, const PeUnits&, uint64_t primitives) {
   const uint64_t lanes = uint64_t(c.intersection_units);
   UnitBuild b;
   b.elements = ops({{Op::FpMul, 2}, {Op::FpAdd, 1}}, p).times(lanes);
-  b.register_bits = lanes * (6 + 1 + 2) * word_bits(p);  // U and V, the accumulator, two stage latches
-  const double records = double(c.mac_ram_primitives > 0 ? uint64_t(c.mac_ram_primitives) : primitives);
+  b.register_bits =
+      lanes * (6 + 1 + 2) * word_bits(p);  // U and V, the accumulator, two stage latches
+  const double records =
+      double(c.mac_ram_primitives > 0 ? uint64_t(c.mac_ram_primitives) : primitives);
   const double ram_bytes = records * double(coef_record_bytes(p));
-  for (uint64_t k = 0; k < lanes; ++k) b.srams.push_back({"coefficient_ram", ram_bytes, double(word_bits(p))});
-  b.actions.push_back({[](const A& a) { return a.mac_products; }, ops({{Op::FpMul, 1}, {Op::FpAdd, 1}}, p),
-                       word_bits(p), 1});
+  for (uint64_t k = 0; k < lanes; ++k)
+    b.srams.push_back({"coefficient_ram", ram_bytes, double(word_bits(p))});
+  b.actions.push_back({[](const A& a) { return a.mac_products; },
+                       ops({{Op::FpMul, 1}, {Op::FpAdd, 1}}, p), word_bits(p), 1});
   b.actions.push_back({[](const A& a) { return a.coef_ram_fills; }, {}, 0, double(kRamWords)});
-  b.actions.push_back({[](const A& a) { return a.items[size_t(U::Mac)]; }, {}, 6 * word_bits(p)});  // U, V latched per job
+  b.actions.push_back({[](const A& a) { return a.items[size_t(U::Mac)]; },
+                       {},
+                       6 * word_bits(p)});  // U, V latched per job
   return b;
 }
 
@@ -133,12 +150,18 @@ UnitBuild root(const MachineConfig& c, const PeUnits&, uint64_t) {
   const P p = c.intersection_precision_in_force();
   const uint64_t lanes = uint64_t(c.intersection_units);
   UnitBuild b;
-  b.elements = ops({{Op::FpMul, 4}, {Op::FpAdd, 3}, {Op::FpSqrt, 1}, {Op::FpDiv, 1}, {Op::FpCompare, 2}}, p).times(lanes);
-  b.register_bits = lanes * (4 * word_bits(p) + 32);  // alpha, beta, gamma, the nearest t and its primitive
-  b.actions.push_back({[](const A& a) { return a.intersection_tests; },
-                       ops({{Op::FpMul, 4}, {Op::FpAdd, 3}, {Op::FpSqrt, 1}, {Op::FpDiv, 1}, {Op::FpCompare, 2}}, p),
-                       4 * word_bits(p)});
-  b.actions.push_back({[](const A& a) { return a.clip_tests; }, ops({{Op::FpMul, 3}, {Op::FpAdd, 3}, {Op::FpCompare, 1}}, p)});
+  b.elements =
+      ops({{Op::FpMul, 4}, {Op::FpAdd, 3}, {Op::FpSqrt, 1}, {Op::FpDiv, 1}, {Op::FpCompare, 2}}, p)
+          .times(lanes);
+  b.register_bits =
+      lanes * (4 * word_bits(p) + 32);  // alpha, beta, gamma, the nearest t and its primitive
+  b.actions.push_back(
+      {[](const A& a) { return a.intersection_tests; },
+       ops({{Op::FpMul, 4}, {Op::FpAdd, 3}, {Op::FpSqrt, 1}, {Op::FpDiv, 1}, {Op::FpCompare, 2}},
+           p),
+       4 * word_bits(p)});
+  b.actions.push_back({[](const A& a) { return a.clip_tests; },
+                       ops({{Op::FpMul, 3}, {Op::FpAdd, 3}, {Op::FpCompare, 1}}, p)});
   return b;
 }
 
@@ -175,10 +198,12 @@ struct OpEntries {
 using Tech = Technology;
 constexpr std::array<OpEntries, kOps> kOpEntries = {{
     {&Tech::int32_add_pj, &Tech::int32_add_pj, &Tech::int32_add_um2, &Tech::int32_add_um2},
-    {&Tech::int32_compare_pj, &Tech::int32_compare_pj, &Tech::int32_compare_um2, &Tech::int32_compare_um2},
+    {&Tech::int32_compare_pj, &Tech::int32_compare_pj, &Tech::int32_compare_um2,
+     &Tech::int32_compare_um2},
     {&Tech::fp32_add_pj, &Tech::fp64_add_pj, &Tech::fp32_add_um2, &Tech::fp64_add_um2},
     {&Tech::fp32_mul_pj, &Tech::fp64_mul_pj, &Tech::fp32_mul_um2, &Tech::fp64_mul_um2},
-    {&Tech::fp32_compare_pj, &Tech::fp64_compare_pj, &Tech::fp32_compare_um2, &Tech::fp64_compare_um2},
+    {&Tech::fp32_compare_pj, &Tech::fp64_compare_pj, &Tech::fp32_compare_um2,
+     &Tech::fp64_compare_um2},
     {&Tech::fp32_div_pj, &Tech::fp64_div_pj, &Tech::fp32_div_um2, &Tech::fp64_div_um2},
     {&Tech::fp32_sqrt_pj, &Tech::fp64_sqrt_pj, &Tech::fp32_sqrt_um2, &Tech::fp64_sqrt_um2},
 }};
@@ -207,7 +232,8 @@ bool reads(UnitKind k, const FifoSpec& f) { return f.readers.front() == k; }
 }  // namespace
 
 const char* op_name(Op o) {
-  static const char* const names[kOps] = {"int_add", "int_compare", "fp_add", "fp_mul", "fp_compare", "fp_div", "fp_sqrt"};
+  static const char* const names[kOps] = {"int_add",    "int_compare", "fp_add", "fp_mul",
+                                          "fp_compare", "fp_div",      "fp_sqrt"};
   return names[size_t(o)];
 }
 
@@ -233,16 +259,19 @@ double energy_pj(const Elements& e, const Technology& t) {
 
 uint64_t record_bits(Payload p, const MachineConfig& c) {
   switch (p) {
-    case Payload::Ray: return ray_bits();
+    case Payload::Ray:
+      return ray_bits();
     // alpha, beta, gamma of one primitive, its number and the ray's
-    case Payload::MacResult: return 3 * word_bits(c.intersection_precision_in_force()) + 64;
-    case Payload::End: return 32;  // the ray's number
+    case Payload::MacResult:
+      return 3 * word_bits(c.intersection_precision_in_force()) + 64;
+    case Payload::End:
+      return 32;  // the ray's number
   }
   return 0;
 }
 
-UnitInventory unit_inventory(UnitKind k, const MachineConfig& c, const PeUnits& units, uint64_t primitives,
-                             const Technology& t) {
+UnitInventory unit_inventory(UnitKind k, const MachineConfig& c, const PeUnits& units,
+                             uint64_t primitives, const Technology& t) {
   const UnitBuild b = build(k, c, units, primitives);
   UnitInventory inv;
   inv.kind = k;
@@ -251,31 +280,35 @@ UnitInventory unit_inventory(UnitKind k, const MachineConfig& c, const PeUnits& 
   inv.register_bits = b.register_bits;
   for (const FifoSpec& f : fifo_table())
     if (reads(k, f) && units.has(f))
-      inv.fifo_bits += uint64_t(fifo_count(f, c)) * uint64_t(c.*f.depth) * record_bits(f.payload, c);
+      inv.fifo_bits +=
+          uint64_t(fifo_count(f, c)) * uint64_t(c.*f.depth) * record_bits(f.payload, c);
   inv.srams = b.srams;
-  inv.logic_um2 = area_um2(inv.elements, t) + double(inv.register_bits + inv.fifo_bits) * t.register_bit_um2.value;
+  inv.logic_um2 = area_um2(inv.elements, t) +
+                  double(inv.register_bits + inv.fifo_bits) * t.register_bit_um2.value;
   for (const Sram& s : inv.srams) inv.sram_um2 += sram_area_um2(t, s.bytes);
   return inv;
 }
 
-double unit_dynamic_pj(UnitKind k, const MachineConfig& c, const PeUnits& units, uint64_t primitives, const FrameActivity& a,
-                       const Technology& t) {
+double unit_dynamic_pj(UnitKind k, const MachineConfig& c, const PeUnits& units,
+                       uint64_t primitives, const FrameActivity& a, const Technology& t) {
   const UnitBuild b = build(k, c, units, primitives);
   const double reg = t.register_bit_write_pj.value;
   double e = 0;
   for (const Action& x : b.actions) {
     double each = energy_pj(x.ops, t) + double(x.register_bits) * reg;
     if (x.sram_words > 0 && !b.srams.empty())
-      each += x.sram_words * sram_access_energy_pj(t, b.srams.front().bytes, b.srams.front().word_bits);
+      each +=
+          x.sram_words * sram_access_energy_pj(t, b.srams.front().bytes, b.srams.front().word_bits);
     e += double(x.count(a)) * each;
   }
   for (const FifoSpec& f : fifo_table())
-    if (reads(k, f)) e += double(a.fifo_writes[size_t(f.id)]) * double(record_bits(f.payload, c)) * reg;
+    if (reads(k, f))
+      e += double(a.fifo_writes[size_t(f.id)]) * double(record_bits(f.payload, c)) * reg;
   return e;
 }
 
-MachineCost machine_cost(const MachineConfig& c, const PeUnits& units, uint64_t primitives, const FrameActivity& a,
-                         const Technology& t) {
+MachineCost machine_cost(const MachineConfig& c, const PeUnits& units, uint64_t primitives,
+                         const FrameActivity& a, const Technology& t) {
   MachineCost m;
   m.technology = t.name;
   double sram_bits = 0;

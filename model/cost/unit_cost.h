@@ -49,7 +49,7 @@ struct UnitInventory {
   uint64_t register_bits = 0;  ///< latches and state
   uint64_t fifo_bits = 0;      ///< the FIFOs it reads: depth x record width
   std::vector<Sram> srams;
-  double logic_um2 = 0;        ///< elements, registers and FIFOs
+  double logic_um2 = 0;  ///< elements, registers and FIFOs
   double sram_um2 = 0;
 };
 
@@ -59,24 +59,25 @@ uint64_t record_bits(Payload p, const MachineConfig& c);
 /// What a PE's units of kind k are built of, for a scene of `primitives` (the coefficient RAM
 /// holds every primitive's unless mac_ram_primitives bounds it) with the optional units `units`
 /// (what leave_out kept: units/pe_state.h).
-UnitInventory unit_inventory(UnitKind k, const MachineConfig& c, const PeUnits& units, uint64_t primitives,
-                             const Technology& t);
+UnitInventory unit_inventory(UnitKind k, const MachineConfig& c, const PeUnits& units,
+                             uint64_t primitives, const Technology& t);
 
 /// What a frame did, over all PEs: the counters the cost reads (machine/frame_cost.h fills it).
 struct FrameActivity {
   int pes = 1;
-  double seconds = 0;    ///< the frame's simulated time
+  double seconds = 0;  ///< the frame's simulated time
   uint64_t pixels = 0;
   uint64_t rays = 0;
   uint64_t voxel_steps = 0, intersection_tests = 0, clip_tests = 0;
-  uint64_t mac_products = 0;  ///< in the intersection precision; skipped (sparse) products are not here
+  uint64_t mac_products =
+      0;  ///< in the intersection precision; skipped (sparse) products are not here
   std::array<uint64_t, kUnitKinds> items{};  ///< each kind's items taken (units/pipeline.h)
   /// Records written into each FIFO of the table (units/fifo_table.h), summed over its copies.
   std::array<uint64_t, kFifoCount> fifo_writes{};
-  uint64_t coef_ram_fills = 0;   ///< coefficient records loaded on misses
+  uint64_t coef_ram_fills = 0;  ///< coefficient records loaded on misses
   uint64_t cache_accesses = 0, cache_line_fills = 0;
-  uint64_t memory_bytes = 0;     ///< local-memory bytes moved by every requester, host writes included
-  uint64_t link_bytes = 0;       ///< over every link of the interconnect
+  uint64_t memory_bytes = 0;  ///< local-memory bytes moved by every requester, host writes included
+  uint64_t link_bytes = 0;    ///< over every link of the interconnect
 };
 
 struct UnitCost {
@@ -86,18 +87,18 @@ struct UnitCost {
 
 struct MachineCost {
   std::string technology;
-  std::vector<UnitCost> units;  ///< in unit-table order
+  std::vector<UnitCost> units;               ///< in unit-table order
   double pe_logic_mm2 = 0, pe_sram_mm2 = 0;  ///< one PE
   double interconnect_mm2 = 0;               ///< no technology entry prices the link's area: 0
   double logic_mm2 = 0, sram_mm2 = 0;        ///< all PEs: on-chip
   double memory_mm2 = 0;                     ///< all PEs' local memory as DRAM, apart from the chip
   double memory_capacity_bytes = 0;          ///< per PE
   double memory_dynamic_pj = 0, link_dynamic_pj = 0;
-  double dynamic_pj = 0;  ///< units, local memory and link
-  double leakage_pj = 0;  ///< on-chip logic and SRAM over the frame
-  double energy_pj = 0;   ///< dynamic and leakage
+  double dynamic_pj = 0;     ///< units, local memory and link
+  double leakage_pj = 0;     ///< on-chip logic and SRAM over the frame
+  double energy_pj = 0;      ///< dynamic and leakage
   double frame_seconds = 0;  ///< FrameActivity::seconds
-  double power_w = 0;     ///< energy over the frame's time
+  double power_w = 0;        ///< energy over the frame's time
   double energy_per_ray_pj = 0, energy_per_pixel_pj = 0;
 
   double area_mm2() const { return logic_mm2 + sram_mm2 + interconnect_mm2; }
@@ -105,10 +106,10 @@ struct MachineCost {
 
 /// Energy of kind k's units over the frame: each action's elements, register and FIFO writes and
 /// SRAM accesses (unit_cost.cpp says what an action is per kind).
-double unit_dynamic_pj(UnitKind k, const MachineConfig& c, const PeUnits& units, uint64_t primitives, const FrameActivity& a,
-                       const Technology& t);
+double unit_dynamic_pj(UnitKind k, const MachineConfig& c, const PeUnits& units,
+                       uint64_t primitives, const FrameActivity& a, const Technology& t);
 
-MachineCost machine_cost(const MachineConfig& c, const PeUnits& units, uint64_t primitives, const FrameActivity& a,
-                         const Technology& t);
+MachineCost machine_cost(const MachineConfig& c, const PeUnits& units, uint64_t primitives,
+                         const FrameActivity& a, const Technology& t);
 
 }  // namespace rtm

@@ -38,7 +38,8 @@ TEST(UnitCost, AreaIsLinearInThePeCount) {
 TEST(UnitCost, TheMemoryIsItsCapacityInDramBitsApartFromLogic) {
   MachineConfig c;
   const MachineCost m = cost_of(c);
-  EXPECT_DOUBLE_EQ(m.memory_mm2, double(c.local_memory_bytes) * 8 * tech().dram_bit_um2.value * 1e-6);
+  EXPECT_DOUBLE_EQ(m.memory_mm2,
+                   double(c.local_memory_bytes) * 8 * tech().dram_bit_um2.value * 1e-6);
   EXPECT_DOUBLE_EQ(m.area_mm2(), m.logic_mm2 + m.sram_mm2 + m.interconnect_mm2);
 }
 
@@ -46,9 +47,11 @@ TEST(UnitCost, Fp64UnitsCostMoreThanFp32) {
   MachineConfig f32, f64;
   f64.precision = Precision::Fp64;
   for (const UnitSpec& s : unit_table()) {
-    const UnitInventory a = unit_inventory(s.kind, f32, {}, 100, tech()), b = unit_inventory(s.kind, f64, {}, 100, tech());
+    const UnitInventory a = unit_inventory(s.kind, f32, {}, 100, tech()),
+                        b = unit_inventory(s.kind, f64, {}, 100, tech());
     if (s.kind == UnitKind::FrontBuffer) {
-      EXPECT_DOUBLE_EQ(b.logic_um2, a.logic_um2) << "the front buffer has no floating-point arithmetic";
+      EXPECT_DOUBLE_EQ(b.logic_um2, a.logic_um2)
+          << "the front buffer has no floating-point arithmetic";
       continue;
     }
     EXPECT_GT(b.logic_um2, a.logic_um2) << s.name;
@@ -71,16 +74,19 @@ TEST(UnitCost, ALeftOutUnitCostsNothing) {
   const UnitInventory bare = unit_inventory(UnitKind::Shading, c, none, 100, tech());
   EXPECT_LT(bare.logic_um2, all.logic_um2);
   // Each generator's elements are gone, and nothing else.
-  for (PeUnits one : {PeUnits{true, false, true, true}, PeUnits{true, true, false, true}, PeUnits{true, true, true, false}})
+  for (PeUnits one : {PeUnits{true, false, true, true}, PeUnits{true, true, false, true},
+                      PeUnits{true, true, true, false}})
     EXPECT_LT(unit_inventory(UnitKind::Shading, c, one, 100, tech()).logic_um2, all.logic_um2);
   EXPECT_EQ(bare.register_bits, all.register_bits);
   // The spawn FIFO left out takes its bits from the front buffer, its reader.
   const UnitInventory fb = unit_inventory(UnitKind::FrontBuffer, c, {}, 100, tech());
   const UnitInventory fb_bare = unit_inventory(UnitKind::FrontBuffer, c, none, 100, tech());
   const FifoSpec& spawn = fifo_spec(FifoId::Spawn);
-  EXPECT_EQ(fb.fifo_bits - fb_bare.fifo_bits, uint64_t(c.*spawn.depth) * record_bits(spawn.payload, c));
-  EXPECT_DOUBLE_EQ(fb.logic_um2 - fb_bare.logic_um2,
-                   double(c.*spawn.depth) * double(record_bits(spawn.payload, c)) * tech().register_bit_um2.value);
+  EXPECT_EQ(fb.fifo_bits - fb_bare.fifo_bits,
+            uint64_t(c.*spawn.depth) * record_bits(spawn.payload, c));
+  EXPECT_DOUBLE_EQ(fb.logic_um2 - fb_bare.logic_um2, double(c.*spawn.depth) *
+                                                         double(record_bits(spawn.payload, c)) *
+                                                         tech().register_bit_um2.value);
 }
 
 TEST(UnitCost, TheCoefficientRamHoldsEveryPrimitiveUnlessBounded) {
@@ -90,7 +96,8 @@ TEST(UnitCost, TheCoefficientRamHoldsEveryPrimitiveUnlessBounded) {
   ASSERT_EQ(all.srams.size(), 2u);
   EXPECT_DOUBLE_EQ(all.srams[0].bytes, 1000.0 * kRamWords * 4);
   c.mac_ram_primitives = 10;
-  EXPECT_DOUBLE_EQ(unit_inventory(UnitKind::Mac, c, {}, 1000, tech()).srams[0].bytes, 10.0 * kRamWords * 4);
+  EXPECT_DOUBLE_EQ(unit_inventory(UnitKind::Mac, c, {}, 1000, tech()).srams[0].bytes,
+                   10.0 * kRamWords * 4);
   EXPECT_TRUE(unit_inventory(UnitKind::Search, c, {}, 1000, tech()).srams.empty());
   c.voxel_cache_bytes = 4096;
   const UnitInventory s = unit_inventory(UnitKind::Search, c, {}, 1000, tech());
@@ -108,7 +115,8 @@ TEST(UnitCost, AnIdleMachineCostsOnlyLeakage) {
   double sram_bits = 0;
   for (const UnitCost& u : m.units)
     for (const Sram& s : u.inventory.srams) sram_bits += s.bytes * 8;
-  const double leak_w = m.logic_mm2 * 1e6 * 50e-9 + sram_bits * 1000e-12;  // the 45 nm file's leakage
+  const double leak_w =
+      m.logic_mm2 * 1e6 * 50e-9 + sram_bits * 1000e-12;  // the 45 nm file's leakage
   EXPECT_NEAR(m.leakage_pj, leak_w * 1e-3 * 1e12, 1e-9 * m.leakage_pj);
   EXPECT_DOUBLE_EQ(m.energy_pj, m.leakage_pj);
   EXPECT_NEAR(m.power_w, leak_w, 1e-12 * leak_w);
@@ -142,7 +150,8 @@ TEST(UnitCost, ATinyFramesEnergyByHand) {
   // walk's 3 x 32 + 6 x 32 bits; per walk 3 divides 20.3, 3 mul 3.7, 3 add 0.9, the walk's bits;
   // the search FIFO's writes.
   const double walk = 288 * reg;
-  const double search = 10 * (2 * 0.1 + 0.9 + 0.1 + 2 * 0.1 + walk) + 2 * (3 * 20.3 + 3 * 3.7 + 3 * 0.9 + walk) + 2 * ray * reg;
+  const double search = 10 * (2 * 0.1 + 0.9 + 0.1 + 2 * 0.1 + walk) +
+                        2 * (3 * 20.3 + 3 * 3.7 + 3 * 0.9 + walk) + 2 * ray * reg;
   // MAC: per product 3.7 + 0.9, its accumulator's 32 bits and a word of a 5 x 13 x 4 byte RAM
   // (Horowitz's 8 KB 64-bit read, 10 pJ, halved for 32 bits, times the capacity's square root).
   const double ram = 10 * 0.5 * std::sqrt(5 * 13 * 4 / 8192.0);
@@ -170,10 +179,12 @@ TEST(UnitCost, AMacProductIsTheTablesMultiplyPlusAddInItsPrecision) {
     c.mac_ram_primitives = 1;
     FrameActivity one, none;
     one.mac_products = 1;
-    const double e = unit_dynamic_pj(UnitKind::Mac, c, {}, 1, one, tech()) - unit_dynamic_pj(UnitKind::Mac, c, {}, 1, none, tech());
+    const double e = unit_dynamic_pj(UnitKind::Mac, c, {}, 1, one, tech()) -
+                     unit_dynamic_pj(UnitKind::Mac, c, {}, 1, none, tech());
     const double w = p == Precision::Fp64 ? 64 : 32;
     const double ram = sram_access_energy_pj(tech(), 13 * w / 8, w);
-    EXPECT_NEAR(e - ram - w * tech().register_bit_write_pj.value, mac_product_energy_pj(tech(), p), 1e-12);
+    EXPECT_NEAR(e - ram - w * tech().register_bit_write_pj.value, mac_product_energy_pj(tech(), p),
+                1e-12);
   }
   EXPECT_DOUBLE_EQ(mac_product_energy_pj(tech(), Precision::Fp32), 3.7 + 0.9);
 }

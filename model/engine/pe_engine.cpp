@@ -9,7 +9,8 @@ std::string engine_unsupported(const MachineConfig& c, bool tracing) {
   if (c.timing != Timing::Fast) return "clocked timing runs the MAC on a clock";
   if (c.arbitration != MachineConfig::Arbitration::Ranked)
     return "arbitration = kernel leaves the same-cycle order to SystemC";
-  if (c.flow_control != FlowControl::Credits) return "flow_control = none can deadlock, which the modules report";
+  if (c.flow_control != FlowControl::Credits)
+    return "flow_control = none can deadlock, which the modules report";
   if (c.dda_step_cycles == 0 || c.shade_cycles == 0 || c.accumulate_cycles == 0)
     return "a unit taking zero cycles acts within the instant it started";
   if (tracing) return "a waveform traces the modules' signals";
@@ -24,8 +25,8 @@ PeEngine::Fifo::Fifo(const FifoSpec& spec, int depth, Phase* phase)
       meter(spec.kind, depth),
       phase(phase) {}
 
-PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_t>& ids, const std::vector<Ray>& rays,
-                   size_t rays_expected)
+PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_t>& ids,
+                   const std::vector<Ray>& rays, size_t rays_expected)
     : pe_(pe),
       frame_(frame),
       ids_(ids),
@@ -51,8 +52,10 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
   due_at_.assign(places_.size(), kNever);
   due_now_.assign(places_.size(), 0);
   for (int k = 0; k < unit_count(UnitKind::Search, pe.config); ++k) search_.emplace_back(pe, k);
-  for (int lane = 0; lane < unit_count(UnitKind::Mac, pe.config); ++lane) macs_.emplace_back(pe, lane);
-  for (int lane = 0; lane < unit_count(UnitKind::Root, pe.config); ++lane) roots_.emplace_back(pe, lane);
+  for (int lane = 0; lane < unit_count(UnitKind::Mac, pe.config); ++lane)
+    macs_.emplace_back(pe, lane);
+  for (int lane = 0; lane < unit_count(UnitKind::Root, pe.config); ++lane)
+    roots_.emplace_back(pe, lane);
   for (size_t u = 0; u < places_.size(); ++u) wake(u, 0);
 }
 
@@ -76,7 +79,8 @@ uint64_t PeEngine::next_instant() {
 }
 
 bool PeEngine::idle() const {
-  return pending_step_ == kNever && std::all_of(due_at_.begin(), due_at_.end(), [](uint64_t at) { return at == kNever; });
+  return pending_step_ == kNever &&
+         std::all_of(due_at_.begin(), due_at_.end(), [](uint64_t at) { return at == kNever; });
 }
 
 void PeEngine::run_before(uint64_t t) {
@@ -141,11 +145,13 @@ void PeEngine::take_inputs(uint64_t now) {
   while (waiting_search_.any_idle() && search_in.visible())
     wake(place(UnitKind::Search, size_t(waiting_search_.take())), now);
   Fifo& mac_in = fifo(FifoId::Intersect);
-  while (waiting_macs_.any_idle() && mac_in.visible()) wake(place(UnitKind::Mac, size_t(waiting_macs_.take())), now);
+  while (waiting_macs_.any_idle() && mac_in.visible())
+    wake(place(UnitKind::Mac, size_t(waiting_macs_.take())), now);
   for (size_t lane = 0; lane < roots_.size(); ++lane)
     if (places_[place(UnitKind::Root, lane)].waiting && fifo(FifoId::Root, lane).visible())
       wake(place(UnitKind::Root, lane), now);
-  if (places_[place(UnitKind::Shading)].waiting && fifo(FifoId::Shade).visible()) wake(place(UnitKind::Shading), now);
+  if (places_[place(UnitKind::Shading)].waiting && fifo(FifoId::Shade).visible())
+    wake(place(UnitKind::Shading), now);
 }
 
 // ---- rays ----
@@ -161,7 +167,9 @@ uint32_t PeEngine::new_ray(const MachineRay& r) {
   return s;
 }
 
-[[gnu::always_inline]] inline bool PeEngine::emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now) {
+[[gnu::always_inline]] inline bool PeEngine::emit(const Output& o, const MachineRay& r,
+                                                  uint32_t slot, UnitKind kind, int index,
+                                                  uint64_t now) {
   Fifo& f = fifo(o.fifo);
   if (f.full()) return false;
   const uint32_t id = r.id;
@@ -205,7 +213,8 @@ struct PeEngine::Ops {
   bool write_head(uint64_t) {
     const Held& h = head();
     if constexpr (K == UnitKind::FrontBuffer) {
-      return e.emit({FifoId::Search, Output::What::Item}, e.slots_[h.item], h.item, UnitKind::FrontBuffer, 0, now);
+      return e.emit({FifoId::Search, Output::What::Item}, e.slots_[h.item], h.item,
+                    UnitKind::FrontBuffer, 0, now);
     } else if constexpr (K == UnitKind::Search) {
       return e.emit(h.out, e.slots_[h.item], h.item, UnitKind::Search, index(), now);
     } else if constexpr (K == UnitKind::Mac) {
@@ -238,43 +247,43 @@ struct PeEngine::Ops {
       FrontOps ops{e, now};
       return e.front_.carry_out(now, e.cycle_, ops);
     } else if constexpr (K == UnitKind::Search) {
-        Fifo& in = e.fifo(FifoId::Search);
-        if (!in.visible()) return false;
-        const uint32_t slot = in.read(now);
-        Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
-        pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
-        return true;
+      Fifo& in = e.fifo(FifoId::Search);
+      if (!in.visible()) return false;
+      const uint32_t slot = in.read(now);
+      Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
+      pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
+      return true;
     } else if constexpr (K == UnitKind::Mac) {
-        Fifo& in = e.fifo(FifoId::Intersect);
-        if (!in.visible()) return false;
-        const uint32_t slot = in.read(now);
-        if (e.free_results_.empty()) {
-          e.results_.emplace_back();
-          e.free_results_.push_back(uint32_t(e.results_.size() - 1));
-        }
-        const uint32_t result = e.free_results_.back();
-        e.free_results_.pop_back();
-        MacResult& m = e.results_[result];
-        m.r = e.slots_[slot];
-        e.free_slots_.push_back(slot);  // the ray travels with its MAC result now
-        Work w = e.macs_[size_t(index())].take(m, now);
-        pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
-        return true;
+      Fifo& in = e.fifo(FifoId::Intersect);
+      if (!in.visible()) return false;
+      const uint32_t slot = in.read(now);
+      if (e.free_results_.empty()) {
+        e.results_.emplace_back();
+        e.free_results_.push_back(uint32_t(e.results_.size() - 1));
+      }
+      const uint32_t result = e.free_results_.back();
+      e.free_results_.pop_back();
+      MacResult& m = e.results_[result];
+      m.r = e.slots_[slot];
+      e.free_slots_.push_back(slot);  // the ray travels with its MAC result now
+      Work w = e.macs_[size_t(index())].take(m, now);
+      pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
+      return true;
     } else if constexpr (K == UnitKind::Root) {
-        Fifo& in = e.fifo(FifoId::Root, size_t(index()));
-        if (!in.visible()) return false;
-        const uint32_t result = in.read(now);
-        Work w = e.roots_[size_t(index())].take(e.results_[result], now);
-        pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
-        return true;
+      Fifo& in = e.fifo(FifoId::Root, size_t(index()));
+      if (!in.visible()) return false;
+      const uint32_t result = in.read(now);
+      Work w = e.roots_[size_t(index())].take(e.results_[result], now);
+      pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
+      return true;
     } else {
-        Fifo& in = e.fifo(FifoId::Shade);
-        if (!in.visible()) return false;
-        const uint32_t slot = in.read(now);
-        const MachineRay& r = e.slots_[slot];
-        Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
-        pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
-        return true;
+      Fifo& in = e.fifo(FifoId::Shade);
+      if (!in.visible()) return false;
+      const uint32_t slot = in.read(now);
+      const MachineRay& r = e.slots_[slot];
+      Work w = e.shading_.take(r, e.frame_[r.slot], e.ids_[r.slot], now);
+      pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
+      return true;
     }
   }
 
@@ -299,11 +308,16 @@ void PeEngine::wake(size_t unit, uint64_t now) {
   Place& place = places_[unit];
   auto step = [&](auto ops) { rtm::step_unit(place.pipe, now, cycle_, pe_.memory.get(), ops); };
   switch (place.kind) {
-    case UnitKind::FrontBuffer: return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
-    case UnitKind::Search: return step(Ops<UnitKind::Search>{*this, unit, now, place});
-    case UnitKind::Mac: return step(Ops<UnitKind::Mac>{*this, unit, now, place});
-    case UnitKind::Root: return step(Ops<UnitKind::Root>{*this, unit, now, place});
-    case UnitKind::Shading: return step(Ops<UnitKind::Shading>{*this, unit, now, place});
+    case UnitKind::FrontBuffer:
+      return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
+    case UnitKind::Search:
+      return step(Ops<UnitKind::Search>{*this, unit, now, place});
+    case UnitKind::Mac:
+      return step(Ops<UnitKind::Mac>{*this, unit, now, place});
+    case UnitKind::Root:
+      return step(Ops<UnitKind::Root>{*this, unit, now, place});
+    case UnitKind::Shading:
+      return step(Ops<UnitKind::Shading>{*this, unit, now, place});
   }
 }
 
@@ -328,7 +342,8 @@ struct PeEngine::FrontOps {
   uint32_t primary(size_t n) { return e.new_ray(primary_ray(e.pe_, e.rays_, n)); }
   void dispatch(uint32_t slot, uint64_t cycles, uint8_t from, MemoryWait&& wait) {
     e.front_.dispatched(now, e.slots_[slot].id, cycles, from);
-    e.places_[e.place(UnitKind::FrontBuffer)].pipe.accept({slot, {}}, now, cycles, e.front_.interval(cycles), std::move(wait));
+    e.places_[e.place(UnitKind::FrontBuffer)].pipe.accept(
+        {slot, {}}, now, cycles, e.front_.interval(cycles), std::move(wait));
   }
   void want(uint64_t t) { e.want(e.place(UnitKind::FrontBuffer), t); }
   void finished() {}
@@ -340,19 +355,27 @@ struct PeEngine::ShadingOps {
   uint32_t ray;
   uint64_t now;
 
-  bool write_end(const Output& o) { return e.emit(o, e.slots_[ray], kNoSlot, UnitKind::Shading, 0, now); }
+  bool write_end(const Output& o) {
+    return e.emit(o, e.slots_[ray], kNoSlot, UnitKind::Shading, 0, now);
+  }
   uint32_t make(size_t k) { return e.new_ray(e.shading_.spawn(e.slots_[ray], k)); }
-  bool write(const Output& o, uint32_t child) { return e.emit(o, e.slots_[child], child, UnitKind::Shading, 0, now); }
+  bool write(const Output& o, uint32_t child) {
+    return e.emit(o, e.slots_[child], child, UnitKind::Shading, 0, now);
+  }
 };
 
 // ---- statistics ----
 
 FifoStatsList PeEngine::fifo_stats(uint64_t now, double seconds_per_tick) {
-  return rtm::fifo_stats(pe_, now, seconds_per_tick, [&](const FifoSpec& f, int lane) -> FifoMeter& { return fifo(f.id, size_t(lane)).meter; });
+  return rtm::fifo_stats(
+      pe_, now, seconds_per_tick,
+      [&](const FifoSpec& f, int lane) -> FifoMeter& { return fifo(f.id, size_t(lane)).meter; });
 }
 
 std::string PeEngine::occupancy_report() {
-  return rtm::occupancy_report(pe_, front_, [&](const FifoSpec& f, int lane) -> FifoMeter& { return fifo(f.id, size_t(lane)).meter; });
+  return rtm::occupancy_report(pe_, front_, [&](const FifoSpec& f, int lane) -> FifoMeter& {
+    return fifo(f.id, size_t(lane)).meter;
+  });
 }
 
 }  // namespace rtm

@@ -43,8 +43,8 @@ class PeEngine {
  public:
   /// `frame`, `ids`: the PE's frame buffer in local memory; `rays`: its primary rays, of which
   /// rays_arrived() says how many are there.
-  PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_t>& ids, const std::vector<Ray>& rays,
-           size_t rays_expected);
+  PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_t>& ids,
+           const std::vector<Ray>& rays, size_t rays_expected);
 
   /// Simulates everything that happens before time t.
   void run_before(uint64_t t);
@@ -122,22 +122,27 @@ class PeEngine {
   struct Place {
     Pipeline<Held> pipe;
     Wakeups wakeups;
-    uint64_t order = 0;    ///< its earliest wake-up (due_at_) ranked: the unit's rank, then when it asked
+    uint64_t order =
+        0;  ///< its earliest wake-up (due_at_) ranked: the unit's rank, then when it asked
     bool waiting = false;  ///< a root unit's or shading's wait for input
     UnitKind kind;
     int index;      ///< among the units of its kind
     uint64_t rank;  ///< its same-instant rank, shifted into `order`
     Place(uint64_t cycle, UnitStats* stats, UnitKind k, int i)
-        : pipe(cycle, stats), kind(k), index(i), rank(uint64_t(k) + (unit_spec(k).ranked_by_lane ? uint64_t(i) : 0)) {}
+        : pipe(cycle, stats),
+          kind(k),
+          index(i),
+          rank(uint64_t(k) + (unit_spec(k).ranked_by_lane ? uint64_t(i) : 0)) {}
     /// Its order for a wake-up it asked for as the seq-th: by rank, then by when it asked.
     uint64_t ranked(uint64_t seq) const { return rank << 48 | seq; }
   };
   template <UnitKind K>
-  struct Ops;  // a kind of unit's operations for step_unit (units/unit_step.h)
+  struct Ops;         // a kind of unit's operations for step_unit (units/unit_step.h)
   struct FrontOps;    // the front buffer's for FrontBufferPolicy::carry_out
   struct ShadingOps;  // shading's for ShadingWriter
 
-  /// The place of unit `index` of kind k: places are in the unit table's order, each kind's by number.
+  /// The place of unit `index` of kind k: places are in the unit table's order, each kind's by
+  /// number.
   size_t place(UnitKind k, size_t index = 0) const { return first_place_[size_t(k)] + index; }
 
   /// The next instant, with the units due then in due_now_ (due_count_ of them).
@@ -153,9 +158,9 @@ class PeEngine {
   uint32_t new_ray(const MachineRay& r);
   /// Writes a search or root unit's output for ray `r` (held in `slot`, or kNoSlot: in a MAC
   /// result); false when its FIFO is full.
-  bool emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index, uint64_t now);
+  bool emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index,
+            uint64_t now);
   static constexpr uint32_t kNoSlot = UINT32_MAX;
-
 
   PeState& pe_;
   std::vector<PixelSum>& frame_;
@@ -178,7 +183,8 @@ class PeEngine {
 
   std::vector<Place> places_;
   std::array<size_t, kUnitKinds> first_place_{};
-  std::vector<uint64_t> due_at_;  ///< each place's earliest wake-up (kNever: none), packed: scanned every instant
+  std::vector<uint64_t>
+      due_at_;  ///< each place's earliest wake-up (kNever: none), packed: scanned every instant
   std::vector<size_t> due_now_;  ///< the first due_count_ are the units due at the next instant
   size_t due_count_ = 0;
   uint64_t seq_ = 0;
@@ -191,7 +197,7 @@ class PeEngine {
   std::vector<MacUnit> macs_;
   std::vector<RootUnit> roots_;
   ShadingUnit shading_;
-  LaneDispatcher waiting_search_;      ///< search units waiting for a ray: the lowest-numbered takes it
+  LaneDispatcher waiting_search_;  ///< search units waiting for a ray: the lowest-numbered takes it
   LaneDispatcher waiting_macs_;
   ShadingWriter<uint32_t> shading_writer_;
 };

@@ -116,7 +116,8 @@ std::vector<PixelSum> traced_one_at_a_time(const EnginePe& p) {
 }
 
 bool same(const std::vector<PixelSum>& a, const std::vector<PixelSum>& b) {
-  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const PixelSum& x, const PixelSum& y) { return x.q == y.q; });
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                    [](const PixelSum& x, const PixelSum& y) { return x.q == y.q; });
 }
 
 TEST(PeEngine, EveryRayTreeFinishesAndSumsToItsPixelTracedOneRayAtATime) {
@@ -130,7 +131,9 @@ TEST(PeEngine, EveryRayTreeFinishesAndSumsToItsPixelTracedOneRayAtATime) {
   for (const std::string& line : log) {
     const Event e = parse(line);
     EXPECT_LE(e.cycle * kCycle, p.pe.counters.finish) << line;
-    if (e.unit == "front_buffer" && e.what == "take" && e.detail.find("primary") != std::string::npos) ++taken[e.ray];
+    if (e.unit == "front_buffer" && e.what == "take" &&
+        e.detail.find("primary") != std::string::npos)
+      ++taken[e.ray];
     if (e.what == "put" && e.detail == "ends_fifo") ++ended[e.ray];
   }
   EXPECT_EQ(taken.size(), 64u);
@@ -150,7 +153,8 @@ TEST(PeEngine, APipelinedFrontBufferHandsOutRaysBackToBack) {
       if (e.unit == "front_buffer" && e.what == "take") takes.push_back(e.cycle);
     }
     ASSERT_GE(takes.size(), 4u);
-    for (size_t i = 1; i < 4; ++i) EXPECT_EQ(takes[i] - takes[i - 1], interval ? 1u : 3u) << "interval " << interval;
+    for (size_t i = 1; i < 4; ++i)
+      EXPECT_EQ(takes[i] - takes[i - 1], interval ? 1u : 3u) << "interval " << interval;
   }
 }
 
@@ -169,19 +173,22 @@ std::map<std::string, std::vector<uint64_t>> spawn_puts(const std::vector<std::s
 
 TEST(PeEngine, AFullSpawnFifoStallsShading) {
   MachineConfig deep = fast(), shallow = fast();
-  shallow.feedback_fifo_depth = 1;  // one spawned ray at a time: the next waits for the front buffer to read it
+  shallow.feedback_fifo_depth =
+      1;  // one spawned ray at a time: the next waits for the front buffer to read it
   EnginePe a("balls-1", 8, deep), b("balls-1", 8, shallow);
   const auto wide = spawn_puts(a.run()), narrow = spawn_puts(b.run());
   EXPECT_TRUE(same(a.frame, b.frame));
   bool together = false, several = false;
-  for (const auto& [ray, cycles] : wide) together = together || (cycles.size() > 1 && cycles.front() == cycles.back());
+  for (const auto& [ray, cycles] : wide)
+    together = together || (cycles.size() > 1 && cycles.front() == cycles.back());
   for (const auto& [ray, cycles] : narrow) {
     several = several || cycles.size() > 1;
     for (size_t i = 1; i < cycles.size(); ++i) EXPECT_GT(cycles[i], cycles[i - 1]) << ray;
   }
   EXPECT_TRUE(together) << "with room, a ray's spawned rays leave in one cycle";
   EXPECT_TRUE(several);
-  EXPECT_GT(b.pe.counters.total(UnitKind::Shading).held_cycles, a.pe.counters.total(UnitKind::Shading).held_cycles);
+  EXPECT_GT(b.pe.counters.total(UnitKind::Shading).held_cycles,
+            a.pe.counters.total(UnitKind::Shading).held_cycles);
 }
 
 TEST(PeEngine, CreditsBoundTheRaysPastTheFrontBuffer) {
@@ -195,7 +202,8 @@ TEST(PeEngine, CreditsBoundTheRaysPastTheFrontBuffer) {
   for (const std::string& line : p.run()) {
     const Event e = parse(line);
     if (e.unit == "front_buffer" && e.what == "take") ++per_cycle[e.cycle].second;
-    if (e.what == "put" && (e.detail == "ends_fifo" || e.detail.rfind("feedback_", 0) == 0)) ++per_cycle[e.cycle].first;
+    if (e.what == "put" && (e.detail == "ends_fifo" || e.detail.rfind("feedback_", 0) == 0))
+      ++per_cycle[e.cycle].first;
   }
   int past = 0, most = 0;
   for (const auto& [cycle, n] : per_cycle) {
@@ -212,7 +220,8 @@ TEST(PeEngine, RaysBeyondTheOnChipCapacitySpillAndComeBack) {
   c.front_buffer_capacity = 1;
   EnginePe p("balls-1", 8, c), q("balls-1", 8, roomy);
   int spilled = 0;
-  for (const std::string& line : p.run()) spilled += parse(line).detail.find("spilled") != std::string::npos;
+  for (const std::string& line : p.run())
+    spilled += parse(line).detail.find("spilled") != std::string::npos;
   q.run();
   EXPECT_GT(spilled, 0);
   EXPECT_EQ(uint64_t(spilled), p.pe.counters.spills);

@@ -40,8 +40,8 @@ class WorkerPool {
   const std::function<void(size_t)>* job_ = nullptr;
   size_t jobs_ = 0;
   std::atomic<size_t> next_{0};
-  size_t working_ = 0;        ///< workers still in the current batch
-  uint64_t batch_ = 0;        ///< batches started: a worker waits for the next
+  size_t working_ = 0;  ///< workers still in the current batch
+  uint64_t batch_ = 0;  ///< batches started: a worker waits for the next
   bool stopping_ = false;
   std::vector<std::exception_ptr> errors_;  ///< per job of the batch
   std::vector<std::thread> workers_;

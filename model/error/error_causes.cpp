@@ -15,16 +15,26 @@ namespace rtm {
 
 const char* error_cause_name(ErrorCause c) {
   switch (c) {
-    case ErrorCause::None: return "none";
-    case ErrorCause::Missed: return "missed";
-    case ErrorCause::ExtraHit: return "extra_hit";
-    case ErrorCause::OtherPrimitive: return "other_primitive";
-    case ErrorCause::ShadowBlocked: return "shadow_blocked";
-    case ErrorCause::ShadowUnblocked: return "shadow_unblocked";
-    case ErrorCause::HitPoint: return "hit_point";
-    case ErrorCause::Spawned: return "spawned";
-    case ErrorCause::Brightness: return "brightness";
-    case ErrorCause::Unknown: break;
+    case ErrorCause::None:
+      return "none";
+    case ErrorCause::Missed:
+      return "missed";
+    case ErrorCause::ExtraHit:
+      return "extra_hit";
+    case ErrorCause::OtherPrimitive:
+      return "other_primitive";
+    case ErrorCause::ShadowBlocked:
+      return "shadow_blocked";
+    case ErrorCause::ShadowUnblocked:
+      return "shadow_unblocked";
+    case ErrorCause::HitPoint:
+      return "hit_point";
+    case ErrorCause::Spawned:
+      return "spawned";
+    case ErrorCause::Brightness:
+      return "brightness";
+    case ErrorCause::Unknown:
+      break;
   }
   return "unknown";
 }
@@ -41,13 +51,16 @@ namespace {
 bool is_hit(RayResult::End e) { return e == RayResult::End::Hit || e == RayResult::End::Blocked; }
 
 /// How a pair of rays traced from the same place parts; None: they agree.
-ErrorCause part(const Ray& m_ray, const RayResult& m, const Ray& r_ray, const RayResult& r, double tolerance) {
+ErrorCause part(const Ray& m_ray, const RayResult& m, const Ray& r_ray, const RayResult& r,
+                double tolerance) {
   using End = RayResult::End;
   if (m.end != r.end) {
-    if (m_ray.kind == RayKind::Shadow) return m.end == End::Blocked ? ErrorCause::ShadowBlocked : ErrorCause::ShadowUnblocked;
+    if (m_ray.kind == RayKind::Shadow)
+      return m.end == End::Blocked ? ErrorCause::ShadowBlocked : ErrorCause::ShadowUnblocked;
     return m.end == End::Hit ? ErrorCause::ExtraHit : ErrorCause::Missed;
   }
-  if (m.end != End::Hit) return ErrorCause::None;  // both missed, both blocked or both reached the light
+  if (m.end != End::Hit)
+    return ErrorCause::None;  // both missed, both blocked or both reached the light
   if (m.prim != r.prim) return ErrorCause::OtherPrimitive;
   const Vec3 pm = m_ray.origin + m.t * m_ray.dir, pr = r_ray.origin + r.t * r_ray.dir;
   if (!(length(pm - pr) <= tolerance)) return ErrorCause::HitPoint;
@@ -106,12 +119,14 @@ int32_t hit_prim(const RayResult& r) { return is_hit(r.end) ? int32_t(r.prim) : 
 
 Vec3 traced_pixel(RayTracer& tracer, const Ray& primary, uint64_t max_rays) {
   Side side(tracer, primary);
-  if (!side.finish(max_rays)) throw std::length_error("traced_pixel: the ray tree has more than max_rays rays");
+  if (!side.finish(max_rays))
+    throw std::length_error("traced_pixel: the ray tree has more than max_rays rays");
   return side.sum.value();
 }
 
-PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& reference, double hit_tolerance,
-                         const Vec3& machine_pixel, const Vec3& reference_pixel, uint64_t max_rays, TreeWork* rays) {
+PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& reference,
+                         double hit_tolerance, const Vec3& machine_pixel,
+                         const Vec3& reference_pixel, uint64_t max_rays, TreeWork* rays) {
   Side m(machine, primary), r(reference, primary);
   PixelCause cause, brightest;
   double widest = -1;
@@ -136,13 +151,16 @@ PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& refe
   }
   // The trees must be the images' own: each traced to its end sums to its pixel exactly.
   const bool whole = m.finish(max_rays) & r.finish(max_rays);
-  if (!whole || m.sum.value() != machine_pixel || r.sum.value() != reference_pixel) cause.cause = ErrorCause::Unknown;
+  if (!whole || m.sum.value() != machine_pixel || r.sum.value() != reference_pixel)
+    cause.cause = ErrorCause::Unknown;
   if (rays)
-    for (size_t k = 0; k < size_t(kRayKinds); ++k) rays->machine.rays[k] += m.rays[k], rays->reference.rays[k] += r.rays[k];
+    for (size_t k = 0; k < size_t(kRayKinds); ++k)
+      rays->machine.rays[k] += m.rays[k], rays->reference.rays[k] += r.rays[k];
   return cause;
 }
 
-std::vector<CountGap> count_gaps(const TraceCounts& machine, const TraceCounts& reference, const ErrorCauses& e) {
+std::vector<CountGap> count_gaps(const TraceCounts& machine, const TraceCounts& reference,
+                                 const ErrorCauses& e) {
   std::map<std::string, int64_t> in_trees;
   for (const CountDifference& d : count_differences(e.trees.machine, e.trees.reference))
     in_trees[d.what] = int64_t(d.a) - int64_t(d.b);
@@ -155,8 +173,8 @@ std::vector<CountGap> count_gaps(const TraceCounts& machine, const TraceCounts& 
   return gaps;
 }
 
-ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const MachineConfig& config, const Image& machine,
-                           const Image& reference) {
+ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const MachineConfig& config,
+                           const Image& machine, const Image& reference) {
   const auto t0 = std::chrono::steady_clock::now();
   // Both traced in the frame the machine and its reference computed in.
   const FramedScene view = framed(world, world_grid, config.pe_frame);
@@ -179,8 +197,8 @@ ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const Mac
         pe = std::make_unique<PeTracer>(s, g, config);
         ref = std::make_unique<ReferenceTracer>(s, g);
       }
-      const PixelCause c =
-          explain_pixel(camera.at(x, y), *pe, *ref, tolerance, machine.rgb[i], reference.rgb[i], kTreeRayLimit, &e.trees);
+      const PixelCause c = explain_pixel(camera.at(x, y), *pe, *ref, tolerance, machine.rgb[i],
+                                         reference.rgb[i], kTreeRayLimit, &e.trees);
       e.trees_whole &= c.cause != ErrorCause::Unknown;
       e.pixels[i] = c;
       ++e.differing;
@@ -189,9 +207,11 @@ ErrorCauses explain_errors(const Scene& world, const Grid& world_grid, const Mac
       const int32_t prim = c.prim >= 0 ? c.prim : c.reference_prim;
       if (prim >= 0) ++e.by_shape[size_t(s.primitives[size_t(prim)].kind)];
     }
-  for (const auto& [key, n] : tally) e.counts.push_back({std::get<0>(key), std::get<1>(key), std::get<2>(key), n});
+  for (const auto& [key, n] : tally)
+    e.counts.push_back({std::get<0>(key), std::get<1>(key), std::get<2>(key), n});
   if (pe) {
-    for (auto count : {&TraceCounts::voxel_steps, &TraceCounts::intersection_tests, &TraceCounts::clip_tests}) {
+    for (auto count :
+         {&TraceCounts::voxel_steps, &TraceCounts::intersection_tests, &TraceCounts::clip_tests}) {
       e.trees.machine.*count = pe->counts().*count;
       e.trees.reference.*count = ref->counts().*count;
     }

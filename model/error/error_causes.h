@@ -43,10 +43,10 @@ constexpr double kHitPointTolerance = 1e-4;
 /// brightness differs most; for Spawned: the parent).
 struct PixelCause {
   ErrorCause cause = ErrorCause::None;
-  int generation = 0;                 ///< of the parting ray: 1 for the primary ray; 0 for none
-  RayKind kind = RayKind::Primary;    ///< of the parting ray
-  int32_t prim = -1;                  ///< what the machine's parting ray hit or was blocked by; -1: nothing
-  int32_t reference_prim = -1;        ///< the same for the reference's
+  int generation = 0;               ///< of the parting ray: 1 for the primary ray; 0 for none
+  RayKind kind = RayKind::Primary;  ///< of the parting ray
+  int32_t prim = -1;  ///< what the machine's parting ray hit or was blocked by; -1: nothing
+  int32_t reference_prim = -1;  ///< the same for the reference's
 };
 
 /// The rays traced of one tree at most, on each side.
@@ -63,8 +63,9 @@ struct TreeWork {
 /// sum to its pixel gives Unknown. hit_tolerance is a distance. Rays past max_rays on either side
 /// are not traced: a tree that large gives Unknown unless its parting came first.
 /// With `rays`, each tree's rays are added to it by kind.
-PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& reference, double hit_tolerance,
-                         const Vec3& machine_pixel, const Vec3& reference_pixel, uint64_t max_rays = kTreeRayLimit,
+PixelCause explain_pixel(const Ray& primary, RayTracer& machine, RayTracer& reference,
+                         double hit_tolerance, const Vec3& machine_pixel,
+                         const Vec3& reference_pixel, uint64_t max_rays = kTreeRayLimit,
                          TreeWork* rays = nullptr);
 
 /// The pixel a primary ray's tree sums to through one tracer.
@@ -93,8 +94,9 @@ struct ErrorCauses {
   /// The differing pixels' trees on both sides: the part of the frames' work the error map
   /// accounts for.
   TreeWork trees;
-  bool trees_whole = true;  ///< every tree was traced to its end and summed to its pixel (no Unknown)
-  double seconds = 0;      ///< wall time of the attribution
+  bool trees_whole =
+      true;            ///< every tree was traced to its end and summed to its pixel (no Unknown)
+  double seconds = 0;  ///< wall time of the attribution
 };
 
 /// A count in which the machine's frame differs from the reference's, and how much of the
@@ -106,11 +108,12 @@ struct CountGap {
   int64_t difference() const { return int64_t(count.a) - int64_t(count.b); }
 };
 /// Each count that differs (count_differences' order), with its part in e's trees.
-std::vector<CountGap> count_gaps(const TraceCounts& machine, const TraceCounts& reference, const ErrorCauses& e);
+std::vector<CountGap> count_gaps(const TraceCounts& machine, const TraceCounts& reference,
+                                 const ErrorCauses& e);
 
 /// Explains every pixel where the machine's image differs from the reference's, re-tracing the
 /// machine's trees with a PE's units under config (error/pe_tracer.h).
-ErrorCauses explain_errors(const Scene& s, const Grid& g, const MachineConfig& config, const Image& machine,
-                           const Image& reference);
+ErrorCauses explain_errors(const Scene& s, const Grid& g, const MachineConfig& config,
+                           const Image& machine, const Image& reference);
 
 }  // namespace rtm

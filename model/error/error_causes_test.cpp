@@ -29,13 +29,15 @@ struct Traced {
   MachineConfig config = fp32_machine();
   std::optional<PeTracer> pe;
   std::optional<ReferenceTracer> ref;
-  explicit Traced(Scene s) : scene(std::move(s)), grid(build_grid(scene.primitives, scene.grid, 1)) {
+  explicit Traced(Scene s)
+      : scene(std::move(s)), grid(build_grid(scene.primitives, scene.grid, 1)) {
     pe.emplace(scene, grid, config);
     ref.emplace(scene, grid);
   }
   double tolerance() const { return kHitPointTolerance * length(grid.box.hi - grid.box.lo); }
   PixelCause explain(const Ray& primary) {
-    return explain_pixel(primary, *pe, *ref, tolerance(), traced_pixel(*pe, primary), traced_pixel(*ref, primary));
+    return explain_pixel(primary, *pe, *ref, tolerance(), traced_pixel(*pe, primary),
+                         traced_pixel(*ref, primary));
   }
   RayResult first(RayTracer& t, const Ray& ray) {
     RayResult out;
@@ -72,7 +74,8 @@ TEST(ErrorCauses, ARayGrazingASphereThatFloatMissesIsMissed) {
   Traced t(s);
   auto ray = [&](int k, int j) {
     const double a = 0.05 * j, r = 1 - std::ldexp(1.0, -k);
-    const Vec3 beside = c + r * normalize(cross(Vec3{3000, 2000, 1000}, Vec3{std::cos(a), std::sin(a), 0}));
+    const Vec3 beside =
+        c + r * normalize(cross(Vec3{3000, 2000, 1000}, Vec3{std::cos(a), std::sin(a), 0}));
     return primary(beside - Vec3{3000, 2000, 1000} + Vec3{1e-3 * j, 0, 0}, beside);
   };
   const auto [k, j] = first_parting([&](int k, int j) {
@@ -160,7 +163,8 @@ TEST(ErrorCauses, AReflectionOffAThinCylinderPartsAtTheReflectedRay) {
     if (m.end == r.end && (m.end != RayResult::End::Hit || m.prim == r.prim)) continue;
     ++parted;
     const PixelCause p = t.explain(ray(i));
-    EXPECT_EQ(p.cause, m.end == RayResult::End::Hit ? ErrorCause::ExtraHit : ErrorCause::Missed) << "ray " << i;
+    EXPECT_EQ(p.cause, m.end == RayResult::End::Hit ? ErrorCause::ExtraHit : ErrorCause::Missed)
+        << "ray " << i;
     EXPECT_EQ(p.generation, 2) << "ray " << i;
     EXPECT_EQ(p.kind, RayKind::Reflected) << "ray " << i;
   }
@@ -194,7 +198,8 @@ TEST(ErrorCauses, ACountGapIsExplainedOnlyWhenTheDifferingPixelsTreesHoldAllOfIt
   EXPECT_FALSE(g[2].explained);
   // A tree that could not be traced whole explains nothing.
   e.trees_whole = false;
-  for (const CountGap& x : count_gaps(machine, reference, e)) EXPECT_FALSE(x.explained) << x.count.what;
+  for (const CountGap& x : count_gaps(machine, reference, e))
+    EXPECT_FALSE(x.explained) << x.count.what;
 }
 
 // explain_pixel counts each tree's rays by kind, on both sides.
@@ -206,7 +211,8 @@ TEST(ErrorCauses, ExplainingAPixelCountsItsTreesRays) {
   Traced t(s);
   const Ray r = primary({0, 0, 5}, {0, 0, 0});
   TreeWork work;
-  explain_pixel(r, *t.pe, *t.ref, t.tolerance(), traced_pixel(*t.pe, r), traced_pixel(*t.ref, r), kTreeRayLimit, &work);
+  explain_pixel(r, *t.pe, *t.ref, t.tolerance(), traced_pixel(*t.pe, r), traced_pixel(*t.ref, r),
+                kTreeRayLimit, &work);
   EXPECT_EQ(work.machine.rays[size_t(RayKind::Primary)], 1u);
   EXPECT_EQ(work.machine.rays[size_t(RayKind::Shadow)], 1u);  // one light
   EXPECT_EQ(work.machine.rays, work.reference.rays);

@@ -12,8 +12,8 @@ Channels error_map_channels(const ErrorCauses& e) {
   c.values.reserve(e.pixels.size() * c.names.size());
   for (const PixelCause& p : e.pixels) {
     const bool differs = p.cause != ErrorCause::None;
-    for (float v : {float(p.generation), differs ? float(p.kind) : -1.0f, float(p.cause), float(p.prim),
-                    float(p.reference_prim)})
+    for (float v : {float(p.generation), differs ? float(p.kind) : -1.0f, float(p.cause),
+                    float(p.prim), float(p.reference_prim)})
       c.values.push_back(v);
   }
   return c;
@@ -21,16 +21,26 @@ Channels error_map_channels(const ErrorCauses& e) {
 
 Vec3 cause_colour(ErrorCause c) {
   switch (c) {
-    case ErrorCause::None: break;
-    case ErrorCause::Missed: return {1, 0, 0};           // red
-    case ErrorCause::ExtraHit: return {1, 0.5, 0};       // orange
-    case ErrorCause::OtherPrimitive: return {1, 0, 1};   // magenta
-    case ErrorCause::ShadowBlocked: return {0, 0.3, 1};  // blue
-    case ErrorCause::ShadowUnblocked: return {0, 1, 1};  // cyan
-    case ErrorCause::HitPoint: return {1, 1, 0};         // yellow
-    case ErrorCause::Spawned: return {0, 1, 0};          // green
-    case ErrorCause::Brightness: return {1, 1, 1};       // white
-    case ErrorCause::Unknown: return {0.6, 0.3, 0.1};    // brown
+    case ErrorCause::None:
+      break;
+    case ErrorCause::Missed:
+      return {1, 0, 0};  // red
+    case ErrorCause::ExtraHit:
+      return {1, 0.5, 0};  // orange
+    case ErrorCause::OtherPrimitive:
+      return {1, 0, 1};  // magenta
+    case ErrorCause::ShadowBlocked:
+      return {0, 0.3, 1};  // blue
+    case ErrorCause::ShadowUnblocked:
+      return {0, 1, 1};  // cyan
+    case ErrorCause::HitPoint:
+      return {1, 1, 0};  // yellow
+    case ErrorCause::Spawned:
+      return {0, 1, 0};  // green
+    case ErrorCause::Brightness:
+      return {1, 1, 1};  // white
+    case ErrorCause::Unknown:
+      return {0.6, 0.3, 0.1};  // brown
   }
   return {0, 0, 0};
 }

@@ -37,15 +37,22 @@ void PeTracer::trace(const Ray& ray, RayResult& out) {
     out.prim = r.prim;
     return;
   }
-  if (to != FifoId::Shade) throw std::logic_error("PeTracer: a unit routed a ray to an unexpected FIFO");
+  if (to != FifoId::Shade)
+    throw std::logic_error("PeTracer: a unit routed a ray to an unexpected FIFO");
   int32_t id = -1;
   shading_.take(r, out.added, id, 0);
   for (size_t k = 1; k < shading_.outputs(); ++k) out.spawned.push_back(shading_.spawn(r, k).ray);
   shading_.retired();
   switch (r.arrival) {
-    case MachineRay::Arrival::Hit: out.end = RayResult::End::Hit; break;
-    case MachineRay::Arrival::LightReached: out.end = RayResult::End::LightReached; break;
-    case MachineRay::Arrival::Missed: out.end = RayResult::End::Missed; break;
+    case MachineRay::Arrival::Hit:
+      out.end = RayResult::End::Hit;
+      break;
+    case MachineRay::Arrival::LightReached:
+      out.end = RayResult::End::LightReached;
+      break;
+    case MachineRay::Arrival::Missed:
+      out.end = RayResult::End::Missed;
+      break;
   }
   out.prim = r.prim;
   out.t = r.t_hit;

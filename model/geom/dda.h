@@ -17,14 +17,15 @@ namespace rtm {
 
 struct DdaState {
   std::array<int, 3> cell{0, 0, 0};
-  std::array<double, 3> t_next{kInf, kInf, kInf};  ///< where the ray crosses the next plane on each axis
-  double t_enter = 0;                              ///< where the ray enters the current voxel
-  double t_exit = 0;                               ///< where it leaves it (>= t_enter)
+  std::array<double, 3> t_next{kInf, kInf,
+                               kInf};  ///< where the ray crosses the next plane on each axis
+  double t_enter = 0;                  ///< where the ray enters the current voxel
+  double t_exit = 0;                   ///< where it leaves it (>= t_enter)
   /// How far past the true entry the rounded t_enter may lie: the bound of its crossing's rounding
   /// in the walk's arithmetic (0 at the ray's own start). A voxel test reaches back this far, so a
   /// hit just past the entry face is found in this voxel whatever the rounding.
   double t_enter_slack = 0;
-  bool done = true;                                ///< no current voxel: the ray has left the grid
+  bool done = true;  ///< no current voxel: the ray has left the grid
 };
 
 template <class Real>
@@ -36,13 +37,14 @@ class BasicDda {
   /// step; a ray starting inside, outside or on the boundary starts at its first voxel.
   static DdaState start(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max);
 
-  /// Step to the next voxel; sets done when the index leaves the grid or the voxel starts past t_max.
-  /// At most n_x + n_y + n_z steps from any start, so a walk always ends.
+  /// Step to the next voxel; sets done when the index leaves the grid or the voxel starts past
+  /// t_max. At most n_x + n_y + n_z steps from any start, so a walk always ends.
   static void advance(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s);
 
   /// The crossing after t_next on each axis (kInf on an axis the ray does not step along), for
   /// advance_ahead(); refill after start() and skip_box().
-  static std::array<double, 3> ahead(const Grid& g, const Vec3& o, const Vec3& d, const DdaState& s);
+  static std::array<double, 3> ahead(const Grid& g, const Vec3& o, const Vec3& d,
+                                     const DdaState& s);
   /// advance() with each axis's next crossing computed one step ahead: the same states, but no
   /// division stands between one step's choice of axis and the next one's (the reference
   /// renderer's walk, where that latency was the largest single cost).
@@ -62,12 +64,15 @@ class BasicDda {
  private:
   static constexpr Real kInfR = std::numeric_limits<Real>::infinity();
   /// A voxel plane from its index, in Real (no accumulated drift).
-  static Real plane(const Grid& g, int axis, int i) { return Real(g.box.lo[axis]) + Real(i) * Real(g.cell[axis]); }
+  static Real plane(const Grid& g, int axis, int i) {
+    return Real(g.box.lo[axis]) + Real(i) * Real(g.cell[axis]);
+  }
   static Real crossing(const Grid& g, const V& o, const V& d, int axis, int cell);
   /// The rounding bound of a crossing at t on `axis`: t = (P − o)/d with P, o and d rounded to
   /// Real, and |P| <= |o| + |t d|, is within 8 ε (|o| / |d| + |t|) of the exact crossing.
   static double slack(const Vec3& o, const Vec3& d, int axis, double t) {
-    return 8 * double(std::numeric_limits<Real>::epsilon()) * (std::abs(o[axis] / d[axis]) + std::abs(t));
+    return 8 * double(std::numeric_limits<Real>::epsilon()) *
+           (std::abs(o[axis] / d[axis]) + std::abs(t));
   }
   static int exit_axis(const DdaState& s);
 };
@@ -91,12 +96,15 @@ int BasicDda<Real>::exit_axis(const DdaState& s) {
 }
 
 template <class Real>
-DdaState BasicDda<Real>::start(const Grid& g, const Vec3& o_in, const Vec3& d_in, double t_min, double t_max) {
+DdaState BasicDda<Real>::start(const Grid& g, const Vec3& o_in, const Vec3& d_in, double t_min,
+                               double t_max) {
   DdaState s;
   // A non-finite origin or direction has no walk (std::max / std::min below would silently drop
   // a NaN, and an infinite origin makes o + t d NaN); so has one beyond Real's range.
   const V o(o_in), d(d_in);
-  auto finite = [](const V& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto finite = [](const V& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   if (!finite(o) || !finite(d)) return s;
   Real t0 = Real(t_min), t1 = Real(t_max);
   int entry_axis = -1;  // the face the walk enters the grid by; -1: it starts at t_min
@@ -115,18 +123,21 @@ DdaState BasicDda<Real>::start(const Grid& g, const Vec3& o_in, const Vec3& d_in
   if (!(t0 <= t1)) return s;  // misses the grid, or NaN input
   for (int a = 0; a < 3; ++a) {
     const Real p = d[a] == 0 ? o[a] : o[a] + t0 * d[a];
-    s.cell[a] = std::clamp(static_cast<int>(std::floor((p - Real(g.box.lo[a])) / Real(g.cell[a]))), 0, g.n[a] - 1);
+    s.cell[a] = std::clamp(static_cast<int>(std::floor((p - Real(g.box.lo[a])) / Real(g.cell[a]))),
+                           0, g.n[a] - 1);
   }
   for (int a = 0; a < 3; ++a) s.t_next[a] = crossing(g, o, d, a, s.cell[a]);
   s.t_enter = t0;
-  s.t_enter_slack = entry_axis < 0 ? 0.0 : std::min(double(t0) - t_min, slack(o_in, d_in, entry_axis, t0));
+  s.t_enter_slack =
+      entry_axis < 0 ? 0.0 : std::min(double(t0) - t_min, slack(o_in, d_in, entry_axis, t0));
   s.t_exit = std::max(double(t0), s.t_next[exit_axis(s)]);
   s.done = false;
   return s;
 }
 
 template <class Real>
-void BasicDda<Real>::advance(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s) {
+void BasicDda<Real>::advance(const Grid& g, const Vec3& o, const Vec3& d, double t_max,
+                             DdaState& s) {
   const int a = exit_axis(s);
   if (s.t_next[a] == kInf) {
     s.done = true;
@@ -144,7 +155,8 @@ void BasicDda<Real>::advance(const Grid& g, const Vec3& o, const Vec3& d, double
 }
 
 template <class Real>
-std::array<double, 3> BasicDda<Real>::ahead(const Grid& g, const Vec3& o, const Vec3& d, const DdaState& s) {
+std::array<double, 3> BasicDda<Real>::ahead(const Grid& g, const Vec3& o, const Vec3& d,
+                                            const DdaState& s) {
   std::array<double, 3> t{kInf, kInf, kInf};
   for (int a = 0; a < 3; ++a)
     if (d[a] != 0) t[a] = crossing(g, V(o), V(d), a, s.cell[a] + (d[a] > 0 ? 1 : -1));
@@ -152,8 +164,8 @@ std::array<double, 3> BasicDda<Real>::ahead(const Grid& g, const Vec3& o, const 
 }
 
 template <class Real>
-void BasicDda<Real>::advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, double t_max, DdaState& s,
-                                   std::array<double, 3>& ahead) {
+void BasicDda<Real>::advance_ahead(const Grid& g, const Vec3& o, const Vec3& d, double t_max,
+                                   DdaState& s, std::array<double, 3>& ahead) {
   const int a = exit_axis(s);
   if (s.t_next[a] == kInf) {
     s.done = true;
@@ -187,8 +199,9 @@ bool BasicDda<Real>::is_last(const Grid& g, const Vec3& d, double t_max, const D
 // that one happens inside the box, and counting them per axis gives the cell where the walk
 // stands just before it leaves.
 template <class Real>
-int BasicDda<Real>::skip_box(const Grid& g, const Vec3& o_in, const Vec3& d_in, double t_max, DdaState& s,
-                             const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+int BasicDda<Real>::skip_box(const Grid& g, const Vec3& o_in, const Vec3& d_in, double t_max,
+                             DdaState& s, const std::array<int, 3>& lo,
+                             const std::array<int, 3>& hi) {
   const V o(o_in), d(d_in);
   std::array<int, 3> last = s.cell;  // the box's last cell on each axis, in the walk's direction
   std::array<double, 3> t_last{kInf, kInf, kInf};
@@ -213,7 +226,9 @@ int BasicDda<Real>::skip_box(const Grid& g, const Vec3& o_in, const Vec3& d_in, 
     const int dir = d[a] > 0 ? 1 : -1;
     const int room = (last[a] - s.cell[a]) * dir;  // crossings of this axis inside the box
     // The k-th crossing of this axis: leaving cell + k·dir.
-    auto cross = [&](int k) { return k == room ? t_last[a] : double(crossing(g, o, d, a, s.cell[a] + k * dir)); };
+    auto cross = [&](int k) {
+      return k == room ? t_last[a] : double(crossing(g, o, d, a, s.cell[a] + k * dir));
+    };
     int k = room;  // on the way-out axis, every crossing before the last cell's is made
     double t_k = t_last[a], t_before = kInf;  // crossings k and k - 1
     if (a != axis_out) {

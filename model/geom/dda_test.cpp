@@ -50,7 +50,8 @@ std::vector<Visit> walk(const Grid& g, const Vec3& o, const Vec3& d, double t_mi
 }
 
 /// Entry and exit of the box by slabs, within [t_min, t_max]; false if the ray misses.
-bool clip_to_box(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max, double& t0, double& t1) {
+bool clip_to_box(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max,
+                 double& t0, double& t1) {
   t0 = t_min;
   t1 = t_max;
   for (int a = 0; a < 3; ++a) {
@@ -67,8 +68,8 @@ bool clip_to_box(const Grid& g, const Vec3& o, const Vec3& d, double t_min, doub
 }
 
 /// The reference: segments of positive length (longer than min_len) with their voxels.
-std::vector<Visit> reference_walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max,
-                                  double min_len) {
+std::vector<Visit> reference_walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min,
+                                  double t_max, double min_len) {
   double t0, t1;
   if (!clip_to_box(g, o, d, t_min, t_max, t0, t1)) return {};
   std::vector<double> cross[3];
@@ -93,7 +94,8 @@ std::vector<Visit> reference_walk(const Grid& g, const Vec3& o, const Vec3& d, d
         continue;
       }
       // Planes crossed before the middle of the segment.
-      const int crossed = int(std::count_if(cross[a].begin(), cross[a].end(), [&](double t) { return t < mid; }));
+      const int crossed =
+          int(std::count_if(cross[a].begin(), cross[a].end(), [&](double t) { return t < mid; }));
       v.cell[a] = d[a] > 0 ? crossed : g.n[a] - 1 - crossed;
     }
     out.push_back(v);
@@ -103,9 +105,11 @@ std::vector<Visit> reference_walk(const Grid& g, const Vec3& o, const Vec3& d, d
 }
 
 /// Structural checks on any walk, then the comparison with the reference.
-void check_walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max, const char* what = "") {
-  SCOPED_TRACE(::testing::Message() << what << " o = (" << o.x << ", " << o.y << ", " << o.z << ") d = (" << d.x << ", "
-                                    << d.y << ", " << d.z << ") t in [" << t_min << ", " << t_max << "]");
+void check_walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min, double t_max,
+                const char* what = "") {
+  SCOPED_TRACE(::testing::Message()
+               << what << " o = (" << o.x << ", " << o.y << ", " << o.z << ") d = (" << d.x << ", "
+               << d.y << ", " << d.z << ") t in [" << t_min << ", " << t_max << "]");
   const std::vector<Visit> w = walk(g, o, d, t_min, t_max);
   double t0, t1;
   const bool hits = clip_to_box(g, o, d, t_min, t_max, t0, t1);
@@ -147,16 +151,18 @@ void check_walk(const Grid& g, const Vec3& o, const Vec3& d, double t_min, doubl
   }
 
   // Positive-length visits against the reference.
-  const double min_len = 1e-9 * std::max({std::abs(t0), std::isfinite(t1) ? std::abs(t1) : 0.0, 1e-300});
+  const double min_len =
+      1e-9 * std::max({std::abs(t0), std::isfinite(t1) ? std::abs(t1) : 0.0, 1e-300});
   std::vector<Visit> got;
   for (const Visit& v : w)
     if (std::min(v.t1, t1) - v.t0 > min_len) got.push_back(v);
   const std::vector<Visit> ref = reference_walk(g, o, d, t_min, t_max, min_len);
   ASSERT_EQ(got.size(), ref.size()) << "positive-length visits differ in number";
   for (size_t i = 0; i < ref.size(); ++i) {
-    ASSERT_EQ(got[i].cell, ref[i].cell) << "visit " << i << ": (" << got[i].cell[0] << ", " << got[i].cell[1] << ", "
-                                        << got[i].cell[2] << ") vs reference (" << ref[i].cell[0] << ", "
-                                        << ref[i].cell[1] << ", " << ref[i].cell[2] << ")";
+    ASSERT_EQ(got[i].cell, ref[i].cell)
+        << "visit " << i << ": (" << got[i].cell[0] << ", " << got[i].cell[1] << ", "
+        << got[i].cell[2] << ") vs reference (" << ref[i].cell[0] << ", " << ref[i].cell[1] << ", "
+        << ref[i].cell[2] << ")";
     ASSERT_NEAR(got[i].t0, ref[i].t0, 1e-12 * scale) << "visit " << i;
     ASSERT_NEAR(std::min(got[i].t1, t1), ref[i].t1, 1e-12 * scale) << "visit " << i;
   }
@@ -186,7 +192,8 @@ TEST(DdaWalk, AxisParallelBothWaysWithSignedZeros) {
     // ±z.
     for (double dir : {1.0, -1.0}) {
       check_walk(g, {4.25, 0.75, dir > 0 ? -3.0 : 11.0}, {zero, zero, dir}, 0, kInf, "z");
-      EXPECT_EQ(walk(g, {4.25, 0.75, dir > 0 ? -3.0 : 11.0}, {zero, zero, dir}, 0, kInf).size(), 8u);
+      EXPECT_EQ(walk(g, {4.25, 0.75, dir > 0 ? -3.0 : 11.0}, {zero, zero, dir}, 0, kInf).size(),
+                8u);
     }
     check_walk(g, {-1, 2.5, 5.5}, {1, zero, -zero}, 0, kInf, "+x");
     check_walk(g, {9, 2.5, 5.5}, {-1, -zero, zero}, 0, kInf, "-x");
@@ -279,8 +286,9 @@ TEST(DdaWalk, StartsInsideOutsideOnTheBoundaryAndMisses) {
   EXPECT_TRUE(walk(g, {-1, -1, -1}, normalize(Vec3{-1, 0.2, 0.3}), 0, kInf).empty());
   EXPECT_TRUE(walk(g, {-1, 4, 4}, {-1, 0, 0}, 0, kInf).empty());
   EXPECT_TRUE(walk(g, {-2, 7, 4}, normalize(Vec3{1, 1, 0}), 0, kInf).empty());  // passes the corner
-  EXPECT_TRUE(walk(g, {4, 4, 4}, {1, 0, 0}, 10, kInf).empty());                 // t_min past the exit
-  for (const Vec3& o : {Vec3{-1, 9, 3}, Vec3{-1, -1, -1}, Vec3{-2, 7, 4}}) check_walk(g, o, {1, 0, 0}, 0, kInf, "miss");
+  EXPECT_TRUE(walk(g, {4, 4, 4}, {1, 0, 0}, 10, kInf).empty());  // t_min past the exit
+  for (const Vec3& o : {Vec3{-1, 9, 3}, Vec3{-1, -1, -1}, Vec3{-2, 7, 4}})
+    check_walk(g, o, {1, 0, 0}, 0, kInf, "miss");
 }
 
 TEST(DdaWalk, TminAndShadowTmax) {
@@ -338,7 +346,8 @@ TEST(DdaWalk, RandomRaysAgainstReference) {
     const std::array<int, 3> n{1 + int(rng() % 24), 1 + int(rng() % 24), 1 + int(rng() % 24)};
     const Vec3 lo{uniform(rng, -100, 100), uniform(rng, -100, 100), uniform(rng, -100, 100)};
     const double unit = std::pow(10.0, uniform(rng, -2, 1));
-    const Vec3 cell{unit * uniform(rng, 0.3, 3), unit * uniform(rng, 0.3, 3), unit * uniform(rng, 0.3, 3)};
+    const Vec3 cell{unit * uniform(rng, 0.3, 3), unit * uniform(rng, 0.3, 3),
+                    unit * uniform(rng, 0.3, 3)};
     const Grid g = make_grid(lo, cell, n);
     const Vec3 e = g.box.extent();
     Vec3 o;
@@ -397,8 +406,8 @@ TEST(DdaWalk, NonFiniteInputsVisitNothing) {
 constexpr double kUnit = 1.0 / 256;
 
 struct ExactRay {
-  std::array<int64_t, 3> lo, cell, o;  ///< grid corner, voxel edge, origin: in units
-  std::array<int64_t, 3> d;            ///< direction components (integers)
+  std::array<int64_t, 3> lo, cell, o;                 ///< grid corner, voxel edge, origin: in units
+  std::array<int64_t, 3> d;                           ///< direction components (integers)
   std::array<bool, 3> neg_zero{false, false, false};  ///< a zero component written as −0.0
   std::array<int, 3> n;
 };
@@ -413,7 +422,9 @@ bool rat_less(const Rat& a, const Rat& b) {
 }
 const Rat& rat_max(const Rat& a, const Rat& b) { return rat_less(a, b) ? b : a; }
 /// The time as the DDA computes it: (plane − o) in world units, divided by d, rounded once.
-double rat_double(const Rat& r) { return r.den == 0 ? kInf : (double(int64_t(r.num)) * kUnit) / double(int64_t(r.den)); }
+double rat_double(const Rat& r) {
+  return r.den == 0 ? kInf : (double(int64_t(r.num)) * kUnit) / double(int64_t(r.den));
+}
 
 Rat crossing_exact(const ExactRay& e, int a, int64_t boundary) {
   if (e.d[a] == 0) return {0, 0};
@@ -451,7 +462,9 @@ std::vector<Visit> exact_walk(const ExactRay& e) {
     cell[a] = int(std::clamp<__int128>(c, 0, e.n[a] - 1));
   }
   std::array<Rat, 3> next;
-  auto crossing_of = [&](int a) { return crossing_exact(e, a, e.d[a] > 0 ? cell[a] + 1 : cell[a]); };
+  auto crossing_of = [&](int a) {
+    return crossing_exact(e, a, e.d[a] > 0 ? cell[a] + 1 : cell[a]);
+  };
   auto exit_axis = [&] {
     int a = 0;
     if (rat_less(next[1], next[a])) a = 1;
@@ -464,7 +477,8 @@ std::vector<Visit> exact_walk(const ExactRay& e) {
     const int a = exit_axis();
     const bool infinite = next[size_t(a)].den == 0;
     const int step = cell[a] + (e.d[a] > 0 ? 1 : -1);
-    out.push_back({cell, rat_double(enter), rat_double(exit), infinite || step < 0 || step >= e.n[a]});
+    out.push_back(
+        {cell, rat_double(enter), rat_double(exit), infinite || step < 0 || step >= e.n[a]});
     if (out.back().last) return out;
     cell[a] = step;
     enter = exit;
@@ -485,11 +499,12 @@ void check_exact(const ExactRay& e, const char* what) {
     o[a] = double(e.o[a]) * kUnit;
     d[a] = e.d[a] == 0 && e.neg_zero[size_t(a)] ? -0.0 : double(e.d[a]);
   }
-  SCOPED_TRACE(::testing::Message() << what << " o = (" << o.x << ", " << o.y << ", " << o.z << ") d = (" << d.x
-                                    << ", " << d.y << ", " << d.z << ")");
+  SCOPED_TRACE(::testing::Message() << what << " o = (" << o.x << ", " << o.y << ", " << o.z
+                                    << ") d = (" << d.x << ", " << d.y << ", " << d.z << ")");
   const std::vector<Visit> got = walk(g, o, d, 0, kInf);
   const std::vector<Visit> ref = exact_walk(e);
-  ASSERT_LE(got.size(), size_t(e.n[0] + e.n[1] + e.n[2])) << "a walk is at most nx + ny + nz voxels";
+  ASSERT_LE(got.size(), size_t(e.n[0] + e.n[1] + e.n[2]))
+      << "a walk is at most nx + ny + nz voxels";
   ASSERT_EQ(got.size(), ref.size());
   for (size_t i = 0; i < ref.size(); ++i) {
     ASSERT_EQ(got[i].cell, ref[i].cell) << "visit " << i;
@@ -509,12 +524,13 @@ TEST(DdaExact, LongWalksOn4096CubedMatchTheRationalWalkVisitForVisit) {
     for (int a = 0; a < 3; ++a) {
       e.cell[size_t(a)] = 1 + int64_t(rng() % 5);  // not powers of two: 1 … 5 units
       // The grid's corner at the origin, 1e3, 1e4 or 1e5 away (all exact in units).
-      e.lo[size_t(a)] = int64_t(std::array<double, 4>{0, 1e3, -1e4, 1e5}[size_t(i % 4)] / kUnit) + int64_t(rng() % 64);
+      e.lo[size_t(a)] = int64_t(std::array<double, 4>{0, 1e3, -1e4, 1e5}[size_t(i % 4)] / kUnit) +
+                        int64_t(rng() % 64);
       e.d[size_t(a)] = int64_t(rng() % 4097) - 2048;
     }
-    if (i % 5 == 0) e.d = {1, 1, 1};                       // through voxel corners
-    if (i % 5 == 1) e.d[size_t(rng() % 3)] = 0;            // in a plane of the grid
-    if (i % 7 == 2) e.d = {0, 0, (rng() & 1) ? 1 : -1};    // axis-parallel
+    if (i % 5 == 0) e.d = {1, 1, 1};                     // through voxel corners
+    if (i % 5 == 1) e.d[size_t(rng() % 3)] = 0;          // in a plane of the grid
+    if (i % 7 == 2) e.d = {0, 0, (rng() & 1) ? 1 : -1};  // axis-parallel
     if (e.d == std::array<int64_t, 3>{0, 0, 0}) e.d = {1, 0, 0};
     for (int a = 0; a < 3; ++a) e.neg_zero[size_t(a)] = rng() & 1;
     for (int a = 0; a < 3; ++a) {
@@ -566,7 +582,8 @@ TEST(DdaExact, CornerEdgeAndBoundaryCasesMatchTheRationalWalk) {
       e.o = {e.lo[0] + s, e.lo[1] + s, e.lo[2] + s};
       e.d = {dir, dir, dir};
       check_exact(e, "diagonal");
-      EXPECT_EQ(exact_walk(e).size(), 3u * 4096 - 2);  // 4096 voxels and two zero-length ones per corner
+      EXPECT_EQ(exact_walk(e).size(),
+                3u * 4096 - 2);  // 4096 voxels and two zero-length ones per corner
     }
   // Starting on each face of the grid, pointing in and pointing out.
   for (int a = 0; a < 3; ++a)
@@ -587,10 +604,12 @@ namespace rtm {
 namespace {
 
 bool same_state(const DdaState& a, const DdaState& b) {
-  return a.cell == b.cell && a.t_next == b.t_next && a.t_enter == b.t_enter && a.t_exit == b.t_exit && a.done == b.done;
+  return a.cell == b.cell && a.t_next == b.t_next && a.t_enter == b.t_enter &&
+         a.t_exit == b.t_exit && a.done == b.done;
 }
 
-bool inside(const std::array<int, 3>& c, const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+bool inside(const std::array<int, 3>& c, const std::array<int, 3>& lo,
+            const std::array<int, 3>& hi) {
   for (int a = 0; a < 3; ++a)
     if (c[a] < lo[a] || c[a] > hi[a]) return false;
   return true;
@@ -598,9 +617,10 @@ bool inside(const std::array<int, 3>& c, const std::array<int, 3>& lo, const std
 
 /// skip_box against advance() one voxel at a time: from every voxel of the walk, over a random
 /// box holding it, the skip must leave the state exactly where the steps do, having counted them.
-void check_skips(const Grid& g, const Vec3& o, const Vec3& d, double t_max, std::mt19937& rng, int& skipped) {
-  SCOPED_TRACE(::testing::Message() << "o = (" << o.x << ", " << o.y << ", " << o.z << ") d = (" << d.x << ", " << d.y
-                                    << ", " << d.z << ") t_max " << t_max);
+void check_skips(const Grid& g, const Vec3& o, const Vec3& d, double t_max, std::mt19937& rng,
+                 int& skipped) {
+  SCOPED_TRACE(::testing::Message() << "o = (" << o.x << ", " << o.y << ", " << o.z << ") d = ("
+                                    << d.x << ", " << d.y << ", " << d.z << ") t_max " << t_max);
   for (DdaState s = Dda::start(g, o, d, 0, t_max); !s.done; Dda::advance(g, o, d, t_max, s)) {
     std::array<int, 3> lo, hi;
     for (int a = 0; a < 3; ++a) {
@@ -613,8 +633,9 @@ void check_skips(const Grid& g, const Vec3& o, const Vec3& d, double t_max, std:
     for (;;) {
       DdaState next = stepped;
       Dda::advance(g, o, d, t_max, next);
-      if (!inside(next.cell, lo, hi)) break;  // leaves the box (or the grid, through the box's face)
-      if (next.done) {                        // ends inside the box: no skip promised
+      if (!inside(next.cell, lo, hi))
+        break;          // leaves the box (or the grid, through the box's face)
+      if (next.done) {  // ends inside the box: no skip promised
         steps = -1;
         break;
       }
@@ -625,12 +646,14 @@ void check_skips(const Grid& g, const Vec3& o, const Vec3& d, double t_max, std:
     const int k = Dda::skip_box(g, o, d, t_max, skipped_state, lo, hi);
     if (k == 0) {
       ASSERT_TRUE(same_state(skipped_state, s)) << "a skip of no voxels changed the state";
-      ASSERT_TRUE(steps <= 0 || t_max < kInf) << "skipped nothing where " << steps << " steps stay in the box";
+      ASSERT_TRUE(steps <= 0 || t_max < kInf)
+          << "skipped nothing where " << steps << " steps stay in the box";
       continue;
     }
     ASSERT_EQ(k, steps) << "cell (" << s.cell[0] << ", " << s.cell[1] << ", " << s.cell[2] << ")";
-    ASSERT_TRUE(same_state(skipped_state, stepped)) << "after " << k << " steps from (" << s.cell[0] << ", "
-                                                   << s.cell[1] << ", " << s.cell[2] << ")";
+    ASSERT_TRUE(same_state(skipped_state, stepped))
+        << "after " << k << " steps from (" << s.cell[0] << ", " << s.cell[1] << ", " << s.cell[2]
+        << ")";
     ++skipped;
   }
 }
@@ -640,9 +663,11 @@ TEST(DdaSkipBox, LandsExactlyWhereTheStepsDoOnRandomRays) {
   int skipped = 0;
   for (int i = 0; i < 400; ++i) {
     const std::array<int, 3> n{1 + int(rng() % 40), 1 + int(rng() % 40), 1 + int(rng() % 40)};
-    const Vec3 cell{test::log_uniform(rng, -2, 2), test::log_uniform(rng, -2, 2), test::log_uniform(rng, -2, 2)};
-    const Grid g = make_grid({test::uniform(rng, -50, 50), test::uniform(rng, -50, 50), test::uniform(rng, -50, 50)},
-                             cell, n);
+    const Vec3 cell{test::log_uniform(rng, -2, 2), test::log_uniform(rng, -2, 2),
+                    test::log_uniform(rng, -2, 2)};
+    const Grid g = make_grid(
+        {test::uniform(rng, -50, 50), test::uniform(rng, -50, 50), test::uniform(rng, -50, 50)},
+        cell, n);
     const Vec3 o = g.box.lo + test::uniform_zyx(rng, -0.2, 1.2) * g.box.extent();
     Vec3 d = test::random_unit(rng);
     if (i % 5 == 0) d[rng() % 3] = (rng() & 1) ? 0.0 : -0.0;  // zero components never step
@@ -657,10 +682,13 @@ TEST(DdaAdvanceAhead, VisitsTheSameStatesAsAdvance) {
   int visits = 0;
   for (int i = 0; i < 300; ++i) {
     const std::array<int, 3> n{1 + int(rng() % 30), 1 + int(rng() % 30), 1 + int(rng() % 30)};
-    const Vec3 cell{test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1)};
-    const Grid g = make_grid({test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)}, cell, n);
+    const Vec3 cell{test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1),
+                    test::log_uniform(rng, -1, 1)};
+    const Grid g = make_grid(
+        {test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)}, cell, n);
     const Vec3 o = g.box.lo + test::uniform_zyx(rng, -0.2, 1.2) * g.box.extent();
-    Vec3 d = i % 7 == 0 ? Vec3(1, 1, i % 2) : test::random_unit(rng);  // some through edges and corners
+    Vec3 d =
+        i % 7 == 0 ? Vec3(1, 1, i % 2) : test::random_unit(rng);  // some through edges and corners
     if (i % 5 == 0) d[rng() % 3] = 0.0;
     const double t_max = i % 3 == 0 ? test::uniform(rng, 0, length(g.box.extent())) : kInf;
     DdaState a = Dda::start(g, o, d, 0, t_max), b = a;
@@ -681,9 +709,10 @@ TEST(DdaSkipBox, TiesAtEdgesAndCornersGoToTheLowerAxisAsInAdvance) {
   std::mt19937 rng(11);
   const Grid g = make_grid({0, 0, 0}, {1, 1, 1}, {16, 16, 16});
   int skipped = 0;
-  for (const Vec3& d : {Vec3(1, 1, 0), Vec3(1, 1, 1), Vec3(-1, 1, 1), Vec3(1, -1, -1), Vec3(2, 1, 0), Vec3(1, 2, 2),
-                        Vec3(-2, -2, 1), Vec3(0, -1, 1)})
-    for (const Vec3& o : {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5), Vec3(3, 5, 7), Vec3(15.5, 0.25, 8), Vec3(16, 16, 0)})
+  for (const Vec3& d : {Vec3(1, 1, 0), Vec3(1, 1, 1), Vec3(-1, 1, 1), Vec3(1, -1, -1),
+                        Vec3(2, 1, 0), Vec3(1, 2, 2), Vec3(-2, -2, 1), Vec3(0, -1, 1)})
+    for (const Vec3& o :
+         {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5), Vec3(3, 5, 7), Vec3(15.5, 0.25, 8), Vec3(16, 16, 0)})
       check_skips(g, o, d, kInf, rng, skipped);
   EXPECT_GT(skipped, 50);
 }
@@ -694,7 +723,8 @@ TEST(DdaSkipBox, TiesAtEdgesAndCornersGoToTheLowerAxisAsInAdvance) {
 template <class Real>
 std::vector<std::array<int, 3>> cells_of(const Grid& g, const Vec3& o, const Vec3& d) {
   std::vector<std::array<int, 3>> cells;
-  for (DdaState s = BasicDda<Real>::start(g, o, d, 0, kInf); !s.done; BasicDda<Real>::advance(g, o, d, kInf, s)) {
+  for (DdaState s = BasicDda<Real>::start(g, o, d, 0, kInf); !s.done;
+       BasicDda<Real>::advance(g, o, d, kInf, s)) {
     cells.push_back(s.cell);
     // The walk's times are Real's: a float walk's are floats, held exactly in the double state.
     for (double t : {s.t_enter, s.t_exit, s.t_next[0], s.t_next[1]}) EXPECT_EQ(double(Real(t)), t);
@@ -707,7 +737,8 @@ TEST(DdaPrecision, Fp32AndFp64PartAtACornerFloatCannotResolve) {
   const Vec3 o{0.1, 0.1, 0.5};
   const Vec3 d = normalize(Vec3{0.9, 0.9 + 1e-9, 0});
   ASSERT_EQ(float(d.x), float(d.y));
-  const std::vector<std::array<int, 3>> c64 = cells_of<double>(g, o, d), c32 = cells_of<float>(g, o, d);
+  const std::vector<std::array<int, 3>> c64 = cells_of<double>(g, o, d),
+                                        c32 = cells_of<float>(g, o, d);
   ASSERT_GE(c64.size(), 3u);
   ASSERT_EQ(c64.size(), c32.size());
   EXPECT_EQ(c64[1], (std::array<int, 3>{0, 1, 0}));  // over the corner: y first
@@ -725,17 +756,22 @@ TEST(DdaPrecision, Fp32WalksAgreeWithFp64AwayFromBoundaries) {
   int same = 0, walks = 0;
   for (int i = 0; i < 500; ++i) {
     const std::array<int, 3> n{1 + int(rng() % 20), 1 + int(rng() % 20), 1 + int(rng() % 20)};
-    const Grid g = make_grid({test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)},
-                             {test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1)}, n);
+    const Grid g =
+        make_grid({test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)},
+                  {test::log_uniform(rng, -1, 1), test::log_uniform(rng, -1, 1),
+                   test::log_uniform(rng, -1, 1)},
+                  n);
     const Vec3 o = g.box.lo + Vec3(test::uniform(rng, -0.2, 1.2), test::uniform(rng, -0.2, 1.2),
-                                   test::uniform(rng, -0.2, 1.2)) * g.box.extent();
+                                   test::uniform(rng, -0.2, 1.2)) *
+                                  g.box.extent();
     const Vec3 d = test::random_unit(rng);
     const auto c64 = cells_of<double>(g, o, d), c32 = cells_of<float>(g, o, d);
     ASSERT_LE(c32.size(), size_t(n[0] + n[1] + n[2]));
     ++walks;
     same += c64 == c32;
   }
-  std::printf("[numerics] 3DDDA fp32 against fp64: %d of %d random walks visit the same voxels\n", same, walks);
+  std::printf("[numerics] 3DDDA fp32 against fp64: %d of %d random walks visit the same voxels\n",
+              same, walks);
   EXPECT_GE(same, walks * 95 / 100);
 }
 

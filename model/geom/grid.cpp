@@ -14,7 +14,9 @@ struct Interval {
 
 Interval operator+(Interval a, Interval b) { return {a.lo + b.lo, a.hi + b.hi}; }
 
-Interval scale(double k, Interval a) { return k >= 0 ? Interval{k * a.lo, k * a.hi} : Interval{k * a.hi, k * a.lo}; }
+Interval scale(double k, Interval a) {
+  return k >= 0 ? Interval{k * a.lo, k * a.hi} : Interval{k * a.hi, k * a.lo};
+}
 
 Interval mul(Interval a, Interval b) {
   const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
@@ -44,7 +46,8 @@ Aabb padded_voxel_box(const Grid& g, int x, int y, int z) {
 }  // namespace
 
 Aabb Grid::voxel_box(int x, int y, int z) const {
-  return Aabb{{plane(0, x), plane(1, y), plane(2, z)}, {plane(0, x + 1), plane(1, y + 1), plane(2, z + 1)}};
+  return Aabb{{plane(0, x), plane(1, y), plane(2, z)},
+              {plane(0, x + 1), plane(1, y + 1), plane(2, z + 1)}};
 }
 
 namespace {
@@ -55,8 +58,8 @@ bool may_vanish_world(const Quadric& q, const Aabb& b) {
   const Interval x{b.lo.x, b.hi.x}, y{b.lo.y, b.hi.y}, z{b.lo.z, b.hi.z};
   const auto& c = q.c;
   Interval v = scale(c[kA], square(x)) + scale(c[kB], square(y)) + scale(c[kC], square(z)) +
-               scale(c[kD], mul(x, y)) + scale(c[kE], mul(y, z)) + scale(c[kF], mul(z, x)) + scale(c[kG], x) +
-               scale(c[kH], y) + scale(c[kI], z) + Interval{c[kJ], c[kJ]};
+               scale(c[kD], mul(x, y)) + scale(c[kE], mul(y, z)) + scale(c[kF], mul(z, x)) +
+               scale(c[kG], x) + scale(c[kH], y) + scale(c[kI], z) + Interval{c[kJ], c[kJ]};
   // Rounding in the sums above is far below this slack, which is relative to the terms' size.
   double mag = 0;
   for (double t : {std::abs(v.lo), std::abs(v.hi), std::abs(c[kJ])}) mag = std::max(mag, t);
@@ -88,18 +91,25 @@ bool may_vanish_centred(const Quadric& q, const Aabb& b) {
   const Vec3 h = glm::max(b.hi - m, m - b.lo);
   const Vec3 g = q.gradient(m);
   const double q0 = q.value(m);
-  const double cross_bound = std::abs(c[kD]) * h.x * h.y + std::abs(c[kE]) * h.y * h.z + std::abs(c[kF]) * h.z * h.x;
+  const double cross_bound =
+      std::abs(c[kD]) * h.x * h.y + std::abs(c[kE]) * h.y * h.z + std::abs(c[kF]) * h.z * h.x;
   Interval v{q0 - cross_bound, q0 + cross_bound};
   v = v + axis_range(c[kA], g.x, h.x) + axis_range(c[kB], g.y, h.y) + axis_range(c[kC], g.z, h.z);
   // Rounding: relative to the magnitude of every term summed into Q(m), ∇Q(m) and the bounds.
   const Vec3 am = glm::abs(m);
-  const double q_terms = std::abs(c[kA]) * am.x * am.x + std::abs(c[kB]) * am.y * am.y + std::abs(c[kC]) * am.z * am.z +
-                         std::abs(c[kD]) * am.x * am.y + std::abs(c[kE]) * am.y * am.z + std::abs(c[kF]) * am.z * am.x +
-                         std::abs(c[kG]) * am.x + std::abs(c[kH]) * am.y + std::abs(c[kI]) * am.z + std::abs(c[kJ]);
-  const Vec3 g_terms{2 * std::abs(c[kA]) * am.x + std::abs(c[kD]) * am.y + std::abs(c[kF]) * am.z + std::abs(c[kG]),
-                     2 * std::abs(c[kB]) * am.y + std::abs(c[kD]) * am.x + std::abs(c[kE]) * am.z + std::abs(c[kH]),
-                     2 * std::abs(c[kC]) * am.z + std::abs(c[kE]) * am.y + std::abs(c[kF]) * am.x + std::abs(c[kI])};
-  const double quad_terms = std::abs(c[kA]) * h.x * h.x + std::abs(c[kB]) * h.y * h.y + std::abs(c[kC]) * h.z * h.z;
+  const double q_terms = std::abs(c[kA]) * am.x * am.x + std::abs(c[kB]) * am.y * am.y +
+                         std::abs(c[kC]) * am.z * am.z + std::abs(c[kD]) * am.x * am.y +
+                         std::abs(c[kE]) * am.y * am.z + std::abs(c[kF]) * am.z * am.x +
+                         std::abs(c[kG]) * am.x + std::abs(c[kH]) * am.y + std::abs(c[kI]) * am.z +
+                         std::abs(c[kJ]);
+  const Vec3 g_terms{2 * std::abs(c[kA]) * am.x + std::abs(c[kD]) * am.y + std::abs(c[kF]) * am.z +
+                         std::abs(c[kG]),
+                     2 * std::abs(c[kB]) * am.y + std::abs(c[kD]) * am.x + std::abs(c[kE]) * am.z +
+                         std::abs(c[kH]),
+                     2 * std::abs(c[kC]) * am.z + std::abs(c[kE]) * am.y + std::abs(c[kF]) * am.x +
+                         std::abs(c[kI])};
+  const double quad_terms =
+      std::abs(c[kA]) * h.x * h.x + std::abs(c[kB]) * h.y * h.y + std::abs(c[kC]) * h.z * h.z;
   const double mag = q_terms + dot(g_terms, h + am) + quad_terms + cross_bound;
   const double slack = 1e-12 * mag;
   return v.lo <= slack && v.hi >= -slack;
@@ -114,7 +124,8 @@ bool quadric_may_vanish(const Quadric& q, const Aabb& b) {
 
 bool box_touches_halfspace(const Aabb& b, const HalfSpace& h) {
   // The box corner minimising n·p.
-  const Vec3 p{h.n.x >= 0 ? b.lo.x : b.hi.x, h.n.y >= 0 ? b.lo.y : b.hi.y, h.n.z >= 0 ? b.lo.z : b.hi.z};
+  const Vec3 p{h.n.x >= 0 ? b.lo.x : b.hi.x, h.n.y >= 0 ? b.lo.y : b.hi.y,
+               h.n.z >= 0 ? b.lo.z : b.hi.z};
   return h.eval(p) <= 1e-12 * (max_abs(h.n) * max_abs(p) + std::abs(h.d));
 }
 
@@ -144,7 +155,8 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
   }
   std::array<int, 3> n{1, 1, 1};
   for (int a = 0; a < 3; ++a)
-    if (active[a]) n[a] = std::clamp(int(std::lround(std::min(e[a] * per_unit, double(max_axis)))), 1, max_axis);
+    if (active[a])
+      n[a] = std::clamp(int(std::lround(std::min(e[a] * per_unit, double(max_axis)))), 1, max_axis);
   return n;
 }
 
@@ -164,7 +176,8 @@ bool sphere_touches_box(const Vec3& c, double r, const Aabb& b) {
   return near2 <= r * r + slack && far2 >= r * r - slack;
 }
 
-double estimated_references(const std::vector<Primitive>& prims, const Aabb& box, const std::array<int, 3>& n) {
+double estimated_references(const std::vector<Primitive>& prims, const Aabb& box,
+                            const std::array<int, 3>& n) {
   const Vec3 cell = box.extent() / Vec3(n[0], n[1], n[2]);
   const double edge = std::max({cell.x, cell.y, cell.z});
   double total = 0;
@@ -172,7 +185,8 @@ double estimated_references(const std::vector<Primitive>& prims, const Aabb& box
     double voxels = 1;
     for (int a = 0; a < 3; ++a) {
       const double span = cell[a] > 0 ? p.bounds.extent()[a] / cell[a] : 0;
-      voxels *= std::min(double(n[a]), span + 1);  // the cells a box of that width spans, on average
+      voxels *=
+          std::min(double(n[a]), span + 1);  // the cells a box of that width spans, on average
     }
     if (p.kind == ShapeKind::Sphere && p.r0 > 0) voxels *= std::min(1.0, 2.4 * edge / p.r0);
     total += voxels;
@@ -194,7 +208,8 @@ std::array<int, 3> within_reference_budget(const std::vector<Primitive>& prims, 
     return m;
   };
   auto within = [&](const std::array<int, 3>& m) {
-    return estimated_references(prims, box, m) <= std::max(budget, 2.0 * double(m[0]) * m[1] * m[2]);
+    return estimated_references(prims, box, m) <=
+           std::max(budget, 2.0 * double(m[0]) * m[1] * m[2]);
   };
   if (within(n)) return n;
   double lo = 0, hi = 1;  // scaled(hi) is over the budget
@@ -207,14 +222,17 @@ std::array<int, 3> within_reference_budget(const std::vector<Primitive>& prims, 
 
 }  // namespace
 
-std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt) {
+std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box,
+                                    const GridOptions& opt) {
   std::array<int, 3> n = density_resolution(prims, box, opt);
   if (opt.max_refs_per_primitive > 0)
-    n = within_reference_budget(prims, box, n, opt.max_refs_per_primitive * double(std::max<size_t>(1, prims.size())));
+    n = within_reference_budget(
+        prims, box, n, opt.max_refs_per_primitive * double(std::max<size_t>(1, prims.size())));
   return n;
 }
 
-std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt) {
+std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const Aabb& box,
+                                      const GridOptions& opt) {
   if (prims.size() < 8) return auto_resolution(box, prims.size(), opt);
   // The dense core: central 90% of centres per axis, grown by half the median primitive size.
   std::vector<double> c[3], size;
@@ -237,8 +255,8 @@ std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const
   size_t inside = 0;
   for (const Primitive& p : prims) {
     const Vec3 m = 0.5 * (p.bounds.lo + p.bounds.hi);
-    inside += m.x >= core.lo.x && m.x <= core.hi.x && m.y >= core.lo.y && m.y <= core.hi.y && m.z >= core.lo.z &&
-              m.z <= core.hi.z;
+    inside += m.x >= core.lo.x && m.x <= core.hi.x && m.y >= core.lo.y && m.y <= core.hi.y &&
+              m.z >= core.lo.z && m.z <= core.hi.z;
   }
   // Voxel edge from the core (uncapped), then the whole box at that edge, capped.
   GridOptions uncapped = opt;
@@ -254,11 +272,14 @@ std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const
   const Vec3 e = box.extent();
   const double core_edge = 1 / per_unit, longest_extent = std::max({e.x, e.y, e.z});
   auto laid = [&](double cap) {
-    const double shortest = opt.max_auto_aspect > 0 ? std::max(core_edge, longest_extent / cap) / opt.max_auto_aspect : 0;
+    const double shortest = opt.max_auto_aspect > 0
+                                ? std::max(core_edge, longest_extent / cap) / opt.max_auto_aspect
+                                : 0;
     const double voxels_per_unit = std::min(per_unit, 1 / shortest);  // per_unit without a limit
     std::array<int, 3> n{};
     for (int a = 0; a < 3; ++a)
-      n[a] = std::clamp(int(std::lround(std::min(e[a] * voxels_per_unit, cap))), 1, std::max(1, opt.max_auto_axis));
+      n[a] = std::clamp(int(std::lround(std::min(e[a] * voxels_per_unit, cap))), 1,
+                        std::max(1, opt.max_auto_axis));
     return n;
   };
   auto cells = [](const std::array<int, 3>& n) { return double(n[0]) * n[1] * n[2]; };
@@ -296,8 +317,10 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
   const bool automatic = opt.resolution == std::array<int, 3>{0, 0, 0};
   g.n = automatic ? scene_resolution(prims, g.box, opt) : opt.resolution;
   for (int a = 0; a < 3; ++a)
-    if (g.n[a] < 1) throw std::invalid_argument("grid resolution must be at least 1 voxel per axis");
-  if (double(g.n[0]) * g.n[1] * g.n[2] > 1.5e9) throw std::invalid_argument("grid resolution is too large");
+    if (g.n[a] < 1)
+      throw std::invalid_argument("grid resolution must be at least 1 voxel per axis");
+  if (double(g.n[0]) * g.n[1] * g.n[2] > 1.5e9)
+    throw std::invalid_argument("grid resolution is too large");
   g.cell = g.box.extent() / Vec3(g.n[0], g.n[1], g.n[2]);
 
   // (voxel, primitive) pairs in primitive order, each thread a contiguous run of primitives, then
@@ -307,7 +330,8 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
   // The exact sphere test, voxel by voxel as sphere_touches_box on the padded voxel, with the
   // squared distances per axis computed once per plane and rows the sphere misses skipped: a large
   // sphere's bounding box is mostly voxels inside it.
-  auto register_sphere = [&](const Primitive& p, uint32_t id, const int* lo, const int* hi, std::vector<Ref>& refs) {
+  auto register_sphere = [&](const Primitive& p, uint32_t id, const int* lo, const int* hi,
+                             std::vector<Ref>& refs) {
     const Vec3 c = p.p0;
     const double r2 = p.r0 * p.r0;
     double near[3][2048], far[3][2048];  // per axis, per voxel of the bounding box
@@ -318,7 +342,8 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
         for (int y = lo[1]; y <= hi[1]; ++y)
           for (int x = lo[0]; x <= hi[0]; ++x) {
             const Aabb vb = padded_voxel_box(g, x, y, z);
-            if (vb.overlaps(p.bounds) && sphere_touches_box(c, p.r0, vb)) refs.emplace_back(uint32_t(g.index(x, y, z)), id);
+            if (vb.overlaps(p.bounds) && sphere_touches_box(c, p.r0, vb))
+              refs.emplace_back(uint32_t(g.index(x, y, z)), id);
           }
       return;
     }
@@ -326,7 +351,8 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
     for (int a = 0; a < 3; ++a) {
       extent = std::max(extent, g.cell[a] * (1 + 2 * kVoxelPad));
       for (int i = lo[a]; i <= hi[a]; ++i) {
-        const double l = g.plane(a, i) - kVoxelPad * g.cell[a] - c[a], h = g.plane(a, i + 1) + kVoxelPad * g.cell[a] - c[a];
+        const double l = g.plane(a, i) - kVoxelPad * g.cell[a] - c[a],
+                     h = g.plane(a, i + 1) + kVoxelPad * g.cell[a] - c[a];
         const double n = l > 0 ? l : (h < 0 ? -h : 0);
         near[a][i - lo[a]] = n * n;
         far[a][i - lo[a]] = std::max(l * l, h * h);
@@ -348,14 +374,17 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
   // The first range's thread speaks for all: the ranges are of equal length.
   auto register_range = [&](size_t first, size_t last, std::vector<Ref>& refs, size_t ranges) {
     for (size_t i = first; i < last; ++i) {
-      if (ranges && (i - first) % 1024 == 0) tell("voxelisation", "primitive", (i - first) * ranges, prims.size());
+      if (ranges && (i - first) % 1024 == 0)
+        tell("voxelisation", "primitive", (i - first) * ranges, prims.size());
       const uint32_t id = uint32_t(i);
       const Primitive& p = prims[i];
       const bool sphere = opt.exact_spheres && p.kind == ShapeKind::Sphere && p.clips.empty();
       int lo[3], hi[3];
       for (int a = 0; a < 3; ++a) {
-        lo[a] = std::clamp(int(std::floor((p.bounds.lo[a] - g.box.lo[a]) / g.cell[a])) - 1, 0, g.n[a] - 1);
-        hi[a] = std::clamp(int(std::floor((p.bounds.hi[a] - g.box.lo[a]) / g.cell[a])) + 1, 0, g.n[a] - 1);
+        lo[a] = std::clamp(int(std::floor((p.bounds.lo[a] - g.box.lo[a]) / g.cell[a])) - 1, 0,
+                           g.n[a] - 1);
+        hi[a] = std::clamp(int(std::floor((p.bounds.hi[a] - g.box.lo[a]) / g.cell[a])) + 1, 0,
+                           g.n[a] - 1);
       }
       if (sphere) {
         register_sphere(p, id, lo, hi, refs);
@@ -367,7 +396,8 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
             const Aabb vb = padded_voxel_box(g, x, y, z);
             if (!vb.overlaps(p.bounds)) continue;
             bool touches = quadric_may_vanish(p.q, vb);
-            for (size_t k = 0; touches && k < p.clips.size(); ++k) touches = box_touches_halfspace(vb, p.clips[k]);
+            for (size_t k = 0; touches && k < p.clips.size(); ++k)
+              touches = box_touches_halfspace(vb, p.clips[k]);
             if (touches) refs.emplace_back(uint32_t(g.index(x, y, z)), id);
           }
     }
@@ -379,8 +409,8 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
   {
     std::vector<std::thread> pool;
     for (size_t c = 1; c < chunks; ++c)
-      pool.emplace_back(register_range, prims.size() * c / chunks, prims.size() * (c + 1) / chunks, std::ref(refs[c]),
-                        size_t(0));
+      pool.emplace_back(register_range, prims.size() * c / chunks, prims.size() * (c + 1) / chunks,
+                        std::ref(refs[c]), size_t(0));
     register_range(0, prims.size() / chunks, refs[0], chunks);
     for (std::thread& t : pool) t.join();
   }

@@ -48,9 +48,9 @@ inline void size_for_cpu(GridOptions& g) {
 }
 
 struct Grid {
-  Aabb box;                      ///< the object space; voxels tile it exactly
+  Aabb box;                       ///< the object space; voxels tile it exactly
   std::array<int, 3> n{1, 1, 1};  ///< voxels per axis
-  Vec3 cell{1, 1, 1};            ///< voxel edge lengths
+  Vec3 cell{1, 1, 1};             ///< voxel edge lengths
   /// Compressed rows: voxel v holds items[start[v] .. start[v+1]).
   std::vector<uint32_t> start;
   std::vector<uint32_t> items;
@@ -77,15 +77,18 @@ std::array<int, 3> auto_resolution(const Aabb& box, size_t primitives, const Gri
 /// space and capped per axis (GridOptions: max_auto_axis, max_auto_cells, max_auto_aspect). A
 /// scene whose objects sit on a huge floor ("a teapot in a stadium": SPD balls and tree) gets
 /// voxels fitted to its objects, not to the floor.
-std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
+std::array<int, 3> density_resolution(const std::vector<Primitive>& prims, const Aabb& box,
+                                      const GridOptions& opt);
 /// The automatic resolution: density_resolution, then coarsened to GridOptions::
 /// max_refs_per_primitive when that is set.
-std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box, const GridOptions& opt);
+std::array<int, 3> scene_resolution(const std::vector<Primitive>& prims, const Aabb& box,
+                                    const GridOptions& opt);
 
 /// Told how a long step of the host's work goes, for a progress line (render/progress.h,
 /// StepLine): the step's name, what it counts, how many of how many (total 0: not counted).
 /// Called from one thread at a time, often: it must be cheap when nothing is shown.
-using StepProgress = std::function<void(const char* step, const char* item, uint64_t done, uint64_t total)>;
+using StepProgress =
+    std::function<void(const char* step, const char* item, uint64_t done, uint64_t total)>;
 
 /// Conservative voxelisation: a primitive is listed in every voxel its clipped surface may touch.
 /// Tighter than its bounding box: a voxel entirely outside one clip half-space is skipped, and
@@ -97,10 +100,11 @@ Grid build_grid(const std::vector<Primitive>& prims, const GridOptions& opt, int
                 const StepProgress& progress = {});
 
 /// The references a grid of n voxels over box is expected to hold: per primitive the voxels its
-/// bounding box spans on average (width in voxels + 1 on each axis), for a sphere scaled by the share of them its surface can touch
-/// (min(1, 2.4 c / r) for voxel edge c: surface voxels ~ 4πr²·1.5/c² against (2r/c)³). Cheap
-/// (no voxel is tested), for choosing a resolution.
-double estimated_references(const std::vector<Primitive>& prims, const Aabb& box, const std::array<int, 3>& n);
+/// bounding box spans on average (width in voxels + 1 on each axis), for a sphere scaled by the
+/// share of them its surface can touch (min(1, 2.4 c / r) for voxel edge c: surface voxels ~
+/// 4πr²·1.5/c² against (2r/c)³). Cheap (no voxel is tested), for choosing a resolution.
+double estimated_references(const std::vector<Primitive>& prims, const Aabb& box,
+                            const std::array<int, 3>& n);
 
 /// Can a sphere's surface meet the box? Exact up to rounding, and conservative.
 bool sphere_touches_box(const Vec3& centre, double radius, const Aabb& box);

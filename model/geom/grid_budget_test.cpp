@@ -23,9 +23,11 @@ GridOptions cpu_options() {
 std::vector<Primitive> big_and_tiny(std::mt19937& rng, int big, double r) {
   std::vector<Primitive> prims;
   for (int i = 0; i < big; ++i)
-    prims.push_back(make_sphere({test::uniform(rng, -8, 8), test::uniform(rng, -8, 8), test::uniform(rng, -8, 8)}, r));
+    prims.push_back(make_sphere(
+        {test::uniform(rng, -8, 8), test::uniform(rng, -8, 8), test::uniform(rng, -8, 8)}, r));
   for (int i = 0; i < 3000; ++i)
-    prims.push_back(make_sphere({test::uniform(rng, -2, 2), test::uniform(rng, -2, 2), test::uniform(rng, -2, 2)}, 0.02));
+    prims.push_back(make_sphere(
+        {test::uniform(rng, -2, 2), test::uniform(rng, -2, 2), test::uniform(rng, -2, 2)}, 0.02));
   return prims;
 }
 
@@ -41,7 +43,8 @@ TEST(GridBudget, AFewHugeSpheresAmongManyTinyOnes) {
   size_t huge = 0;  // the four huge spheres are primitives 0 to 3
   for (uint32_t id : g.items) huge += id < 4;
   EXPECT_GT(huge, g.items.size() / 2);
-  std::printf("4 huge and 3000 tiny: %dx%dx%d, %zu references\n", g.n[0], g.n[1], g.n[2], g.items.size());
+  std::printf("4 huge and 3000 tiny: %dx%dx%d, %zu references\n", g.n[0], g.n[1], g.n[2],
+              g.items.size());
 }
 
 TEST(GridBudget, ManyLargeSpheresKeepTheReferencesInProportion) {
@@ -65,16 +68,21 @@ TEST(GridBudget, ManyLargeSpheresKeepTheReferencesInProportion) {
   const double est = estimated_references(prims, kept.box, kept.n);
   EXPECT_GT(est, 0.5 * double(kept.items.size()));
   EXPECT_LT(est, 2.0 * double(kept.items.size()));
-  std::printf("800 large and 3000 tiny: density rule %dx%dx%d, %.0f references estimated; budget %.0f: %dx%dx%d, %zu "
-              "references (estimated %.0f)\n",
-              fine[0], fine[1], fine[2], fine_refs, budget, kept.n[0], kept.n[1], kept.n[2], kept.items.size(), est);
+  std::printf(
+      "800 large and 3000 tiny: density rule %dx%dx%d, %.0f references estimated; budget %.0f: "
+      "%dx%dx%d, %zu "
+      "references (estimated %.0f)\n",
+      fine[0], fine[1], fine[2], fine_refs, budget, kept.n[0], kept.n[1], kept.n[2],
+      kept.items.size(), est);
 }
 
 TEST(GridBudget, SmallPrimitivesKeepTheDensityRule) {
   std::mt19937 rng(6);
   std::vector<Primitive> prims;
   for (int i = 0; i < 2000; ++i)
-    prims.push_back(make_sphere({test::uniform(rng, -10, 10), test::uniform(rng, -10, 10), test::uniform(rng, -10, 10)}, 0.1));
+    prims.push_back(make_sphere(
+        {test::uniform(rng, -10, 10), test::uniform(rng, -10, 10), test::uniform(rng, -10, 10)},
+        0.1));
   const GridOptions cpu = cpu_options();
   Aabb box;
   for (const Primitive& p : prims) box.extend(p.bounds);
@@ -107,28 +115,33 @@ TEST(GridBudget, ReferencesEqualABruteForceExactOverlap) {
     std::vector<Primitive> prims;
     const int n = 20 + int(rng() % 400);
     for (int i = 0; i < n; ++i) {
-      const double r = test::log_uniform(rng, -2, 0.5);  // before the centre (test_random.h says why)
-      prims.push_back(make_sphere({test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)}, r));
+      const double r =
+          test::log_uniform(rng, -2, 0.5);  // before the centre (test_random.h says why)
+      prims.push_back(make_sphere(
+          {test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5)}, r));
     }
     GridOptions opt = cpu_options();
     const Grid g = build_grid(prims, opt, 1);
     std::set<std::pair<int64_t, uint32_t>> built, brute;
     for (int64_t v = 0; v < g.voxel_count(); ++v)
-      for (uint32_t k = g.start[size_t(v)]; k < g.start[size_t(v) + 1]; ++k) built.insert({v, g.items[k]});
+      for (uint32_t k = g.start[size_t(v)]; k < g.start[size_t(v) + 1]; ++k)
+        built.insert({v, g.items[k]});
     for (int z = 0; z < g.n[2]; ++z)
       for (int y = 0; y < g.n[1]; ++y)
         for (int x = 0; x < g.n[0]; ++x)
           for (uint32_t id = 0; id < prims.size(); ++id)
             if (exact_touch(g, x, y, z, prims[id])) brute.insert({g.index(x, y, z), id});
     EXPECT_EQ(built, brute);
-    // The interval bound the machine uses is conservative: it lists every voxel the exact test does.
+    // The interval bound the machine uses is conservative: it lists every voxel the exact test
+    // does.
     opt.exact_spheres = false;
     opt.resolution = g.n;
     const Grid bound = build_grid(prims, opt, 1);
     size_t missing = 0;
     for (const auto& [v, id] : built) {
       bool listed = false;
-      for (uint32_t k = bound.start[size_t(v)]; k < bound.start[size_t(v) + 1]; ++k) listed = listed || bound.items[k] == id;
+      for (uint32_t k = bound.start[size_t(v)]; k < bound.start[size_t(v) + 1]; ++k)
+        listed = listed || bound.items[k] == id;
       missing += !listed;
     }
     EXPECT_EQ(missing, 0u);
@@ -140,10 +153,13 @@ TEST(GridBudget, ThreadsGiveTheSameGrid) {
   std::vector<Primitive> prims;
   for (int i = 0; i < 900; ++i) {
     const double r = test::log_uniform(rng, -1, 0.7);  // before the centre (test_random.h says why)
-    prims.push_back(make_sphere({test::uniform(rng, -40, 40), test::uniform(rng, -40, 40), test::uniform(rng, -40, 40)}, r));
+    prims.push_back(make_sphere(
+        {test::uniform(rng, -40, 40), test::uniform(rng, -40, 40), test::uniform(rng, -40, 40)},
+        r));
   }
   for (int i = 0; i < 300; ++i) {
-    const Vec3 b{test::uniform(rng, -40, 40), test::uniform(rng, -40, 40), test::uniform(rng, -40, 40)};
+    const Vec3 b{test::uniform(rng, -40, 40), test::uniform(rng, -40, 40),
+                 test::uniform(rng, -40, 40)};
     prims.push_back(make_cone(b, 0.5, b + test::random_unit(rng) * 5.0, 0.2));
   }
   for (bool exact : {false, true}) {

@@ -37,12 +37,15 @@ Frame random_frame(std::mt19937& rng, const Vec3& origin) {
 Primitive random_primitive(std::mt19937& rng, const Vec3& centre, double size) {
   const Frame f = random_frame(rng, centre);
   switch (rng() % 9) {
-    case 0: return make_sphere(centre, size * uniform(rng, 0.2, 0.6));
-    case 1: return make_ellipsoid(f, uniform_zyx(rng, 0.1, 0.6) * size);
+    case 0:
+      return make_sphere(centre, size * uniform(rng, 0.2, 0.6));
+    case 1:
+      return make_ellipsoid(f, uniform_zyx(rng, 0.1, 0.6) * size);
     case 2: {
       const Vec3 axis = rng() % 3 ? random_unit(rng) : Vec3{0, 0, 1};  // some axis-aligned
       const double r = size * uniform(rng, 0.05, 0.4);
-      return make_cone(centre - 0.5 * size * axis, r, centre + 0.5 * size * axis, rng() % 2 ? r : 0.3 * r);
+      return make_cone(centre - 0.5 * size * axis, r, centre + 0.5 * size * axis,
+                       rng() % 2 ? r : 0.3 * r);
     }
     // Cases 3 and 4 draw their second argument first (test_random.h says why).
     case 3: {
@@ -75,12 +78,15 @@ Primitive random_primitive(std::mt19937& rng, const Vec3& centre, double size) {
       const Vec3 c = centre;
       std::array<double, 10> q{0, 0, 0, 1, 0, 0, -c.y, -c.x, -1, c.x * c.y + c.z};
       const Vec3 h(0.5 * size);
-      return make_raw_quadric(q, Aabb{c - h, c + h}, {HalfSpace{normalize(Vec3{1, 1, 0}), -dot(normalize(Vec3{1, 1, 0}), c)}});
+      return make_raw_quadric(
+          q, Aabb{c - h, c + h},
+          {HalfSpace{normalize(Vec3{1, 1, 0}), -dot(normalize(Vec3{1, 1, 0}), c)}});
     }
   }
 }
 
-std::vector<Primitive> random_scene(std::mt19937& rng, int count, double extent, const Vec3& offset = {0, 0, 0}) {
+std::vector<Primitive> random_scene(std::mt19937& rng, int count, double extent,
+                                    const Vec3& offset = {0, 0, 0}) {
   std::vector<Primitive> prims;
   for (int i = 0; i < count; ++i) {
     // The size drawn before the centre (test_random.h says why).
@@ -149,7 +155,8 @@ TEST(GridBuild, ConservativeForRandomRays) {
       }
       // The DDA walk, for the second check.
       std::vector<DdaState> visits;
-      for (DdaState s = Dda::start(g, o, d, 0, kInf); !s.done; Dda::advance(g, o, d, kInf, s)) visits.push_back(s);
+      for (DdaState s = Dda::start(g, o, d, 0, kInf); !s.done; Dda::advance(g, o, d, kInf, s))
+        visits.push_back(s);
       for (uint32_t id = 0; id < prims.size(); ++id)
         for (double t : true_hits(prims[id], o, d)) {
           const Vec3 p = o + t * d;
@@ -168,15 +175,16 @@ TEST(GridBuild, ConservativeForRandomRays) {
               for (int x = lo[0]; x <= hi[0]; ++x)
                 ASSERT_TRUE(lists(g, g.index(x, y, z), id))
                     << "scene " << scene << " ray " << ray << " primitive " << id << " ("
-                    << shape_name(prims[id].kind) << ") hit at t = " << t << " not listed in voxel (" << x << ", "
-                    << y << ", " << z << ")";
+                    << shape_name(prims[id].kind) << ") hit at t = " << t
+                    << " not listed in voxel (" << x << ", " << y << ", " << z << ")";
           // (2) Some visited voxel holds t in its window and lists the primitive.
           bool found = false;
           for (const DdaState& s : visits)
             if (s.t_enter <= t * (1 + 1e-12) && t <= s.t_exit * (1 + 1e-12) &&
                 lists(g, g.index(s.cell[0], s.cell[1], s.cell[2]), id))
               found = true;
-          ASSERT_TRUE(found) << "scene " << scene << " ray " << ray << " primitive " << id << " t " << t;
+          ASSERT_TRUE(found) << "scene " << scene << " ray " << ray << " primitive " << id << " t "
+                             << t;
           ++checked;
         }
     }
@@ -200,7 +208,8 @@ TEST(GridBuild, SphereIsTighterThanItsBox) {
           const Aabb b = g.voxel_box(x, y, z);
           const Vec3 nearest = glm::clamp(c, b.lo, b.hi);
           Vec3 farthest;
-          for (int a = 0; a < 3; ++a) farthest[a] = std::abs(b.lo[a] - c[a]) > std::abs(b.hi[a] - c[a]) ? b.lo[a] : b.hi[a];
+          for (int a = 0; a < 3; ++a)
+            farthest[a] = std::abs(b.lo[a] - c[a]) > std::abs(b.hi[a] - c[a]) ? b.lo[a] : b.hi[a];
           const double dmin = length(nearest - c), dmax = length(farthest - c);
           const bool l = lists(g, g.index(x, y, z), 0);
           listed += l;
@@ -209,10 +218,12 @@ TEST(GridBuild, SphereIsTighterThanItsBox) {
             EXPECT_FALSE(l) << "voxel (" << x << ", " << y << ", " << z << ") is inside the sphere";
           } else if (dmin > r * 1.01) {
             ++corner;
-            EXPECT_FALSE(l) << "voxel (" << x << ", " << y << ", " << z << ") is outside the sphere";
+            EXPECT_FALSE(l) << "voxel (" << x << ", " << y << ", " << z
+                            << ") is outside the sphere";
           } else if (dmin < r * 0.999 && dmax > r * 1.001) {
             ++crossing;
-            EXPECT_TRUE(l) << "voxel (" << x << ", " << y << ", " << z << ") is crossed by the surface";
+            EXPECT_TRUE(l) << "voxel (" << x << ", " << y << ", " << z
+                           << ") is crossed by the surface";
           }
         }
     EXPECT_GT(inside, 500);
@@ -240,10 +251,12 @@ TEST(GridBuild, ClippedShapesSkipVoxelsOutsideTheirClips) {
         // Evaluate at the 8 corners: extremes of a linear function over a box.
         double plane_lo = kInf, plane_hi = -kInf, edge_min[3] = {kInf, kInf, kInf};
         for (int k = 0; k < 8; ++k) {
-          const Vec3 p{k & 1 ? vb.hi.x : vb.lo.x, k & 2 ? vb.hi.y : vb.lo.y, k & 4 ? vb.hi.z : vb.lo.z};
+          const Vec3 p{k & 1 ? vb.hi.x : vb.lo.x, k & 2 ? vb.hi.y : vb.lo.y,
+                       k & 4 ? vb.hi.z : vb.lo.z};
           plane_lo = std::min(plane_lo, tri.q.value(p));
           plane_hi = std::max(plane_hi, tri.q.value(p));
-          for (int e = 0; e < 3; ++e) edge_min[e] = std::min(edge_min[e], tri.clips[size_t(e)].eval(p));
+          for (int e = 0; e < 3; ++e)
+            edge_min[e] = std::min(edge_min[e], tri.clips[size_t(e)].eval(p));
         }
         const bool l = lists(g, g.index(x, y, z), 0);
         const bool crosses_plane = plane_lo < -margin && plane_hi > margin;
@@ -261,7 +274,8 @@ TEST(GridBuild, ClippedShapesSkipVoxelsOutsideTheirClips) {
     double u = uniform(rng, 0, 1), v = uniform(rng, 0, 1);
     if (u + v > 1) u = 1 - u, v = 1 - v;
     const Vec3 p = a + u * (b - a) + v * (c - a);
-    const int x = std::min(19, int((p.x - g.box.lo.x) / g.cell.x)), y = std::min(19, int((p.y - g.box.lo.y) / g.cell.y)),
+    const int x = std::min(19, int((p.x - g.box.lo.x) / g.cell.x)),
+              y = std::min(19, int((p.y - g.box.lo.y) / g.cell.y)),
               z = std::min(19, int((p.z - g.box.lo.z) / g.cell.z));
     if (lists(g, g.index(x, y, z), 0)) ++on_triangle;
   }
@@ -313,7 +327,8 @@ TEST(GridBuild, FlatSceneOnABoundary) {
   check_structure(g, prims.size());
   for (int i = 0; i < 10; ++i) {
     const Vec3 centroid{i + 0.5, 1.0 / 3, 0};
-    const int x = int((centroid.x - g.box.lo.x) / g.cell.x), y = int((centroid.y - g.box.lo.y) / g.cell.y);
+    const int x = int((centroid.x - g.box.lo.x) / g.cell.x),
+              y = int((centroid.y - g.box.lo.y) / g.cell.y);
     EXPECT_TRUE(lists(g, g.index(x, y, 0), uint32_t(i)));
   }
 }
@@ -325,15 +340,15 @@ TEST(GridInterval, QuadricMayVanish) {
     SCOPED_TRACE(c.x);
     const Primitive s = make_sphere(c, 1);
     const auto box = [&](Vec3 lo, Vec3 hi) { return Aabb{c + lo, c + hi}; };
-    EXPECT_FALSE(quadric_may_vanish(s.q, box(Vec3(-0.3), Vec3(0.3))));        // inside
+    EXPECT_FALSE(quadric_may_vanish(s.q, box(Vec3(-0.3), Vec3(0.3))));  // inside
     EXPECT_FALSE(quadric_may_vanish(s.q, box({0.2, 0.1, -0.2}, {0.5, 0.4, 0.1})));
-    EXPECT_TRUE(quadric_may_vanish(s.q, box(Vec3(0.5), Vec3(0.7))));          // straddles
+    EXPECT_TRUE(quadric_may_vanish(s.q, box(Vec3(0.5), Vec3(0.7))));  // straddles
     EXPECT_TRUE(quadric_may_vanish(s.q, box({0.9, -0.1, -0.1}, {1.1, 0.1, 0.1})));
-    EXPECT_FALSE(quadric_may_vanish(s.q, box(Vec3(0.7), Vec3(0.9))));         // corner, outside
+    EXPECT_FALSE(quadric_may_vanish(s.q, box(Vec3(0.7), Vec3(0.9))));  // corner, outside
     EXPECT_FALSE(quadric_may_vanish(s.q, box({1.2, 1.2, -2}, {2, 2, 2})));
     // A surface point on the box's face.
     EXPECT_TRUE(quadric_may_vanish(s.q, box({1, -0.1, -0.1}, {1.5, 0.1, 0.1})));
-    EXPECT_TRUE(quadric_may_vanish(s.q, box({1, 0, 0}, {1, 0, 0})));          // a single point
+    EXPECT_TRUE(quadric_may_vanish(s.q, box({1, 0, 0}, {1, 0, 0})));  // a single point
   }
   // A plane through a box, and beside it.
   const Quadric plane{{0, 0, 0, 0, 0, 0, 1, 1, 1, -1}};
@@ -369,7 +384,7 @@ TEST(GridInterval, BoxTouchesHalfspace) {
   EXPECT_TRUE(box_touches_halfspace(b, {{-1, 0, 0}, 1}));     // x >= 1 touches
   EXPECT_FALSE(box_touches_halfspace(b, {{-1, 0, 0}, 1.01}));
   const Vec3 n = normalize(Vec3{1, 1, 1});
-  EXPECT_TRUE(box_touches_halfspace(b, {n, 0}));              // only the corner (0,0,0)
+  EXPECT_TRUE(box_touches_halfspace(b, {n, 0}));  // only the corner (0,0,0)
   EXPECT_FALSE(box_touches_halfspace(b, {n, 1e-9}));
   // −n·p + d <= 0 is n·p >= d: the box reaches n·p = √3 at (1,1,1).
   EXPECT_FALSE(box_touches_halfspace(b, {-n, std::sqrt(3.0) + 1e-9}));
@@ -483,7 +498,8 @@ TEST(GridSceneResolution, FitsVoxelsToTheClusterNotTheFloor) {
   std::vector<Primitive> cloud(prims.begin(), prims.end() - 1);
   Aabb cbox;
   for (const Primitive& p : cloud) cbox.extend(p.bounds);
-  const std::array<int, 3> a = auto_resolution(cbox, cloud.size(), opt), b = scene_resolution(cloud, cbox, opt);
+  const std::array<int, 3> a = auto_resolution(cbox, cloud.size(), opt),
+                           b = scene_resolution(cloud, cbox, opt);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(b[k], a[k], 0.25 * a[k] + 1);
 }
 

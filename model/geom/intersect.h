@@ -12,14 +12,14 @@ namespace rtm {
 
 template <class Real>
 struct Roots {
-  int n = 0;         ///< 0, 1 (linear case) or 2 (t0 <= t1; equal for a double root)
+  int n = 0;  ///< 0, 1 (linear case) or 2 (t0 <= t1; equal for a double root)
   Real t0 = 0, t1 = 0;
 };
 
 /// How the root unit forms the discriminant Δ = b² − 4ac (docs/numerics.md).
 enum class Discriminant : uint8_t {
   Plain,  ///< b·b − (4a)·c, each product rounded: cancels near a double root (the paper-like unit)
-  Fma,    ///< difference of products with fused multiply-adds (Kahan): Δ to about one ulp
+  Fma,  ///< difference of products with fused multiply-adds (Kahan): Δ to about one ulp
 };
 
 /// b² − 4ac. Fma: w = (4a)·c rounded, e = w − (4a)·c exactly (an FMA), Δ = fma(b, b, −w) + e,
@@ -70,8 +70,8 @@ bool inside_clips(const std::vector<HalfSpace>& clips, const Latches<Real>& l, R
   if (clips.empty()) return true;
   const Real x = l[kVx] + t * l[kUx], y = l[kVy] + t * l[kUy], z = l[kVz] + t * l[kUz];
   for (const HalfSpace& h : clips) {
-    const Real s = static_cast<Real>(h.n.x) * x + static_cast<Real>(h.n.y) * y + static_cast<Real>(h.n.z) * z +
-                   static_cast<Real>(h.d);
+    const Real s = static_cast<Real>(h.n.x) * x + static_cast<Real>(h.n.y) * y +
+                   static_cast<Real>(h.n.z) * z + static_cast<Real>(h.d);
     if (s > 0) return false;
   }
   return true;
@@ -107,15 +107,15 @@ PrimitiveHit first_hit_in_window(const std::vector<HalfSpace>& clips, const Root
 }
 
 template <class Real>
-PrimitiveHit first_hit_in_window(const Primitive& p, const Roots<Real>& roots, const Latches<Real>& l,
-                                 double t_min, double t_lo, double t_hi) {
+PrimitiveHit first_hit_in_window(const Primitive& p, const Roots<Real>& roots,
+                                 const Latches<Real>& l, double t_min, double t_lo, double t_hi) {
   return first_hit_in_window(p.clips, roots, l, t_min, t_lo, t_hi);
 }
 
 /// Full intersection of one ray with one primitive in world coordinates.
 template <class Real>
-PrimitiveHit intersect(const Primitive& p, const CoefRam<Real>& ram, const Latches<Real>& l, double t_min,
-                       double t_lo, double t_hi) {
+PrimitiveHit intersect(const Primitive& p, const CoefRam<Real>& ram, const Latches<Real>& l,
+                       double t_min, double t_lo, double t_hi) {
   const Abg<Real> abg = form_abg(l, ram);
   return first_hit_in_window(p.clips, solve_quadratic(abg.a, abg.b, abg.g), l, t_min, t_lo, t_hi);
 }

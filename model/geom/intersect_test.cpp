@@ -47,14 +47,15 @@ struct AbgRef {
   long double a, b, g;
 };
 AbgRef abg_reference(const Quadric& q, const Vec3& u, const Vec3& v) {
-  const long double A = q.c[kA], B = q.c[kB], C = q.c[kC], D = q.c[kD], E = q.c[kE], F = q.c[kF], G = q.c[kG],
-                    H = q.c[kH], I = q.c[kI], J = q.c[kJ];
+  const long double A = q.c[kA], B = q.c[kB], C = q.c[kC], D = q.c[kD], E = q.c[kE], F = q.c[kF],
+                    G = q.c[kG], H = q.c[kH], I = q.c[kI], J = q.c[kJ];
   const long double ux = u.x, uy = u.y, uz = u.z, vx = v.x, vy = v.y, vz = v.z;
   AbgRef r;
   r.a = A * ux * ux + B * uy * uy + C * uz * uz + D * ux * uy + E * uy * uz + F * uz * ux;
-  r.b = 2 * A * ux * vx + 2 * B * uy * vy + 2 * C * uz * vz + D * (ux * vy + uy * vx) + E * (uy * vz + uz * vy) +
-        F * (uz * vx + ux * vz) + G * ux + H * uy + I * uz;
-  r.g = A * vx * vx + B * vy * vy + C * vz * vz + D * vx * vy + E * vy * vz + F * vz * vx + G * vx + H * vy + I * vz + J;
+  r.b = 2 * A * ux * vx + 2 * B * uy * vy + 2 * C * uz * vz + D * (ux * vy + uy * vx) +
+        E * (uy * vz + uz * vy) + F * (uz * vx + ux * vz) + G * ux + H * uy + I * uz;
+  r.g = A * vx * vx + B * vy * vy + C * vz * vz + D * vx * vy + E * vy * vz + F * vz * vx + G * vx +
+        H * vy + I * vz + J;
   return r;
 }
 
@@ -101,9 +102,15 @@ TEST(MacSchedule, OperandsAreWhereThePaperSays) {
     ASSERT_LT(int(op.w), kRamWords);
     const int u_count = int(is_u(op.x)) + int(is_u(op.y));
     switch (op.sum) {
-      case kAlpha: EXPECT_EQ(u_count, 2); break;  // α is quadratic in U
-      case kBeta: EXPECT_EQ(u_count, 1); break;   // β is linear in U
-      case kGamma: EXPECT_EQ(u_count, 0); break;  // γ has no U
+      case kAlpha:
+        EXPECT_EQ(u_count, 2);
+        break;  // α is quadratic in U
+      case kBeta:
+        EXPECT_EQ(u_count, 1);
+        break;  // β is linear in U
+      case kGamma:
+        EXPECT_EQ(u_count, 0);
+        break;  // γ has no U
     }
     // Each product appears once (operand order ignored).
     const int lo = std::min(int(op.x), int(op.y)), hi = std::max(int(op.x), int(op.y));
@@ -152,7 +159,8 @@ TEST(MacSchedule, ExactOnSmallIntegers) {
     ASSERT_EQ(abg.b, double(ref.b));
     ASSERT_EQ(abg.g, double(ref.g));
     // And α t² + β t + γ is Q(V + t U) exactly, at integer t.
-    for (int t : {-3, 1, 4}) ASSERT_EQ(abg.a * t * t + abg.b * t + abg.g, q.value(v + double(t) * u));
+    for (int t : {-3, 1, 4})
+      ASSERT_EQ(abg.a * t * t + abg.b * t + abg.g, q.value(v + double(t) * u));
     const Abg<float> abgf = form_abg(load_latches<float>(u, v), load_ram<float>(q));
     ASSERT_EQ(double(abgf.a), abg.a);
     ASSERT_EQ(double(abgf.b), abg.b);
@@ -168,7 +176,7 @@ void expect_unrolled_forms_match(uint32_t seed) {
   for (int i = 0; i < 4000; ++i) {
     Quadric q;
     for (double& c : q.c) c = (rng() % 3 == 0) ? 0.0 : signed_log_uniform(rng, -3, 3);
-    if (i % 2) q.c[3] = q.c[4] = q.c[5] = 0;  // no cross terms: the reference's short form
+    if (i % 2) q.c[3] = q.c[4] = q.c[5] = 0;        // no cross terms: the reference's short form
     const Vec3 origin = uniform_zyx(rng, -50, 50);  // before the direction (test_random.h says why)
     const Latches<Real> l = load_latches<Real>(random_unit(rng), origin);
     const CoefRam<Real> ram = load_ram<Real>(q);
@@ -262,7 +270,8 @@ TEST(Roots, CancellationRandom) {
     const double rb = signed_log_uniform(rng, 4, 8);
     const double a = signed_log_uniform(rng, -1, 1);
     const double b = -a * (rs + rb), c = a * rs * rb;
-    // Exact roots of the rounded coefficients, in long double; the small one is −c/b to first order.
+    // Exact roots of the rounded coefficients, in long double; the small one is −c/b to first
+    // order.
     const long double la = a, lb = b, lc = c;
     const long double sq = std::sqrt(lb * lb - 4 * la * lc);
     const long double q = -(lb + (lb < 0 ? -sq : sq)) / 2;
@@ -280,7 +289,8 @@ TEST(Roots, CancellationRandom) {
 }
 
 TEST(Roots, TangentIsAnExactDoubleRoot) {
-  for (auto abc : std::vector<std::array<double, 3>>{{1, 2, 1}, {4, -12, 9}, {-1, 2, -1}, {0.25, 1, 1}}) {
+  for (auto abc :
+       std::vector<std::array<double, 3>>{{1, 2, 1}, {4, -12, 9}, {-1, 2, -1}, {0.25, 1, 1}}) {
     const Roots<double> r = solve_quadratic(abc[0], abc[1], abc[2]);
     ASSERT_EQ(r.n, 2);
     EXPECT_EQ(r.t0, r.t1);
@@ -474,9 +484,11 @@ TEST(Roots, RandomResidualsAndOrder) {
 
 TEST(Roots, FloatNeverNaNForFiniteInputs) {
   // Every finite float class: zeros, denormals, the extremes, and random bit patterns.
-  const float big = std::numeric_limits<float>::max(), tiny = std::numeric_limits<float>::denorm_min(),
+  const float big = std::numeric_limits<float>::max(),
+              tiny = std::numeric_limits<float>::denorm_min(),
               norm = std::numeric_limits<float>::min();
-  const std::vector<float> special = {0.0f, -0.0f, 1.0f, -1.0f, big, -big, tiny, -tiny, norm, -norm, 3e19f, -3e19f, 1e-20f};
+  const std::vector<float> special = {0.0f,  -0.0f, 1.0f,  -1.0f, big,    -big,  tiny,
+                                      -tiny, norm,  -norm, 3e19f, -3e19f, 1e-20f};
   const auto check = [](float a, float b, float c) {
     const Roots<float> r = solve_quadratic(a, b, c);
     ASSERT_TRUE(no_nan(r)) << a << " " << b << " " << c;
@@ -521,7 +533,8 @@ TEST(Roots, FloatNeverNaNForFiniteInputs) {
 // first_hit_in_window and intersect
 
 template <class Real>
-PrimitiveHit hit_of(const Primitive& p, const Vec3& o, const Vec3& d, double t_min, double lo, double hi) {
+PrimitiveHit hit_of(const Primitive& p, const Vec3& o, const Vec3& d, double t_min, double lo,
+                    double hi) {
   return intersect<Real>(p, load_ram<Real>(p.q), load_latches<Real>(d, o), t_min, lo, hi);
 }
 
@@ -565,9 +578,9 @@ TEST(IntersectWindow, RootsBehindTminAreSkipped) {
 
 TEST(IntersectWindow, HitOutsideTheWindowIsNotReported) {
   const Primitive s = make_sphere({0, 0, 0}, 1);
-  const Vec3 o{-3, 0, 0}, d{1, 0, 0};  // roots 2 and 4
-  EXPECT_FALSE(hit_of<double>(s, o, d, 0, 0, 1.9).hit);   // before the hit
-  EXPECT_FALSE(hit_of<double>(s, o, d, 0, 2.1, 3.9).hit); // between the roots
+  const Vec3 o{-3, 0, 0}, d{1, 0, 0};                      // roots 2 and 4
+  EXPECT_FALSE(hit_of<double>(s, o, d, 0, 0, 1.9).hit);    // before the hit
+  EXPECT_FALSE(hit_of<double>(s, o, d, 0, 2.1, 3.9).hit);  // between the roots
   // The first hit is at 2; a window holding only the far root still reports nothing: the near
   // root is the ray's hit, and it lies in an earlier voxel.
   EXPECT_FALSE(hit_of<double>(s, o, d, 0, 2.5, 10).hit);
@@ -613,11 +626,15 @@ TEST(IntersectWindow, RandomSpheresAgainstGeometry) {
     double expect = kInf;
     if (h2 >= 0) {
       const long double h = std::sqrt(h2);
-      if (tc - h > 0) expect = double(tc - h);
-      else if (tc + h > 0) expect = double(tc + h);
+      if (tc - h > 0)
+        expect = double(tc - h);
+      else if (tc + h > 0)
+        expect = double(tc + h);
     }
     // Skip rays whose answer hinges on rounding (grazing, or a root at the origin).
-    if (std::abs(h2) < 1e-6 * r * r || std::abs(std::abs(double(tc)) - std::sqrt(std::max(0.0L, h2))) < 1e-6) continue;
+    if (std::abs(h2) < 1e-6 * r * r ||
+        std::abs(std::abs(double(tc)) - std::sqrt(std::max(0.0L, h2))) < 1e-6)
+      continue;
     const PrimitiveHit hd = hit_of<double>(s, o, d, 0, 0, kInf);
     ASSERT_EQ(hd.hit, expect < kInf) << i;
     if (!hd.hit) continue;
@@ -645,7 +662,8 @@ TEST(IntersectWindow, NearestKeptRootOnClippedShapes) {
     const double apex_radius = i % 2 ? uniform(rng, 0, 1) : 0;
     const Primitive p = i % 2 ? make_cone(base, uniform(rng, 0.2, 1), apex, apex_radius)
                               : make_polygon({base, apex, base + random_point(rng, 2)});
-    const Vec3 o = random_point(rng, 5), d = normalize((base + apex) / 2.0 + random_point(rng, 1) - o);
+    const Vec3 o = random_point(rng, 5),
+               d = normalize((base + apex) / 2.0 + random_point(rng, 1) - o);
     const Latches<double> l = load_latches<double>(d, o);
     const Abg<double> abg = form_abg(l, load_ram<double>(p.q));
     const Roots<double> roots = solve_quadratic(abg.a, abg.b, abg.g);

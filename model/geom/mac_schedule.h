@@ -19,7 +19,21 @@ namespace rtm {
 /// Latch operands: the ray direction U, origin V, and the constant one.
 enum Latch : uint8_t { kUx, kUy, kUz, kVx, kVy, kVz, kOne };
 /// Coefficient RAM words: A..J in the paper's order, then the pre-scaled 2A, 2B, 2C.
-enum RamWord : uint8_t { kRamA, kRamB, kRamC, kRamD, kRamE, kRamF, kRamG, kRamH, kRamI, kRamJ, kRam2A, kRam2B, kRam2C };
+enum RamWord : uint8_t {
+  kRamA,
+  kRamB,
+  kRamC,
+  kRamD,
+  kRamE,
+  kRamF,
+  kRamG,
+  kRamH,
+  kRamI,
+  kRamJ,
+  kRam2A,
+  kRam2B,
+  kRam2C
+};
 constexpr int kRamWords = 13;
 /// Which sum a product is accumulated into.
 enum Sum : uint8_t { kAlpha, kBeta, kGamma };
@@ -36,18 +50,36 @@ constexpr int kMacProducts = kAlphaProducts + kBetaProducts + kGammaProducts;
 /// The full schedule in issue order: α's 6, then β's 12, then γ's 10.
 constexpr std::array<MacOp, kMacProducts> kMacSchedule{{
     // α = A Ux² + B Uy² + C Uz² + D Ux Uy + E Uy Uz + F Uz Ux
-    {kUx, kUx, kRamA, kAlpha}, {kUy, kUy, kRamB, kAlpha}, {kUz, kUz, kRamC, kAlpha},
-    {kUx, kUy, kRamD, kAlpha}, {kUy, kUz, kRamE, kAlpha}, {kUz, kUx, kRamF, kAlpha},
+    {kUx, kUx, kRamA, kAlpha},
+    {kUy, kUy, kRamB, kAlpha},
+    {kUz, kUz, kRamC, kAlpha},
+    {kUx, kUy, kRamD, kAlpha},
+    {kUy, kUz, kRamE, kAlpha},
+    {kUz, kUx, kRamF, kAlpha},
     // β = 2A Ux Vx + 2B Uy Vy + 2C Uz Vz + D (Ux Vy + Uy Vx) + E (Uy Vz + Uz Vy)
     //     + F (Uz Vx + Ux Vz) + G Ux + H Uy + I Uz
-    {kUx, kVx, kRam2A, kBeta}, {kUy, kVy, kRam2B, kBeta}, {kUz, kVz, kRam2C, kBeta},
-    {kUx, kVy, kRamD, kBeta},  {kUy, kVx, kRamD, kBeta},  {kUy, kVz, kRamE, kBeta},
-    {kUz, kVy, kRamE, kBeta},  {kUz, kVx, kRamF, kBeta},  {kUx, kVz, kRamF, kBeta},
-    {kUx, kOne, kRamG, kBeta}, {kUy, kOne, kRamH, kBeta}, {kUz, kOne, kRamI, kBeta},
+    {kUx, kVx, kRam2A, kBeta},
+    {kUy, kVy, kRam2B, kBeta},
+    {kUz, kVz, kRam2C, kBeta},
+    {kUx, kVy, kRamD, kBeta},
+    {kUy, kVx, kRamD, kBeta},
+    {kUy, kVz, kRamE, kBeta},
+    {kUz, kVy, kRamE, kBeta},
+    {kUz, kVx, kRamF, kBeta},
+    {kUx, kVz, kRamF, kBeta},
+    {kUx, kOne, kRamG, kBeta},
+    {kUy, kOne, kRamH, kBeta},
+    {kUz, kOne, kRamI, kBeta},
     // γ = A Vx² + B Vy² + C Vz² + D Vx Vy + E Vy Vz + F Vz Vx + G Vx + H Vy + I Vz + J
-    {kVx, kVx, kRamA, kGamma}, {kVy, kVy, kRamB, kGamma}, {kVz, kVz, kRamC, kGamma},
-    {kVx, kVy, kRamD, kGamma}, {kVy, kVz, kRamE, kGamma}, {kVz, kVx, kRamF, kGamma},
-    {kVx, kOne, kRamG, kGamma}, {kVy, kOne, kRamH, kGamma}, {kVz, kOne, kRamI, kGamma},
+    {kVx, kVx, kRamA, kGamma},
+    {kVy, kVy, kRamB, kGamma},
+    {kVz, kVz, kRamC, kGamma},
+    {kVx, kVy, kRamD, kGamma},
+    {kVy, kVz, kRamE, kGamma},
+    {kVz, kVx, kRamF, kGamma},
+    {kVx, kOne, kRamG, kGamma},
+    {kVy, kOne, kRamH, kGamma},
+    {kVz, kOne, kRamI, kGamma},
     {kOne, kOne, kRamJ, kGamma},
 }};
 
@@ -68,8 +100,13 @@ CoefRam<Real> load_ram(const Quadric& q) {
 
 template <class Real>
 Latches<Real> load_latches(const Vec3& dir, const Vec3& origin) {
-  return {static_cast<Real>(dir.x),    static_cast<Real>(dir.y),    static_cast<Real>(dir.z),
-          static_cast<Real>(origin.x), static_cast<Real>(origin.y), static_cast<Real>(origin.z), Real(1)};
+  return {static_cast<Real>(dir.x),
+          static_cast<Real>(dir.y),
+          static_cast<Real>(dir.z),
+          static_cast<Real>(origin.x),
+          static_cast<Real>(origin.y),
+          static_cast<Real>(origin.z),
+          Real(1)};
 }
 
 template <class Real>
@@ -133,9 +170,11 @@ inline constexpr OpList kAllOps = schedule_subset(true);
 inline constexpr OpList kNoCrossOps = schedule_subset(false);
 
 template <const OpList& Ops, class Real, size_t... I>
-Abg<Real> form_abg_unrolled(const Latches<Real>& l, const CoefRam<Real>& ram, std::index_sequence<I...>) {
+Abg<Real> form_abg_unrolled(const Latches<Real>& l, const CoefRam<Real>& ram,
+                            std::index_sequence<I...>) {
   Real acc[3] = {0, 0, 0};
-  ((acc[kMacSchedule[Ops.k[I]].sum] += mac_product(kMacSchedule[Ops.k[I]], l, ram)), ...);  // left to right
+  ((acc[kMacSchedule[Ops.k[I]].sum] += mac_product(kMacSchedule[Ops.k[I]], l, ram)),
+   ...);  // left to right
   return {acc[kAlpha], acc[kBeta], acc[kGamma]};
 }
 }  // namespace detail
@@ -153,11 +192,13 @@ MacMask sparse_mask(const CoefRam<Real>& ram) {
 
 namespace detail {
 template <class Real, size_t... K>
-Abg<Real> form_abg_masked(const Latches<Real>& l, const CoefRam<Real>& ram, MacMask mask, std::index_sequence<K...>) {
+Abg<Real> form_abg_masked(const Latches<Real>& l, const CoefRam<Real>& ram, MacMask mask,
+                          std::index_sequence<K...>) {
   Real acc[3] = {0, 0, 0};
   // Left to right, in schedule order; a product not in the mask leaves its sum alone.
-  ((acc[kMacSchedule[K].sum] = (mask >> K & 1) ? acc[kMacSchedule[K].sum] + mac_product(kMacSchedule[K], l, ram)
-                                               : acc[kMacSchedule[K].sum]),
+  ((acc[kMacSchedule[K].sum] = (mask >> K & 1)
+                                   ? acc[kMacSchedule[K].sum] + mac_product(kMacSchedule[K], l, ram)
+                                   : acc[kMacSchedule[K].sum]),
    ...);
   return {acc[kAlpha], acc[kBeta], acc[kGamma]};
 }

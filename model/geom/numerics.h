@@ -48,7 +48,8 @@ inline Quadric scaled_pow2(const Quadric& q) {
 
 /// How the ray origin reaches the MAC's V latches.
 enum class OriginLatch : uint8_t {
-  Machine,  ///< V rounded to the machine precision, then minus the primitive's centre (the paper's latch)
+  Machine,  ///< V rounded to the machine precision, then minus the primitive's centre (the paper's
+            ///< latch)
   Wide,     ///< V − centre formed in fp64 (the ray record keeps its origin in fp64), then rounded
   Advance,  ///< as wide, from V + t_enter·U, the point where the ray enters the voxel; the root
             ///< unit adds t_enter back to the roots (rays far from their eye)

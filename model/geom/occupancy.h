@@ -25,23 +25,26 @@ class Occupancy {
   explicit Occupancy(const Grid& g) : n_(g.n) {
     for (int level = 0; level <= kLevels; ++level) {
       for (int a = 0; a < 3; ++a) dims_[level][a] = ((g.n[a] - 1) >> level) + 1;
-      bits_[level].assign(size_t(dims_[level][0] * int64_t(dims_[level][1]) * dims_[level][2] + 63) / 64, 0);
+      bits_[level].assign(
+          size_t(dims_[level][0] * int64_t(dims_[level][1]) * dims_[level][2] + 63) / 64, 0);
     }
     for (int z = 0; z < g.n[2]; ++z)
       for (int y = 0; y < g.n[1]; ++y)
         for (int x = 0; x < g.n[0]; ++x)
           if (g.count(g.index(x, y, z)) != 0)
-            for (int level = 0; level <= kLevels; ++level) set(level, {x >> level, y >> level, z >> level});
+            for (int level = 0; level <= kLevels; ++level)
+              set(level, {x >> level, y >> level, z >> level});
     const auto& nb = dims_[kSumLevel];
     for (int a = 0; a < 3; ++a) sdim_[a] = size_t(nb[a]) + 1;
     sums_.assign(sdim_[0] * sdim_[1] * sdim_[2], 0);
     for (int z = 1; z <= nb[2]; ++z)
       for (int y = 1; y <= nb[1]; ++y)
         for (int x = 1; x <= nb[0]; ++x)
-          sums_[sum_index(x, y, z)] = uint32_t(get(kSumLevel, {x - 1, y - 1, z - 1})) + sums_[sum_index(x - 1, y, z)] +
-                                      sums_[sum_index(x, y - 1, z)] + sums_[sum_index(x, y, z - 1)] -
-                                      sums_[sum_index(x - 1, y - 1, z)] - sums_[sum_index(x - 1, y, z - 1)] -
-                                      sums_[sum_index(x, y - 1, z - 1)] + sums_[sum_index(x - 1, y - 1, z - 1)];
+          sums_[sum_index(x, y, z)] =
+              uint32_t(get(kSumLevel, {x - 1, y - 1, z - 1})) + sums_[sum_index(x - 1, y, z)] +
+              sums_[sum_index(x, y - 1, z)] + sums_[sum_index(x, y, z - 1)] -
+              sums_[sum_index(x - 1, y - 1, z)] - sums_[sum_index(x - 1, y, z - 1)] -
+              sums_[sum_index(x, y - 1, z - 1)] + sums_[sum_index(x - 1, y - 1, z - 1)];
   }
 
   /// Does voxel v (Grid::index) hold any primitive?
@@ -49,10 +52,12 @@ class Occupancy {
 
   /// The largest empty aligned block holding `cell` (an empty voxel), clipped to the grid, as a
   /// box of cells [lo, hi]; false if no block of kMinLevel or more around it is empty.
-  bool empty_block(const std::array<int, 3>& cell, std::array<int, 3>& lo, std::array<int, 3>& hi) const {
+  bool empty_block(const std::array<int, 3>& cell, std::array<int, 3>& lo,
+                   std::array<int, 3>& hi) const {
     int level = kMinLevel;
     if (get(level, {cell[0] >> level, cell[1] >> level, cell[2] >> level})) return false;
-    while (level < kLevels && !get(level + 1, {cell[0] >> (level + 1), cell[1] >> (level + 1), cell[2] >> (level + 1)}))
+    while (level < kLevels && !get(level + 1, {cell[0] >> (level + 1), cell[1] >> (level + 1),
+                                               cell[2] >> (level + 1)}))
       ++level;
     for (int a = 0; a < 3; ++a) {
       lo[a] = cell[a] >> level << level;
@@ -66,9 +71,11 @@ class Occupancy {
   bool box_empty(const std::array<int, 3>& lo, const std::array<int, 3>& hi) const {
     const int s = kSumLevel;
     const size_t x0 = size_t(lo[0] >> s), y0 = size_t(lo[1] >> s), z0 = size_t(lo[2] >> s);
-    const size_t x1 = size_t(hi[0] >> s) + 1, y1 = size_t(hi[1] >> s) + 1, z1 = size_t(hi[2] >> s) + 1;
-    const uint32_t total = sums_[sum_index(x1, y1, z1)] - sums_[sum_index(x0, y1, z1)] - sums_[sum_index(x1, y0, z1)] -
-                           sums_[sum_index(x1, y1, z0)] + sums_[sum_index(x0, y0, z1)] + sums_[sum_index(x0, y1, z0)] +
+    const size_t x1 = size_t(hi[0] >> s) + 1, y1 = size_t(hi[1] >> s) + 1,
+                 z1 = size_t(hi[2] >> s) + 1;
+    const uint32_t total = sums_[sum_index(x1, y1, z1)] - sums_[sum_index(x0, y1, z1)] -
+                           sums_[sum_index(x1, y0, z1)] - sums_[sum_index(x1, y1, z0)] +
+                           sums_[sum_index(x0, y0, z1)] + sums_[sum_index(x0, y1, z0)] +
                            sums_[sum_index(x1, y0, z0)] - sums_[sum_index(x0, y0, z0)];
     return total == 0;
   }

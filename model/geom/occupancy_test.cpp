@@ -34,7 +34,8 @@ Grid random_grid(std::mt19937& rng) {
   std::vector<bool> occ(size_t(n[0]) * n[1] * n[2], false);
   const int clusters = int(rng() % 4);
   for (int c = 0; c < clusters; ++c) {
-    const int cx = int(rng() % n[0]), cy = int(rng() % n[1]), cz = int(rng() % n[2]), r = int(rng() % 4);
+    const int cx = int(rng() % n[0]), cy = int(rng() % n[1]), cz = int(rng() % n[2]),
+              r = int(rng() % 4);
     for (int z = std::max(0, cz - r); z <= std::min(n[2] - 1, cz + r); ++z)
       for (int y = std::max(0, cy - r); y <= std::min(n[1] - 1, cy + r); ++y)
         for (int x = std::max(0, cx - r); x <= std::min(n[0] - 1, cx + r); ++x)

@@ -20,19 +20,23 @@ bool in_triangle(const Point2& p, const Point2& a, const Point2& b, const Point2
 }
 
 bool on_segment(const Point2& p, const Point2& a, const Point2& b) {
-  return std::min(a[0], b[0]) <= p[0] && p[0] <= std::max(a[0], b[0]) && std::min(a[1], b[1]) <= p[1] &&
-         p[1] <= std::max(a[1], b[1]);
+  return std::min(a[0], b[0]) <= p[0] && p[0] <= std::max(a[0], b[0]) &&
+         std::min(a[1], b[1]) <= p[1] && p[1] <= std::max(a[1], b[1]);
 }
 
 /// Do the closed segments ab and cd have a point in common?
 bool segments_meet(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
-  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
-  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return true;
-  return (o1 == 0 && on_segment(c, a, b)) || (o2 == 0 && on_segment(d, a, b)) || (o3 == 0 && on_segment(a, c, d)) ||
-         (o4 == 0 && on_segment(b, c, d));
+  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+               o4 = orient(c, d, b);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
+    return true;
+  return (o1 == 0 && on_segment(c, a, b)) || (o2 == 0 && on_segment(d, a, b)) ||
+         (o3 == 0 && on_segment(a, c, d)) || (o4 == 0 && on_segment(b, c, d));
 }
 
-std::string edge_name(int i, int n) { return std::to_string(i + 1) + "-" + std::to_string((i + 1) % n + 1); }
+std::string edge_name(int i, int n) {
+  return std::to_string(i + 1) + "-" + std::to_string((i + 1) % n + 1);
+}
 
 /// Throws unless the closed outline is simple: no two edges meet except neighbours at their
 /// shared corner, and no corner folds an edge back onto the one before it.
@@ -42,15 +46,16 @@ void require_simple(const std::vector<Point2>& p) {
     const Point2 &a = p[size_t(i)], &b = p[size_t((i + 1) % n)], &c = p[size_t((i + 2) % n)];
     // Neighbours meet only at b: folding back along the same line is a touch too.
     if (orient(a, b, c) == 0 && (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]) < 0)
-      throw std::invalid_argument("polygon is not simple: edges " + edge_name(i, n) + " and " + edge_name((i + 1) % n, n) +
-                                  " fold back on each other");
+      throw std::invalid_argument("polygon is not simple: edges " + edge_name(i, n) + " and " +
+                                  edge_name((i + 1) % n, n) + " fold back on each other");
   }
   for (int i = 0; i < n; ++i)
     for (int j = i + 2; j < n; ++j) {
       if (i == 0 && j == n - 1) continue;  // neighbours across the closing corner
       if (segments_meet(p[size_t(i)], p[size_t((i + 1) % n)], p[size_t(j)], p[size_t((j + 1) % n)]))
-        throw std::invalid_argument("polygon is not simple: edges " + edge_name(i, n) + " and " + edge_name(j, n) +
-                                    " (vertex numbers) cross or touch; holes and self-intersections are not supported");
+        throw std::invalid_argument(
+            "polygon is not simple: edges " + edge_name(i, n) + " and " + edge_name(j, n) +
+            " (vertex numbers) cross or touch; holes and self-intersections are not supported");
     }
 }
 
@@ -79,7 +84,9 @@ std::vector<std::array<int, 3>> triangulate(const std::vector<Point2>& p) {
       i = (i + 1) % m;
       // A simple polygon always has an ear (Meisters' two-ears theorem); none in a whole round
       // means rounding has made the outline non-simple.
-      if (++tries > m) throw std::invalid_argument("polygon could not be triangulated (is it nearly self-touching?)");
+      if (++tries > m)
+        throw std::invalid_argument(
+            "polygon could not be triangulated (is it nearly self-touching?)");
     }
   }
   tris.push_back({ring[0], ring[1], ring[2]});
@@ -92,7 +99,8 @@ struct Diagonal {
 };
 
 /// Hertel–Mehlhorn: removes the diagonals in `order` wherever the merged piece stays convex.
-std::vector<std::vector<int>> merge_pieces(const std::vector<Point2>& p, const std::vector<std::array<int, 3>>& tris,
+std::vector<std::vector<int>> merge_pieces(const std::vector<Point2>& p,
+                                           const std::vector<std::array<int, 3>>& tris,
                                            const std::vector<Diagonal>& order) {
   std::vector<std::vector<int>> pieces;
   std::map<std::pair<int, int>, int> owner;  // directed edge -> the piece that has it
@@ -112,11 +120,13 @@ std::vector<std::vector<int>> merge_pieces(const std::vector<Point2>& p, const s
     const size_t ia = size_t(std::find(vq.begin(), vq.end(), d.a) - vq.begin());
     std::vector<int> merged;
     for (size_t k = 0; k < vp.size(); ++k) merged.push_back(vp[(ib + k) % vp.size()]);  // b ... a
-    for (size_t k = 1; k + 1 < vq.size(); ++k) merged.push_back(vq[(ia + k) % vq.size()]);  // after a ... before b
+    for (size_t k = 1; k + 1 < vq.size(); ++k)
+      merged.push_back(vq[(ia + k) % vq.size()]);  // after a ... before b
     // Only the corners at a and b change; each must stay convex (straight is allowed).
     const size_t m = merged.size(), at_a = vp.size() - 1;
     auto corner_ok = [&](size_t k) {
-      return orient(p[size_t(merged[(k + m - 1) % m])], p[size_t(merged[k])], p[size_t(merged[(k + 1) % m])]) >= 0;
+      return orient(p[size_t(merged[(k + m - 1) % m])], p[size_t(merged[k])],
+                    p[size_t(merged[(k + 1) % m])]) >= 0;
     };
     if (!corner_ok(0) || !corner_ok(at_a)) continue;
     owner.erase(pa);
@@ -179,9 +189,10 @@ std::vector<std::vector<int>> convex_pieces(const std::vector<Point2>& p) {
 
 std::vector<Primitive> make_polygon_pieces(const std::vector<Vec3>& in) {
   if (in.size() > kMaxPolygonCorners)
-    throw std::invalid_argument("polygon has " + std::to_string(in.size()) + " vertices, at most " +
-                                std::to_string(kMaxPolygonCorners) +
-                                " (splitting a concave polygon takes time quadratic in its corners)");
+    throw std::invalid_argument(
+        "polygon has " + std::to_string(in.size()) + " vertices, at most " +
+        std::to_string(kMaxPolygonCorners) +
+        " (splitting a concave polygon takes time quadratic in its corners)");
   for (const Vec3& p : in)
     if (!all_finite(p)) throw std::invalid_argument("polygon vertex is not finite");
   // The outline and its plane exactly as make_polygon sees them.
@@ -197,17 +208,21 @@ std::vector<Primitive> make_polygon_pieces(const std::vector<Vec3>& in) {
       if (length(v[i] - v[0]) > length(v[far] - v[0])) far = i;
     for (const Vec3& p : v)
       if (length(cross(v[far] - v[0], p - v[0])) > 1e-12 * size * size)
-        throw std::invalid_argument("polygon is not simple: its edges cross (its signed area is zero)");
+        throw std::invalid_argument(
+            "polygon is not simple: its edges cross (its signed area is zero)");
     throw DegenerateShape("polygon has zero area");
   }
   n = normalize(n);
   const double d = -dot(n, v[0]);
   for (const Vec3& p : v)
-    if (!(std::abs(dot(n, p) + d) <= 1e-6 * size)) throw std::invalid_argument("polygon vertices are not coplanar");
+    if (!(std::abs(dot(n, p) + d) <= 1e-6 * size))
+      throw std::invalid_argument("polygon vertices are not coplanar");
 
   // In the plane: drop the normal's largest axis (exact coordinates, no rotation), ordered so the
   // outline runs counter-clockwise.
-  const int k = std::abs(n.x) >= std::abs(n.y) && std::abs(n.x) >= std::abs(n.z) ? 0 : std::abs(n.y) >= std::abs(n.z) ? 1 : 2;
+  const int k = std::abs(n.x) >= std::abs(n.y) && std::abs(n.x) >= std::abs(n.z) ? 0
+                : std::abs(n.y) >= std::abs(n.z)                                 ? 1
+                                                                                 : 2;
   const int u = (k + 1) % 3, w = (k + 2) % 3;
   const bool flip = n[k] < 0;
   std::vector<Point2> flat;
@@ -223,7 +238,8 @@ std::vector<Primitive> make_polygon_pieces(const std::vector<Vec3>& in) {
     for (size_t i = 0; i < flat.size() && flat.size() > 3; ++i) {
       const size_t a = (i + flat.size() - 1) % flat.size(), c = (i + 1) % flat.size();
       const Point2 &pa = flat[a], &pb = flat[i], &pc = flat[c];
-      if (orient(pa, pb, pc) == 0 && (pb[0] - pa[0]) * (pc[0] - pb[0]) + (pb[1] - pa[1]) * (pc[1] - pb[1]) > 0) {
+      if (orient(pa, pb, pc) == 0 &&
+          (pb[0] - pa[0]) * (pc[0] - pb[0]) + (pb[1] - pa[1]) * (pc[1] - pb[1]) > 0) {
         flat.erase(flat.begin() + std::ptrdiff_t(i));
         index.erase(index.begin() + std::ptrdiff_t(i));
         removed = true;

@@ -20,7 +20,8 @@ constexpr double kPi = 3.14159265358979323846;
 bool inside_outline(const std::vector<Point2>& p, double x, double y) {
   bool in = false;
   for (size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
-    if ((p[i][1] > y) != (p[j][1] > y) && x < (p[j][0] - p[i][0]) * (y - p[i][1]) / (p[j][1] - p[i][1]) + p[i][0])
+    if ((p[i][1] > y) != (p[j][1] > y) &&
+        x < (p[j][0] - p[i][0]) * (y - p[i][1]) / (p[j][1] - p[i][1]) + p[i][0])
       in = !in;
   }
   return in;
@@ -70,7 +71,8 @@ std::vector<Vec3> in_space(const std::vector<Point2>& p, double z = 0) {
 
 /// Every piece is convex and counter-clockwise, and a point lies in some piece exactly when it
 /// lies in the outline (away from the edges, where rounding decides), in at most one piece.
-void expect_exact_cover(const std::vector<Point2>& outline, const std::vector<std::vector<int>>& pieces) {
+void expect_exact_cover(const std::vector<Point2>& outline,
+                        const std::vector<std::vector<int>>& pieces) {
   for (const auto& piece : pieces) {
     std::vector<Point2> q;
     for (int i : piece) q.push_back(outline[size_t(i)]);
@@ -78,7 +80,8 @@ void expect_exact_cover(const std::vector<Point2>& outline, const std::vector<st
   }
   double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
   for (const Point2& q : outline)
-    for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], q[size_t(a)]), hi[a] = std::max(hi[a], q[size_t(a)]);
+    for (int a = 0; a < 2; ++a)
+      lo[a] = std::min(lo[a], q[size_t(a)]), hi[a] = std::max(hi[a], q[size_t(a)]);
   std::mt19937 rng(7);
   int covered = 0, wrong = 0;
   for (int k = 0; k < 4000; ++k) {
@@ -136,7 +139,8 @@ TEST(ConvexPieces, RandomStarShapedPolygons) {
     const int n = 3 + int(rng() % 40);
     std::vector<Point2> p;
     for (int i = 0; i < n; ++i) {
-      const double a = 2 * kPi * (i + test::uniform(rng, 0.1, 0.9)) / n, r = test::uniform(rng, 0.2, 1);
+      const double a = 2 * kPi * (i + test::uniform(rng, 0.1, 0.9)) / n,
+                   r = test::uniform(rng, 0.2, 1);
       p.push_back({r * std::cos(a), r * std::sin(a)});
     }
     const auto pieces = convex_pieces(p);
@@ -155,7 +159,8 @@ TEST(ConvexPieces, SpiralsAndCombsThatNoPointSeesWhole) {
     inner.push_back({(r - 0.5) * std::cos(t), (r - 0.5) * std::sin(t)});
   }
   std::vector<Point2> spiral = outer;
-  spiral.insert(spiral.end(), inner.rbegin(), inner.rend());  // out along the outer edge, back along the inner: counter-clockwise
+  spiral.insert(spiral.end(), inner.rbegin(),
+                inner.rend());  // out along the outer edge, back along the inner: counter-clockwise
   auto pieces = convex_pieces(spiral);
   EXPECT_LE(int(pieces.size()), 2 * reflex_corners(spiral) + 1);
   expect_exact_cover(spiral, pieces);
@@ -177,11 +182,23 @@ TEST(ConvexPieces, SpiralsAndCombsThatNoPointSeesWhole) {
 TEST(ConvexPieces, RejectsSelfIntersectionsHolesAndClockwise) {
   EXPECT_THROW(convex_pieces({{0, 0}, {1, 1}, {1, 0}, {0, 1}}), std::invalid_argument);  // bow tie
   // A square with a square hole, joined by a slit walked both ways: the slit's edges touch.
-  EXPECT_THROW(convex_pieces({{0, 0}, {4, 0}, {4, 4}, {0, 4}, {0, 2}, {1, 2}, {1, 3}, {3, 3}, {3, 1}, {1, 1}, {1, 2}, {0, 2}}),
+  EXPECT_THROW(convex_pieces({{0, 0},
+                              {4, 0},
+                              {4, 4},
+                              {0, 4},
+                              {0, 2},
+                              {1, 2},
+                              {1, 3},
+                              {3, 3},
+                              {3, 1},
+                              {1, 1},
+                              {1, 2},
+                              {0, 2}}),
                std::invalid_argument);
   // An edge folding back along itself.
   EXPECT_THROW(convex_pieces({{0, 0}, {2, 0}, {1, 0}, {1, 1}}), std::invalid_argument);
-  EXPECT_THROW(convex_pieces({{0, 0}, {0, 1}, {1, 1}, {1, 0}}), std::invalid_argument);  // clockwise
+  EXPECT_THROW(convex_pieces({{0, 0}, {0, 1}, {1, 1}, {1, 0}}),
+               std::invalid_argument);  // clockwise
 }
 
 TEST(PolygonPieces, ConvexPolygonIsMakePolygonExactly) {
@@ -236,7 +253,8 @@ TEST(PolygonPieces, ConcavePiecesShareThePlaneAndCloseEveryGap) {
         bool shared = false;  // another piece has the edge the other way round: a diagonal
         for (const Primitive& other : ps)
           for (size_t k = 0; &other != &piece && k < other.vertices.size(); ++k)
-            shared = shared || (other.vertices[k] == b && other.vertices[(k + 1) % other.vertices.size()] == a);
+            shared = shared || (other.vertices[k] == b &&
+                                other.vertices[(k + 1) % other.vertices.size()] == a);
         if (!shared) continue;
         ++diagonals;
         for (double t : {0.1, 0.37, 0.5, 0.81}) {
@@ -278,7 +296,9 @@ TEST(PolygonPieces, TheMostCornersSplitQuicklyAndOneMoreIsRefused) {
   } catch (const DegenerateShape&) {
     FAIL() << "too many corners is an error, not degenerate";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("polygon has 1025 vertices, at most 1024"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("polygon has 1025 vertices, at most 1024"),
+              std::string::npos)
+        << e.what();
   }
 }
 

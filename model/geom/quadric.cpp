@@ -16,13 +16,15 @@ void require_finite(const Vec3& v, const char* what) {
 }
 
 void require_positive(double x, const char* what) {
-  if (!(std::isfinite(x) && x > 0)) throw std::invalid_argument(std::string(what) + " must be a finite positive number");
+  if (!(std::isfinite(x) && x > 0))
+    throw std::invalid_argument(std::string(what) + " must be a finite positive number");
 }
 
 void require_finite_coefficients(const Quadric& q, const char* which) {
   for (int i = 0; i < 10; ++i)
     if (!std::isfinite(q.c[i]))
-      throw std::invalid_argument(std::string(which) + " coefficient " + "ABCDEFGHIJ"[i] + " is not finite");
+      throw std::invalid_argument(std::string(which) + " coefficient " + "ABCDEFGHIJ"[i] +
+                                  " is not finite");
 }
 
 /// Symmetric 4x4 matrix S with Q(p) = [p 1]ᵀ S [p 1].
@@ -71,7 +73,8 @@ void set_quadric(Primitive& p, const Frame& f, const Sym4& local) {
 
 /// Box of a disc of radius r centred at c with unit normal a.
 Aabb disc_box(const Vec3& c, const Vec3& a, double r) {
-  const Vec3 half{r * std::sqrt(std::max(0.0, 1 - a.x * a.x)), r * std::sqrt(std::max(0.0, 1 - a.y * a.y)),
+  const Vec3 half{r * std::sqrt(std::max(0.0, 1 - a.x * a.x)),
+                  r * std::sqrt(std::max(0.0, 1 - a.y * a.y)),
                   r * std::sqrt(std::max(0.0, 1 - a.z * a.z))};
   return Aabb{c - half, c + half};
 }
@@ -89,7 +92,8 @@ void check_frame(const Frame& f) {
     require_finite(e, "frame axis");
     require(std::abs(length(e) - 1) < 1e-9, "frame axes must be unit vectors");
   }
-  require(std::abs(dot(f.ex, f.ey)) < 1e-9 && std::abs(dot(f.ey, f.ez)) < 1e-9 && std::abs(dot(f.ez, f.ex)) < 1e-9,
+  require(std::abs(dot(f.ex, f.ey)) < 1e-9 && std::abs(dot(f.ey, f.ez)) < 1e-9 &&
+              std::abs(dot(f.ez, f.ex)) < 1e-9,
           "frame axes must be orthogonal");
 }
 
@@ -130,27 +134,38 @@ Primitive finish(Primitive p) {
 
 const char* shape_name(ShapeKind k) {
   switch (k) {
-    case ShapeKind::Sphere: return "sphere";
-    case ShapeKind::Ellipsoid: return "ellipsoid";
-    case ShapeKind::Cylinder: return "cylinder";
-    case ShapeKind::Cone: return "cone";
-    case ShapeKind::Plane: return "plane";
-    case ShapeKind::Paraboloid: return "paraboloid";
-    case ShapeKind::Hyperboloid1: return "hyperboloid1";
-    case ShapeKind::Hyperboloid2: return "hyperboloid2";
-    case ShapeKind::Polygon: return "polygon";
-    case ShapeKind::Raw: return "quadric";
+    case ShapeKind::Sphere:
+      return "sphere";
+    case ShapeKind::Ellipsoid:
+      return "ellipsoid";
+    case ShapeKind::Cylinder:
+      return "cylinder";
+    case ShapeKind::Cone:
+      return "cone";
+    case ShapeKind::Plane:
+      return "plane";
+    case ShapeKind::Paraboloid:
+      return "paraboloid";
+    case ShapeKind::Hyperboloid1:
+      return "hyperboloid1";
+    case ShapeKind::Hyperboloid2:
+      return "hyperboloid2";
+    case ShapeKind::Polygon:
+      return "polygon";
+    case ShapeKind::Raw:
+      return "quadric";
   }
   return "?";
 }
 
 double Quadric::value(const Vec3& p) const {
-  return c[kA] * p.x * p.x + c[kB] * p.y * p.y + c[kC] * p.z * p.z + c[kD] * p.x * p.y + c[kE] * p.y * p.z +
-         c[kF] * p.z * p.x + c[kG] * p.x + c[kH] * p.y + c[kI] * p.z + c[kJ];
+  return c[kA] * p.x * p.x + c[kB] * p.y * p.y + c[kC] * p.z * p.z + c[kD] * p.x * p.y +
+         c[kE] * p.y * p.z + c[kF] * p.z * p.x + c[kG] * p.x + c[kH] * p.y + c[kI] * p.z + c[kJ];
 }
 
 Vec3 Quadric::gradient(const Vec3& p) const {
-  return {2 * c[kA] * p.x + c[kD] * p.y + c[kF] * p.z + c[kG], 2 * c[kB] * p.y + c[kD] * p.x + c[kE] * p.z + c[kH],
+  return {2 * c[kA] * p.x + c[kD] * p.y + c[kF] * p.z + c[kG],
+          2 * c[kB] * p.y + c[kD] * p.x + c[kE] * p.z + c[kH],
           2 * c[kC] * p.z + c[kE] * p.y + c[kF] * p.x + c[kI]};
 }
 
@@ -169,7 +184,8 @@ Frame Frame::along(const Vec3& origin, const Vec3& axis) {
   f.origin = origin;
   f.ez = normalize(axis);
   // Pick the world axis least aligned with ez, so the cross product is well conditioned.
-  const Vec3 a = std::abs(f.ez.x) < 0.6 ? Vec3{1, 0, 0} : (std::abs(f.ez.y) < 0.6 ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  const Vec3 a = std::abs(f.ez.x) < 0.6 ? Vec3{1, 0, 0}
+                                        : (std::abs(f.ez.y) < 0.6 ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
   f.ex = normalize(cross(a, f.ez));
   f.ey = cross(f.ez, f.ex);
   return f;
@@ -183,7 +199,16 @@ Primitive make_sphere(const Vec3& centre, double radius) {
     throw DegenerateShape("sphere radius is too small: its square underflows");
   Primitive p;
   p.kind = ShapeKind::Sphere;
-  p.q.c = {1, 1, 1, 0, 0, 0, -2 * centre.x, -2 * centre.y, -2 * centre.z, dot(centre, centre) - radius * radius};
+  p.q.c = {1,
+           1,
+           1,
+           0,
+           0,
+           0,
+           -2 * centre.x,
+           -2 * centre.y,
+           -2 * centre.z,
+           dot(centre, centre) - radius * radius};
   p.local.c = {1, 1, 1, 0, 0, 0, 0, 0, 0, -radius * radius};
   p.origin = centre;
   p.has_local = true;
@@ -267,7 +292,8 @@ Primitive make_paraboloid(const Frame& f, double k, double height) {
 }
 
 namespace {
-Primitive hyperboloid(const Frame& f, double a, double c, double half_height, double constant, ShapeKind kind) {
+Primitive hyperboloid(const Frame& f, double a, double c, double half_height, double constant,
+                      ShapeKind kind) {
   Sym4 s{};
   s[0][0] = 1 / (a * a);
   s[1][1] = 1 / (a * a);
@@ -299,7 +325,8 @@ Primitive make_hyperboloid2(const Frame& f, double a, double c, double half_heig
   check_frame(f);
   require_positive(a, "hyperboloid a");
   require_positive(c, "hyperboloid c");
-  require(std::isfinite(half_height) && half_height > c, "two-sheet hyperboloid half height must exceed c");
+  require(std::isfinite(half_height) && half_height > c,
+          "two-sheet hyperboloid half height must exceed c");
   return hyperboloid(f, a, c, half_height, 1, ShapeKind::Hyperboloid2);
 }
 
@@ -314,8 +341,10 @@ void add_box_clips(Primitive& p, const Aabb& box) {
 }
 
 void require_box(const Aabb& box, const char* what) {
-  if (!(all_finite(box.lo) && all_finite(box.hi))) throw std::invalid_argument(std::string(what) + " box is not finite");
-  if (box.empty()) throw std::invalid_argument(std::string(what) + " box is empty (min must not exceed max)");
+  if (!(all_finite(box.lo) && all_finite(box.hi)))
+    throw std::invalid_argument(std::string(what) + " box is not finite");
+  if (box.empty())
+    throw std::invalid_argument(std::string(what) + " box is empty (min must not exceed max)");
 }
 }  // namespace
 
@@ -351,7 +380,8 @@ PolygonOutline polygon_outline(const std::vector<Vec3>& in) {
   for (size_t i = 0; i < o.v.size(); ++i) {
     const Vec3& a = o.v[i];
     const Vec3& b = o.v[(i + 1) % o.v.size()];
-    o.newell += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+    o.newell +=
+        Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
     o.box.extend(a);
   }
   return o;
@@ -385,7 +415,8 @@ Primitive make_polygon(const std::vector<Vec3>& in) {
     const Vec3 m = normalize(out);
     // Convexity: every other vertex must lie on the inner side of this edge.
     for (const Vec3& w : v)
-      require(dot(m, w - a) <= 1e-9 * size, "polygon is not convex (only convex polygons are supported)");
+      require(dot(m, w - a) <= 1e-9 * size,
+              "polygon is not convex (only convex polygons are supported)");
     p.clips.push_back({m, -dot(m, a)});
   }
   p.bounds = box;
@@ -403,7 +434,8 @@ std::vector<Vec3> unit_normals(const std::vector<Vec3>& normals) {
   return out;
 }
 
-Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, std::vector<HalfSpace> clips) {
+Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box,
+                           std::vector<HalfSpace> clips) {
   require_box(box, "quadric");
   Primitive p;
   p.kind = ShapeKind::Raw;
@@ -419,7 +451,8 @@ void validate(const Primitive& p) {
   require(all_finite(p.bounds.lo) && all_finite(p.bounds.hi) && !p.bounds.empty(),
           "primitive has no finite bound");
   require(max_abs(p.bounds.lo) <= kMaxCoordinate && max_abs(p.bounds.hi) <= kMaxCoordinate,
-          "primitive lies too far from the origin: coordinates must be within +-1e150 so squared distances stay finite");
+          "primitive lies too far from the origin: coordinates must be within +-1e150 so squared "
+          "distances stay finite");
   require_finite_coefficients(p.q, "quadric");
   bool any = false;
   for (int i = 0; i < kJ; ++i) any = any || p.q.c[i] != 0;

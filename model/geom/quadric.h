@@ -37,7 +37,18 @@ struct HalfSpace {
 };
 
 /// What a primitive was made from: kept so exporters can write the native shape.
-enum class ShapeKind { Sphere, Ellipsoid, Cylinder, Cone, Plane, Paraboloid, Hyperboloid1, Hyperboloid2, Polygon, Raw };
+enum class ShapeKind {
+  Sphere,
+  Ellipsoid,
+  Cylinder,
+  Cone,
+  Plane,
+  Paraboloid,
+  Hyperboloid1,
+  Hyperboloid2,
+  Polygon,
+  Raw
+};
 const char* shape_name(ShapeKind k);
 
 /// A quadric surface kept only where every clip half-space holds, inside a finite box.
@@ -60,9 +71,9 @@ struct Primitive {
   int material = 0;
 
   // The shape's own parameters, for exporters (which fields are used depends on kind).
-  Vec3 p0{}, p1{};              ///< centre / base centre; apex centre
-  double r0 = 0, r1 = 0;        ///< radius / base radius; apex radius
-  std::vector<Vec3> vertices;   ///< polygon corners
+  Vec3 p0{}, p1{};             ///< centre / base centre; apex centre
+  double r0 = 0, r1 = 0;       ///< radius / base radius; apex radius
+  std::vector<Vec3> vertices;  ///< polygon corners
   /// A triangle's unit vertex normals, one per corner (NFF pp, a mesh file's); empty: none, the
   /// plane's normal. Shading may weight them by the hit's barycentric coordinates (render/shade.h).
   std::vector<Vec3> normals;
@@ -72,10 +83,14 @@ struct Primitive {
   std::vector<Vec3> outline;
 
   /// The quadric in coordinates x' = x − c (from the local form when there is one).
-  Quadric about(const Vec3& c) const { return has_local ? local.translated(c - origin) : q.translated(c); }
+  Quadric about(const Vec3& c) const {
+    return has_local ? local.translated(c - origin) : q.translated(c);
+  }
   /// Q(p) and ∇Q(p) at a world point, from the local form when there is one.
   double value_at(const Vec3& p) const { return has_local ? local.value(p - origin) : q.value(p); }
-  Vec3 gradient_at(const Vec3& p) const { return has_local ? local.gradient(p - origin) : q.gradient(p); }
+  Vec3 gradient_at(const Vec3& p) const {
+    return has_local ? local.gradient(p - origin) : q.gradient(p);
+  }
 
   bool inside_clips(const Vec3& p) const {
     for (const HalfSpace& h : clips)
@@ -134,7 +149,8 @@ PolygonOutline polygon_outline(const std::vector<Vec3>& vertices);
 /// (the plane's normal, flat) when any is zero or not finite.
 std::vector<Vec3> unit_normals(const std::vector<Vec3>& normals);
 /// Raw coefficients, clipped to `box` and the given half-spaces.
-Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box, std::vector<HalfSpace> clips);
+Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box,
+                           std::vector<HalfSpace> clips);
 
 /// Throws std::invalid_argument unless every coefficient, clip and bound is finite and the
 /// quadric is not identically zero. Called by every constructor; callable on loaded data.

@@ -74,17 +74,20 @@ std::array<double, 10> coefficients_of(const std::function<double(const Vec3&)>&
   // f(ei + ej) = Aii + Ajj + cross + Gi + Gj + J.
   const int pairs[3][3] = {{0, 1, kD}, {1, 2, kE}, {2, 0, kF}};
   for (const auto& pr : pairs)
-    c[pr[2]] = f(e[pr[0]] + e[pr[1]]) - c[kA + pr[0]] - c[kA + pr[1]] - c[kG + pr[0]] - c[kG + pr[1]] - f0;
+    c[pr[2]] =
+        f(e[pr[0]] + e[pr[1]]) - c[kA + pr[0]] - c[kA + pr[1]] - c[kG + pr[0]] - c[kG + pr[1]] - f0;
   return c;
 }
 
-::testing::AssertionResult CoefficientsMatch(const Quadric& q, const std::array<double, 10>& expected,
+::testing::AssertionResult CoefficientsMatch(const Quadric& q,
+                                             const std::array<double, 10>& expected,
                                              double rel = 1e-11) {
   double scale = 0;
   for (double x : expected) scale = std::max(scale, std::abs(x));
   for (int i = 0; i < 10; ++i)
     if (!(std::abs(q.c[i] - expected[i]) <= rel * scale))
-      return ::testing::AssertionFailure() << "coefficient " << "ABCDEFGHIJ"[i] << " is " << q.c[i] << ", expected "
+      return ::testing::AssertionFailure() << "coefficient "
+                                           << "ABCDEFGHIJ"[i] << " is " << q.c[i] << ", expected "
                                            << expected[i] << " (scale " << scale << ")";
   return ::testing::AssertionSuccess();
 }
@@ -92,42 +95,49 @@ std::array<double, 10> coefficients_of(const std::function<double(const Vec3&)>&
 /// Everything that must hold at a point p of the kept surface.
 /// n: analytic normal pointing to the Q > 0 side (any length); size: the shape's length scale.
 /// interior: p is not on a clip boundary, so it must pass the exact (untolerated) clip test.
-::testing::AssertionResult SurfacePoint(const Primitive& pr, const Vec3& p, const Vec3& n, double size,
-                                        bool interior = true, bool check_sign = true) {
+::testing::AssertionResult SurfacePoint(const Primitive& pr, const Vec3& p, const Vec3& n,
+                                        double size, bool interior = true, bool check_sign = true) {
   const double scale = term_scale(pr.q, p);
   const double v = pr.q.value(p);
   if (!(std::abs(v) <= 1e-11 * scale))
-    return ::testing::AssertionFailure() << "Q(p) = " << v << " relative " << v / scale << " at p = (" << p.x << ", "
-                                         << p.y << ", " << p.z << ")";
+    return ::testing::AssertionFailure() << "Q(p) = " << v << " relative " << v / scale
+                                         << " at p = (" << p.x << ", " << p.y << ", " << p.z << ")";
   const Vec3 nh = normalize(n);
   if (check_sign) {
     const double delta = 1e-5 * size;
-    if (!(pr.q.value(p + delta * nh) > 0)) return ::testing::AssertionFailure() << "Q is not > 0 on the normal side";
-    if (!(pr.q.value(p - delta * nh) < 0)) return ::testing::AssertionFailure() << "Q is not < 0 on the other side";
+    if (!(pr.q.value(p + delta * nh) > 0))
+      return ::testing::AssertionFailure() << "Q is not > 0 on the normal side";
+    if (!(pr.q.value(p - delta * nh) < 0))
+      return ::testing::AssertionFailure() << "Q is not < 0 on the other side";
   }
   const Vec3 g = pr.q.gradient(p);
   if (!(length(g) > 0)) return ::testing::AssertionFailure() << "zero gradient";
   const double cosang = dot(normalize(g), nh);
   if (!(cosang >= 1 - 1e-9))
-    return ::testing::AssertionFailure() << "gradient not parallel to the analytic normal: cos = " << cosang;
+    return ::testing::AssertionFailure()
+           << "gradient not parallel to the analytic normal: cos = " << cosang;
   const double tol = 1e-12 * (max_abs(p) + size);
   for (int a = 0; a < 3; ++a)
     if (!(p[a] >= pr.bounds.lo[a] - tol && p[a] <= pr.bounds.hi[a] + tol))
-      return ::testing::AssertionFailure() << "point outside bounds on axis " << a << ": " << p[a] << " not in ["
-                                           << pr.bounds.lo[a] << ", " << pr.bounds.hi[a] << "]";
+      return ::testing::AssertionFailure()
+             << "point outside bounds on axis " << a << ": " << p[a] << " not in ["
+             << pr.bounds.lo[a] << ", " << pr.bounds.hi[a] << "]";
   for (size_t k = 0; k < pr.clips.size(); ++k) {
     const double e = pr.clips[k].eval(p);
     const double ctol = 1e-10 * (max_abs(p) + size) * length(pr.clips[k].n);
-    if (!(e <= ctol)) return ::testing::AssertionFailure() << "clip " << k << " rejects a kept point: " << e;
+    if (!(e <= ctol))
+      return ::testing::AssertionFailure() << "clip " << k << " rejects a kept point: " << e;
   }
-  if (interior && !pr.inside_clips(p)) return ::testing::AssertionFailure() << "inside_clips rejects an interior point";
+  if (interior && !pr.inside_clips(p))
+    return ::testing::AssertionFailure() << "inside_clips rejects an interior point";
   return ::testing::AssertionSuccess();
 }
 
 /// Index of the clip that vanishes at p (within tolerance), or -1.
 int vanishing_clip(const Primitive& pr, const Vec3& p, double size) {
   for (size_t k = 0; k < pr.clips.size(); ++k)
-    if (std::abs(pr.clips[k].eval(p)) <= 1e-10 * (max_abs(p) + size) * length(pr.clips[k].n)) return int(k);
+    if (std::abs(pr.clips[k].eval(p)) <= 1e-10 * (max_abs(p) + size) * length(pr.clips[k].n))
+      return int(k);
   return -1;
 }
 
@@ -142,7 +152,8 @@ TEST(QuadricSphere, CoefficientsAreTheImplicitForm) {
     const Primitive p = make_sphere(c, r);
     EXPECT_EQ(p.kind, ShapeKind::Sphere);
     EXPECT_TRUE(p.clips.empty());
-    EXPECT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) { return dot(x - c, x - c) - r * r; })));
+    EXPECT_TRUE(CoefficientsMatch(
+        p.q, coefficients_of([&](const Vec3& x) { return dot(x - c, x - c) - r * r; })));
     EXPECT_EQ(p.p0, c);
     EXPECT_EQ(p.r0, r);
   }
@@ -191,17 +202,21 @@ TEST(QuadricEllipsoid, RotatedFrameCoefficientsAndSamples) {
     const Primitive p = make_ellipsoid(f, r);
     EXPECT_EQ(p.kind, ShapeKind::Ellipsoid);
     ASSERT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) {
-      const Vec3 d = x - f.origin;
-      const double a = dot(d, f.ex) / r.x, b = dot(d, f.ey) / r.y, c = dot(d, f.ez) / r.z;
-      return a * a + b * b + c * c - 1;
-    }))) << "case " << i;
+                                    const Vec3 d = x - f.origin;
+                                    const double a = dot(d, f.ex) / r.x, b = dot(d, f.ey) / r.y,
+                                                 c = dot(d, f.ez) / r.z;
+                                    return a * a + b * b + c * c - 1;
+                                  })))
+        << "case " << i;
     const double size = std::min({r.x, r.y, r.z});
     for (int k = 0; k < 8; ++k) {
       const double th = uniform(rng, 0, 2 * kPi), ph = uniform(rng, 0.01, kPi - 0.01);
-      const Vec3 local{r.x * std::sin(ph) * std::cos(th), r.y * std::sin(ph) * std::sin(th), r.z * std::cos(ph)};
+      const Vec3 local{r.x * std::sin(ph) * std::cos(th), r.y * std::sin(ph) * std::sin(th),
+                       r.z * std::cos(ph)};
       // Normal from the parametric tangents, not from the implicit form.
       const Vec3 dth{-r.x * std::sin(ph) * std::sin(th), r.y * std::sin(ph) * std::cos(th), 0};
-      const Vec3 dph{r.x * std::cos(ph) * std::cos(th), r.y * std::cos(ph) * std::sin(th), -r.z * std::sin(ph)};
+      const Vec3 dph{r.x * std::cos(ph) * std::cos(th), r.y * std::cos(ph) * std::sin(th),
+                     -r.z * std::sin(ph)};
       Vec3 nl = cross(dph, dth);
       if (dot(nl, local) < 0) nl = -nl;
       const Vec3 pw = f.origin + local.x * f.ex + local.y * f.ey + local.z * f.ez;
@@ -226,7 +241,8 @@ TEST(QuadricEllipsoid, AxisAlignedIsTheTextbookForm) {
   Frame f;
   f.origin = {1, 2, 3};
   const Primitive p = make_ellipsoid(f, {2, 4, 0.5});
-  EXPECT_TRUE(CoefficientsMatch(p.q, {0.25, 1.0 / 16, 4, 0, 0, 0, -0.5, -0.25, -24, 0.25 + 0.25 + 36 - 1}));
+  EXPECT_TRUE(
+      CoefficientsMatch(p.q, {0.25, 1.0 / 16, 4, 0, 0, 0, -0.5, -0.25, -24, 0.25 + 0.25 + 36 - 1}));
   EXPECT_EQ(p.bounds.lo, Vec3(-1, -2, 2.5));
   EXPECT_EQ(p.bounds.hi, Vec3(3, 6, 3.5));
 }
@@ -266,8 +282,9 @@ struct Meridian {
 
 /// Samples the meridians all round, checks every sample, and checks the box is tight: it holds
 /// every sample and exceeds the sampled extremes by at most `slack_rel` of the shape's size.
-void check_revolution(const Primitive& p, const Vec3& o, const Vec3& a, const Vec3& u, const Vec3& v,
-                      const std::vector<Meridian>& meridians, double size, std::mt19937& rng, const char* what) {
+void check_revolution(const Primitive& p, const Vec3& o, const Vec3& a, const Vec3& u,
+                      const Vec3& v, const std::vector<Meridian>& meridians, double size,
+                      std::mt19937& rng, const char* what) {
   SCOPED_TRACE(what);
   for (const Meridian& m : meridians) {
     for (int k = 0; k < 12; ++k) {
@@ -278,7 +295,8 @@ void check_revolution(const Primitive& p, const Vec3& o, const Vec3& a, const Ve
       const Vec3 pt = o + z * a + r * w;
       const Vec3 n = m.sign * (zu * w - ru * a);
       // Near the axis a step along the normal can cross the surface again: no sign check there.
-      ASSERT_TRUE(SurfacePoint(p, pt, n, size, true, r > 1e-3 * size)) << "u = " << s << " theta = " << th;
+      ASSERT_TRUE(SurfacePoint(p, pt, n, size, true, r > 1e-3 * size))
+          << "u = " << s << " theta = " << th;
     }
   }
   // Box tightness: on each axis the extreme over a circle is o_i + z a_i ± r sqrt(1 − a_i²);
@@ -286,11 +304,13 @@ void check_revolution(const Primitive& p, const Vec3& o, const Vec3& a, const Ve
   Vec3 lo(kInf), hi(-kInf);
   for (const Meridian& m : meridians)
     for (int k = 0; k <= 1500; ++k) {
-      const double b0 = std::isnan(m.box_u0) ? m.u0 : m.box_u0, b1 = std::isnan(m.box_u1) ? m.u1 : m.box_u1;
+      const double b0 = std::isnan(m.box_u0) ? m.u0 : m.box_u0,
+                   b1 = std::isnan(m.box_u1) ? m.u1 : m.box_u1;
       double r, z, ru, zu;
       m.at(b0 + (b1 - b0) * k / 1500.0, r, z, ru, zu);
       for (int i = 0; i < 3; ++i) {
-        const double c = o[i] + z * a[i], h = std::abs(r) * std::sqrt(std::max(0.0, 1 - a[i] * a[i]));
+        const double c = o[i] + z * a[i],
+                     h = std::abs(r) * std::sqrt(std::max(0.0, 1 - a[i] * a[i]));
         lo[i] = std::min(lo[i], c - h);
         hi[i] = std::max(hi[i], c + h);
       }
@@ -306,8 +326,8 @@ void check_revolution(const Primitive& p, const Vec3& o, const Vec3& a, const Ve
 
 /// The cap clips of a shape whose kept part is z0 <= a·(p − o) <= z1: there are exactly two,
 /// one vanishing on each cap plane, and points just past either cap are rejected.
-void check_caps(const Primitive& p, const Vec3& o, const Vec3& a, const Vec3& u, const Vec3& v, double z0, double z1,
-                double size, std::mt19937& rng) {
+void check_caps(const Primitive& p, const Vec3& o, const Vec3& a, const Vec3& u, const Vec3& v,
+                double z0, double z1, double size, std::mt19937& rng) {
   int at0 = -1, at1 = -1;
   for (int k = 0; k < 20; ++k) {
     const double along_v = uniform(rng, -2, 2);  // before along u (test_random.h says why)
@@ -332,8 +352,9 @@ void check_caps(const Primitive& p, const Vec3& o, const Vec3& a, const Vec3& u,
 }
 
 std::vector<Vec3> test_axes(std::mt19937& rng) {
-  std::vector<Vec3> axes = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
-                            {1, 1, 1}, {-1, -1, -1}, {1, -1, 0}, {0, 1, 1}, {1, 0, -1}, {0.6, 0.6, 0.53}};
+  std::vector<Vec3> axes = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},  {0, -1, 0},
+                            {0, 0, 1},  {0, 0, -1}, {1, 1, 1},  {-1, -1, -1},
+                            {1, -1, 0}, {0, 1, 1},  {1, 0, -1}, {0.6, 0.6, 0.53}};
   for (int i = 0; i < 60; ++i) {
     const double size = log_uniform(rng, -1, 1);  // before the direction (test_random.h says why)
     axes.push_back(random_unit(rng) * size);
@@ -347,8 +368,8 @@ TEST(QuadricCone, CylindersAndConesOnArbitraryAxes) {
   int count = 0;
   for (const Vec3& axis_in : axes)
     for (int variant = 0; variant < 6; ++variant, ++count) {
-      SCOPED_TRACE(::testing::Message() << "axis (" << axis_in.x << ", " << axis_in.y << ", " << axis_in.z
-                                        << ") variant " << variant);
+      SCOPED_TRACE(::testing::Message() << "axis (" << axis_in.x << ", " << axis_in.y << ", "
+                                        << axis_in.z << ") variant " << variant);
       const Vec3 base = random_point(rng, log_uniform(rng, -1, 2));
       const double h = log_uniform(rng, -1, 1);
       const Vec3 apex = base + h * normalize(axis_in);
@@ -356,19 +377,26 @@ TEST(QuadricCone, CylindersAndConesOnArbitraryAxes) {
       const Vec3 a = (apex - base) / a_len;
       double r0 = log_uniform(rng, -1, 0.5), r1 = log_uniform(rng, -1, 0.5);
       switch (variant) {
-        case 0: r1 = r0; break;  // cylinder
-        case 1: r1 = 0; break;   // pointed cone
-        case 2: r0 = 0; break;   // pointed at the base
-        default: break;          // truncated cone
+        case 0:
+          r1 = r0;
+          break;  // cylinder
+        case 1:
+          r1 = 0;
+          break;  // pointed cone
+        case 2:
+          r0 = 0;
+          break;  // pointed at the base
+        default:
+          break;  // truncated cone
       }
       const Primitive p = make_cone(base, r0, apex, r1);
       EXPECT_EQ(p.kind, r0 == r1 ? ShapeKind::Cylinder : ShapeKind::Cone);
       const double k = (r1 - r0) / a_len;
       ASSERT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) {
-        const Vec3 d = x - base;
-        const double z = dot(d, a), r = r0 + k * z;
-        return dot(d, d) - z * z - r * r;
-      })));
+                                      const Vec3 d = x - base;
+                                      const double z = dot(d, a), r = r0 + k * z;
+                                      return dot(d, d) - z * z - r * r;
+                                    })));
       Vec3 u, v;
       perpendicular_pair(a, u, v);
       const double size = std::max(r0, r1);
@@ -451,10 +479,12 @@ TEST(QuadricParaboloid, FramesSamplesAndBox) {
     const Primitive p = make_paraboloid(f, k, height);
     EXPECT_EQ(p.kind, ShapeKind::Paraboloid);
     ASSERT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) {
-      const Vec3 d = x - f.origin;
-      const double a = dot(d, f.ex), b = dot(d, f.ey), c = dot(d, f.ez);
-      return a * a + b * b - k * c;
-    }))) << "case " << i;
+                                    const Vec3 d = x - f.origin;
+                                    const double a = dot(d, f.ex), b = dot(d, f.ey),
+                                                 c = dot(d, f.ez);
+                                    return a * a + b * b - k * c;
+                                  })))
+        << "case " << i;
     const double rmax = std::sqrt(k * height), size = std::max(rmax, height);
     Meridian m;  // parameter r: z = r² / k
     m.at = [&](double s, double& r, double& z, double& ru, double& zu) {
@@ -482,7 +512,8 @@ TEST(QuadricParaboloid, TiltedShallowBowlStaysInItsBox) {
   double best = -kInf;
   for (int i = 0; i <= 1000; ++i) {
     const double z = i / 1000.0;
-    best = std::max(best, z * a.x + std::sqrt(z) * sx);  // farthest world x of the circle at height z
+    best =
+        std::max(best, z * a.x + std::sqrt(z) * sx);  // farthest world x of the circle at height z
   }
   EXPECT_GE(p.bounds.hi.x, best - 1e-12);
 }
@@ -504,14 +535,17 @@ TEST(QuadricHyperboloid, OneSheet) {
   std::mt19937 rng(6);
   for (int i = 0; i < 400; ++i) {
     const Frame f = random_frame(rng, random_point(rng, log_uniform(rng, -1, 2)));
-    const double a = log_uniform(rng, -1, 0.5), c = log_uniform(rng, -1, 0.5), hh = log_uniform(rng, -1, 0.5);
+    const double a = log_uniform(rng, -1, 0.5), c = log_uniform(rng, -1, 0.5),
+                 hh = log_uniform(rng, -1, 0.5);
     const Primitive p = make_hyperboloid1(f, a, c, hh);
     EXPECT_EQ(p.kind, ShapeKind::Hyperboloid1);
     ASSERT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) {
-      const Vec3 d = x - f.origin;
-      const double lx = dot(d, f.ex) / a, ly = dot(d, f.ey) / a, lz = dot(d, f.ez) / c;
-      return lx * lx + ly * ly - lz * lz - 1;
-    }))) << "case " << i;
+                                    const Vec3 d = x - f.origin;
+                                    const double lx = dot(d, f.ex) / a, ly = dot(d, f.ey) / a,
+                                                 lz = dot(d, f.ez) / c;
+                                    return lx * lx + ly * ly - lz * lz - 1;
+                                  })))
+        << "case " << i;
     Meridian m;  // z = c sinh u, r = a cosh u
     m.at = [&](double s, double& r, double& z, double& ru, double& zu) {
       r = a * std::cosh(s);
@@ -537,10 +571,12 @@ TEST(QuadricHyperboloid, TwoSheets) {
     const Primitive p = make_hyperboloid2(f, a, c, hh);
     EXPECT_EQ(p.kind, ShapeKind::Hyperboloid2);
     ASSERT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) {
-      const Vec3 d = x - f.origin;
-      const double lx = dot(d, f.ex) / a, ly = dot(d, f.ey) / a, lz = dot(d, f.ez) / c;
-      return lx * lx + ly * ly - lz * lz + 1;
-    }))) << "case " << i;
+                                    const Vec3 d = x - f.origin;
+                                    const double lx = dot(d, f.ex) / a, ly = dot(d, f.ey) / a,
+                                                 lz = dot(d, f.ez) / c;
+                                    return lx * lx + ly * ly - lz * lz + 1;
+                                  })))
+        << "case " << i;
     // Upper sheet z = c cosh u, lower z = −c cosh u; r = a sinh u. Q > 0 between the sheets.
     Meridian up, down;
     up.at = [&](double s, double& r, double& z, double& ru, double& zu) {
@@ -574,7 +610,7 @@ TEST(QuadricHyperboloid, RejectsBadArguments) {
   EXPECT_THROW(make_hyperboloid1(f, 1, -1, 1), std::invalid_argument);
   EXPECT_THROW(make_hyperboloid1(f, 1, 1, 0), std::invalid_argument);
   EXPECT_THROW(make_hyperboloid1(f, kNaN, 1, 1), std::invalid_argument);
-  EXPECT_THROW(make_hyperboloid2(f, 1, 1, 1), std::invalid_argument);    // half height must exceed c
+  EXPECT_THROW(make_hyperboloid2(f, 1, 1, 1), std::invalid_argument);  // half height must exceed c
   EXPECT_THROW(make_hyperboloid2(f, 1, 2, 1.5), std::invalid_argument);
   EXPECT_THROW(make_hyperboloid2(f, 1, 1, kInf), std::invalid_argument);
   EXPECT_THROW(make_hyperboloid2(f, -1, 1, 2), std::invalid_argument);
@@ -601,7 +637,8 @@ TEST(QuadricPlane, NormalisedImplicitFormClippedToTheBox) {
     const Aabb box{centre - Vec3(ext, 2 * ext, 0.5 * ext), centre + Vec3(ext, 2 * ext, 0.5 * ext)};
     const Primitive p = make_plane(n, d, box);
     EXPECT_EQ(p.kind, ShapeKind::Plane);
-    ASSERT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) { return dot(nh, x) + d / length(n); })));
+    ASSERT_TRUE(CoefficientsMatch(
+        p.q, coefficients_of([&](const Vec3& x) { return dot(nh, x) + d / length(n); })));
     EXPECT_EQ(p.bounds.lo, box.lo);
     EXPECT_EQ(p.bounds.hi, box.hi);
     ASSERT_EQ(p.clips.size(), 6u);
@@ -685,7 +722,8 @@ TEST(QuadricPolygon, TrianglesQuadsPentagons) {
       EXPECT_EQ(p.kind, ShapeKind::Polygon);
       // Counter-clockwise seen from +ez: the front normal is +ez.
       const double d = -dot(f.ez, f.origin);
-      ASSERT_TRUE(CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) { return dot(f.ez, x) + d; })));
+      ASSERT_TRUE(
+          CoefficientsMatch(p.q, coefficients_of([&](const Vec3& x) { return dot(f.ez, x) + d; })));
       ASSERT_EQ(p.clips.size(), size_t(k));
       EXPECT_EQ(p.vertices, v);
       // The box is the vertices' box.
@@ -718,7 +756,8 @@ TEST(QuadricPolygon, TrianglesQuadsPentagons) {
       // Clockwise order: the same polygon facing the other way.
       const std::vector<Vec3> rev(v.rbegin(), v.rend());
       const Primitive back = make_polygon(rev);
-      for (int j = 0; j < 10; ++j) EXPECT_NEAR(back.q.c[size_t(j)], -p.q.c[size_t(j)], 1e-12 * (1 + max_abs(f.origin)));
+      for (int j = 0; j < 10; ++j)
+        EXPECT_NEAR(back.q.c[size_t(j)], -p.q.c[size_t(j)], 1e-12 * (1 + max_abs(f.origin)));
       const Vec3 centroid = std::accumulate(v.begin(), v.end(), Vec3{0, 0, 0}) / double(k);
       EXPECT_TRUE(back.inside_clips(centroid));
     }
@@ -727,7 +766,8 @@ TEST(QuadricPolygon, TrianglesQuadsPentagons) {
 TEST(QuadricPolygon, DuplicateAndCollinearVertices) {
   const std::vector<Vec3> sq = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   // Repeated consecutive vertices and a closing copy of the first are dropped.
-  const Primitive p = make_polygon({{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}});
+  const Primitive p =
+      make_polygon({{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}});
   EXPECT_EQ(p.vertices, sq);
   EXPECT_EQ(p.clips.size(), 4u);
   // A vertex in the middle of an edge is harmless.
@@ -740,7 +780,8 @@ TEST(QuadricPolygon, DuplicateAndCollinearVertices) {
 
 TEST(QuadricPolygon, RejectsBadPolygons) {
   // Concave: a square with a notch.
-  EXPECT_THROW(make_polygon({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {1, 1, 0}, {0, 2, 0}}), std::invalid_argument);
+  EXPECT_THROW(make_polygon({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {1, 1, 0}, {0, 2, 0}}),
+               std::invalid_argument);
   // Non-planar: one corner of a square lifted.
   EXPECT_THROW(make_polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 0.1}, {0, 1, 0}}), std::invalid_argument);
   // Zero area: collinear, or all one point.
@@ -798,8 +839,9 @@ TEST(QuadricRaw, KeepsCoefficientsBoxAndClips) {
     }
     // The value is the polynomial with those coefficients.
     const Vec3 x = random_point(rng, 3);
-    const double expect = c[0] * x.x * x.x + c[1] * x.y * x.y + c[2] * x.z * x.z + c[3] * x.x * x.y +
-                          c[4] * x.y * x.z + c[5] * x.z * x.x + c[6] * x.x + c[7] * x.y + c[8] * x.z + c[9];
+    const double expect = c[0] * x.x * x.x + c[1] * x.y * x.y + c[2] * x.z * x.z +
+                          c[3] * x.x * x.y + c[4] * x.y * x.z + c[5] * x.z * x.x + c[6] * x.x +
+                          c[7] * x.y + c[8] * x.z + c[9];
     EXPECT_NEAR(p.q.value(x), expect, 1e-12 * term_scale(p.q, x));
     const Vec3 g = p.q.gradient(x);
     const double h = 1e-6;
@@ -863,7 +905,8 @@ TEST(QuadricTranslated, SameSurfaceInShiftedCoordinates) {
     for (double& x : q.c) x = uniform(rng, -2, 2);
     const Vec3 c = random_point(rng, log_uniform(rng, -1, 3)), x = c + random_point(rng, 2);
     const Quadric t = q.translated(c);
-    for (int k = kA; k <= kF; ++k) EXPECT_EQ(t.c[size_t(k)], q.c[size_t(k)]);  // quadratic part unchanged
+    for (int k = kA; k <= kF; ++k)
+      EXPECT_EQ(t.c[size_t(k)], q.c[size_t(k)]);  // quadratic part unchanged
     ASSERT_NEAR(t.value(x - c), q.value(x), 1e-13 * term_scale(q, x)) << i;
     EXPECT_NEAR(t.c[kJ], q.value(c), 1e-15 * term_scale(q, c));
     const HalfSpace h{random_unit(rng), uniform(rng, -5, 5)};
@@ -892,9 +935,9 @@ TEST(QuadricFrame, AlongIsOrthonormalForEveryAxis) {
 }
 
 TEST(QuadricNames, EveryKindHasAName) {
-  for (ShapeKind k : {ShapeKind::Sphere, ShapeKind::Ellipsoid, ShapeKind::Cylinder, ShapeKind::Cone, ShapeKind::Plane,
-                      ShapeKind::Paraboloid, ShapeKind::Hyperboloid1, ShapeKind::Hyperboloid2, ShapeKind::Polygon,
-                      ShapeKind::Raw})
+  for (ShapeKind k : {ShapeKind::Sphere, ShapeKind::Ellipsoid, ShapeKind::Cylinder, ShapeKind::Cone,
+                      ShapeKind::Plane, ShapeKind::Paraboloid, ShapeKind::Hyperboloid1,
+                      ShapeKind::Hyperboloid2, ShapeKind::Polygon, ShapeKind::Raw})
     EXPECT_STRNE(shape_name(k), "?");
   EXPECT_STREQ(shape_name(ShapeKind::Sphere), "sphere");
   EXPECT_STREQ(shape_name(ShapeKind::Cylinder), "cylinder");

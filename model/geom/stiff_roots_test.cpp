@@ -42,7 +42,8 @@ Quad exact_discriminant(Real a, Real b, Real c) {
 }
 
 void report(const char* what, const Tally& t) {
-  std::printf("[numerics] %-58s n=%d wrong=%.4f%% worst=%.3g\n", what, t.n, 100 * t.rate(), t.worst);
+  std::printf("[numerics] %-58s n=%d wrong=%.4f%% worst=%.3g\n", what, t.n, 100 * t.rate(),
+              t.worst);
   ::testing::Test::RecordProperty(what, std::to_string(t.rate()) + " " + std::to_string(t.worst));
 }
 
@@ -60,12 +61,15 @@ void near_double_roots(Discriminant mode, Tally& disc_err, Tally& sign, Tally& r
     const Real c0 = Real(LD(b) * LD(b) / (4 * LD(a)));
     Real c = c0;
     const int k = int(rng() % 9) - 4;  // −4 … 4 ulps: both signs of Δ, and Δ == 0
-    for (int j = 0; j < std::abs(k); ++j) c = std::nextafter(c, k > 0 ? Real(INFINITY) : Real(-INFINITY));
+    for (int j = 0; j < std::abs(k); ++j)
+      c = std::nextafter(c, k > 0 ? Real(INFINITY) : Real(-INFINITY));
     const Quad exact = exact_discriminant(a, b, c);
     const Real got = discriminant(a, b, c, mode);
     const double ex = double(exact);
     // Relative to |Δ| itself (what decides hit or miss and the roots' separation).
-    const double rel = ex != 0 ? std::abs(double(got) - ex) / std::abs(ex) : std::abs(double(got)) > 0 ? 1.0 : 0.0;
+    const double rel = ex != 0                     ? std::abs(double(got) - ex) / std::abs(ex)
+                       : std::abs(double(got)) > 0 ? 1.0
+                                                   : 0.0;
     disc_err.add(rel <= 4 * eps<Real>(), rel);
     sign.add((ex > 0) == (got > 0) && (ex < 0) == (got < 0));
     // The roots −b/2a ± √Δ/2a against the exact ones, relative to the roots' size.
@@ -73,8 +77,9 @@ void near_double_roots(Discriminant mode, Tally& disc_err, Tally& sign, Tally& r
     ASSERT_TRUE(no_nan(r));
     if (ex >= 0 && r.n == 2) {
       const LD mid = -LD(b) / (2 * LD(a)), half = std::sqrt(LD(ex)) / (2 * std::abs(LD(a)));
-      const double e = double(std::max(std::abs(LD(r.t0) - (mid - half)), std::abs(LD(r.t1) - (mid + half))) /
-                              std::abs(mid));
+      const double e =
+          double(std::max(std::abs(LD(r.t0) - (mid - half)), std::abs(LD(r.t1) - (mid + half))) /
+                 std::abs(mid));
       root_err.add(e <= 16 * eps<Real>(), e);
     }
   }
@@ -117,10 +122,13 @@ TEST(StiffCancellation, FmaDiscriminantIsExactWhereThePlainOneIs) {
   // Where b² and 4ac are exact (small integers), both forms give the exact Δ, in both precisions.
   std::mt19937 rng(103);
   for (int i = 0; i < 5000; ++i) {
-    const float a = float(int(rng() % 2001) - 1000), b = float(int(rng() % 2001) - 1000), c = float(int(rng() % 2001) - 1000);
+    const float a = float(int(rng() % 2001) - 1000), b = float(int(rng() % 2001) - 1000),
+                c = float(int(rng() % 2001) - 1000);
     ASSERT_EQ(discriminant(a, b, c, Discriminant::Plain), discriminant(a, b, c, Discriminant::Fma));
-    ASSERT_EQ(double(discriminant(a, b, c, Discriminant::Fma)), double(exact_discriminant(a, b, c)));
-    const Roots<float> p = solve_quadratic(a, b, c, Discriminant::Plain), f = solve_quadratic(a, b, c, Discriminant::Fma);
+    ASSERT_EQ(double(discriminant(a, b, c, Discriminant::Fma)),
+              double(exact_discriminant(a, b, c)));
+    const Roots<float> p = solve_quadratic(a, b, c, Discriminant::Plain),
+                       f = solve_quadratic(a, b, c, Discriminant::Fma);
     ASSERT_EQ(p.n, f.n);
     ASSERT_EQ(p.t0, f.t0);
     ASSERT_EQ(p.t1, f.t1);
@@ -195,7 +203,8 @@ TEST(StiffExactZeros, BetaZeroFromTheSphereCentre) {
       ASSERT_LE(std::abs(roots.t0 + roots.t1), 2 * eps<Real>() * roots.t1);  // t0 = q/α, t1 = γ/q
       const LD exact = LD(r) / std::sqrt(LD(u.x) * u.x + LD(u.y) * u.y + LD(u.z) * u.z);
       ASSERT_LE(std::abs(LD(roots.t1) - exact), 8 * eps<Real>() * exact);
-      const PrimitiveHit h = first_hit_in_window(std::vector<HalfSpace>{}, roots, l, 0.0, 0.0, kInf);
+      const PrimitiveHit h =
+          first_hit_in_window(std::vector<HalfSpace>{}, roots, l, 0.0, 0.0, kInf);
       ASSERT_TRUE(h.hit);  // the far root: the near one is behind the origin
       ASSERT_EQ(h.t, double(roots.t1));
     };
@@ -214,7 +223,8 @@ TEST(StiffExactZeros, AlphaZeroPlanesAndRaysAlongACylinderAxis) {
     const double d = uniform(rng, -5, 5);
     Quadric q;
     q.c = {0, 0, 0, 0, 0, 0, n.x, n.y, n.z, d};
-    const LD exact = -(LD(n.x) * v.x + LD(n.y) * v.y + LD(n.z) * v.z + d) / (LD(n.x) * u.x + LD(n.y) * u.y + LD(n.z) * u.z);
+    const LD exact = -(LD(n.x) * v.x + LD(n.y) * v.y + LD(n.z) * v.z + d) /
+                     (LD(n.x) * u.x + LD(n.y) * u.y + LD(n.z) * u.z);
     const auto check = [&](auto zero, double tol) {
       using Real = decltype(zero);
       const Abg<Real> abg = form_abg(load_latches<Real>(u, v), load_ram<Real>(q));
@@ -222,10 +232,12 @@ TEST(StiffExactZeros, AlphaZeroPlanesAndRaysAlongACylinderAxis) {
       const Roots<Real> r = solve_quadratic(abg.a, abg.b, abg.g);
       ASSERT_EQ(r.n, abg.b != 0 ? 1 : 0);
       if (r.n == 1) {  // error ≤ tol × the condition: (Σ|γ terms| + |t| Σ|β terms|) / |β|
-        const double sg = std::abs(n.x * v.x) + std::abs(n.y * v.y) + std::abs(n.z * v.z) + std::abs(d);
+        const double sg =
+            std::abs(n.x * v.x) + std::abs(n.y * v.y) + std::abs(n.z * v.z) + std::abs(d);
         const double sb = std::abs(n.x * u.x) + std::abs(n.y * u.y) + std::abs(n.z * u.z);
         const double beta = std::abs(dot(n, u));
-        ASSERT_LE(std::abs(LD(r.t0) - exact), tol * (sg + std::abs(double(exact)) * sb) / beta) << i;
+        ASSERT_LE(std::abs(LD(r.t0) - exact), tol * (sg + std::abs(double(exact)) * sb) / beta)
+            << i;
       }
     };
     check(0.0f, 64 * eps<float>());
@@ -295,7 +307,8 @@ Tally tangents(double off, Discriminant mode, int seed, double* worst_residual) 
     side = normalize(side - dot(side, d) * d);
     const Vec3 o = (1 + off) * side - 5.0 * d;
     // Exact: the ray's closest approach to the centre, in long double from the double inputs.
-    const LD od = LD(o.x) * d.x + LD(o.y) * d.y + LD(o.z) * d.z, dd = LD(d.x) * d.x + LD(d.y) * d.y + LD(d.z) * d.z;
+    const LD od = LD(o.x) * d.x + LD(o.y) * d.y + LD(o.z) * d.z,
+             dd = LD(d.x) * d.x + LD(d.y) * d.y + LD(d.z) * d.z;
     const LD oo = LD(o.x) * o.x + LD(o.y) * o.y + LD(o.z) * o.z;
     const bool exact_hit = oo - od * od / dd <= 1;
     const Latches<Real> l = load_latches<Real>(d, o);
@@ -317,7 +330,9 @@ TEST(StiffTangents, OffsetsOfOneInTenMillionOfTheRadius) {
   // fp64 resolves ±1e-7 of the radius exactly.
   for (double off : {-1e-7, 1e-7}) {
     const Tally t = tangents<double>(off, Discriminant::Plain, 120, &res);
-    report(off < 0 ? "3 tangent -1e-7 r fp64: hit/miss wrong" : "3 tangent +1e-7 r fp64: hit/miss wrong", t);
+    report(off < 0 ? "3 tangent -1e-7 r fp64: hit/miss wrong"
+                   : "3 tangent +1e-7 r fp64: hit/miss wrong",
+           t);
     EXPECT_EQ(t.wrong, 0);
     EXPECT_LT(res, 1e-12);
   }
@@ -350,19 +365,31 @@ template <class Real>
 Tally stiff_ellipsoid(int seed, double* worst_t) {
   const Vec3 radii{1e3, 1, 1e-3};
   Quadric q;
-  q.c = {1 / (radii.x * radii.x), 1 / (radii.y * radii.y), 1 / (radii.z * radii.z), 0, 0, 0, 0, 0, 0, -1};
+  q.c = {1 / (radii.x * radii.x),
+         1 / (radii.y * radii.y),
+         1 / (radii.z * radii.z),
+         0,
+         0,
+         0,
+         0,
+         0,
+         0,
+         -1};
   const CoefRam<Real> ram = load_ram<Real>(scaled_pow2(q));
   std::mt19937 rng(seed);
   Tally t;
   *worst_t = 0;
   for (int i = 0; i < 20000; ++i) {
     // Aim at a random point inside the box, from a random point 2 boxes away.
-    const Vec3 target = Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} * radii * 0.9;
-    const Vec3 o = Vec3{uniform(rng, -2, 2), uniform(rng, -2, 2), uniform(rng, -2, 2)} * radii * 1.5;
+    const Vec3 target =
+        Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} * radii * 0.9;
+    const Vec3 o =
+        Vec3{uniform(rng, -2, 2), uniform(rng, -2, 2), uniform(rng, -2, 2)} * radii * 1.5;
     const Vec3 d = normalize(target - o);
     const LD ox = LD(o.x) / radii.x, oy = LD(o.y) / radii.y, oz = LD(o.z) / radii.z;
     const LD dx = LD(d.x) / radii.x, dy = LD(d.y) / radii.y, dz = LD(d.z) / radii.z;
-    const LD a = dx * dx + dy * dy + dz * dz, b = 2 * (ox * dx + oy * dy + oz * dz), c = ox * ox + oy * oy + oz * oz - 1;
+    const LD a = dx * dx + dy * dy + dz * dz, b = 2 * (ox * dx + oy * dy + oz * dz),
+             c = ox * ox + oy * oy + oz * oz - 1;
     const LD disc = b * b - 4 * a * c;
     bool hit = false;
     LD t_hit = 0;
@@ -374,9 +401,11 @@ Tally stiff_ellipsoid(int seed, double* worst_t) {
     }
     const Latches<Real> l = load_latches<Real>(d, o);
     const Abg<Real> abg = form_abg(l, ram);
-    const PrimitiveHit h = first_hit_in_window(std::vector<HalfSpace>{}, solve_quadratic(abg.a, abg.b, abg.g), l, 0.0, 0.0, kInf);
+    const PrimitiveHit h = first_hit_in_window(
+        std::vector<HalfSpace>{}, solve_quadratic(abg.a, abg.b, abg.g), l, 0.0, 0.0, kInf);
     t.add(h.hit == hit);
-    if (h.hit && hit) *worst_t = std::max(*worst_t, double(std::abs(LD(h.t) - t_hit) / (1e3 * radii.z)));
+    if (h.hit && hit)
+      *worst_t = std::max(*worst_t, double(std::abs(LD(h.t) - t_hit) / (1e3 * radii.z)));
   }
   return t;
 }
@@ -416,14 +445,18 @@ void scaled_coefficients(double scale, CoefScaling mode, Tally& wrong, double* t
   for (int i = 0; i < 5000; ++i) {
     const Vec3 o = 4.0 * random_unit(rng), d = normalize(0.9 * random_unit(rng) - o);
     const LD b = LD(o.x - c.x) * d.x + LD(o.y - c.y) * d.y + LD(o.z - c.z) * d.z;
-    const LD oc = LD(o.x - c.x) * (o.x - c.x) + LD(o.y - c.y) * (o.y - c.y) + LD(o.z - c.z) * (o.z - c.z);
+    const LD oc =
+        LD(o.x - c.x) * (o.x - c.x) + LD(o.y - c.y) * (o.y - c.y) + LD(o.z - c.z) * (o.z - c.z);
     const LD disc = b * b - (oc - 1);
     if (std::abs(double(disc)) < 1e-3) continue;
     const Latches<Real> l = load_latches<Real>(d, o);
     const Abg<Real> abg = form_abg(l, ram);
-    const PrimitiveHit h = first_hit_in_window(std::vector<HalfSpace>{}, solve_quadratic(abg.a, abg.b, abg.g), l, 0.0, 0.0, kInf);
+    const PrimitiveHit h = first_hit_in_window(
+        std::vector<HalfSpace>{}, solve_quadratic(abg.a, abg.b, abg.g), l, 0.0, 0.0, kInf);
     wrong.add(h.hit == (disc >= 0));
-    if (h.hit && disc >= 0) *t_err = std::max(*t_err, double(std::abs(LD(h.t) - (-b - std::sqrt(disc))) / (-b - std::sqrt(disc))));
+    if (h.hit && disc >= 0)
+      *t_err = std::max(
+          *t_err, double(std::abs(LD(h.t) - (-b - std::sqrt(disc))) / (-b - std::sqrt(disc))));
   }
 }
 
@@ -441,10 +474,12 @@ TEST(StiffCoefficients, AllTenScaledBy1ePlusMinus20) {
     scaled_coefficients<double>(scale, CoefScaling::None, w64, &e64);
     char s[64];
     std::snprintf(s, sizeof s, "x%g", scale);
-    report((std::string("4 coefficients ") + s + " fp32 coef_scaling=none: hit/miss wrong").c_str(), w_none);
-    report((std::string("4 coefficients ") + s + " fp32 coef_scaling=pow2: hit/miss wrong").c_str(), w_pow2);
-    std::printf("[numerics] 4 coefficients %s fp32 t rel error: none %.3g, pow2 %.3g (x1: %.3g)\n", s, e_none, e_pow2,
-                unit_err);
+    report((std::string("4 coefficients ") + s + " fp32 coef_scaling=none: hit/miss wrong").c_str(),
+           w_none);
+    report((std::string("4 coefficients ") + s + " fp32 coef_scaling=pow2: hit/miss wrong").c_str(),
+           w_pow2);
+    std::printf("[numerics] 4 coefficients %s fp32 t rel error: none %.3g, pow2 %.3g (x1: %.3g)\n",
+                s, e_none, e_pow2, unit_err);
     // float32 without scaling: ×1e20 and ×1e30 overflow β² (Δ = inf − inf: every ray misses);
     // ×1e−20 still works (β² ≈ 1e−39 is subnormal but keeps ~20 bits); ×1e−30 underflows.
     // Measured: ×1e20, ×1e30 80 % wrong (all misses); ×1e−20 right, t error 1.1e-5; ×1e−30 20 %
@@ -474,7 +509,8 @@ TEST(StiffCoefficients, AllTenScaledBy1ePlusMinus20) {
   for (int k : {66, -66}) {
     Quadric q = scaled_sphere(1);
     for (double& c : q.c) c = std::ldexp(c, k);
-    const CoefRam<float> a = load_ram<float>(scaled_pow2(scaled_sphere(1))), b = load_ram<float>(scaled_pow2(q));
+    const CoefRam<float> a = load_ram<float>(scaled_pow2(scaled_sphere(1))),
+                         b = load_ram<float>(scaled_pow2(q));
     for (int i = 0; i < 2000; ++i) {
       const Vec3 o = 4.0 * random_unit(rng), d = normalize(0.9 * random_unit(rng) - o);
       const Latches<float> l = load_latches<float>(d, o);
@@ -534,7 +570,8 @@ TEST(StiffDirections, LengthsFrom1eMinus4To1e4GiveTheSameHits) {
   Tally f32, f64;
   for (int i = 0; i < 3000; ++i) {
     const Vec3 o = 3.0 * random_unit(rng), d = normalize(1.2 * random_unit(rng) - o);
-    const LD od = LD(o.x) * d.x + LD(o.y) * d.y + LD(o.z) * d.z, oo = LD(o.x) * o.x + LD(o.y) * o.y + LD(o.z) * o.z;
+    const LD od = LD(o.x) * d.x + LD(o.y) * d.y + LD(o.z) * d.z,
+             oo = LD(o.x) * o.x + LD(o.y) * o.y + LD(o.z) * o.z;
     const LD disc = od * od - (oo - 1);
     if (std::abs(double(disc)) < 1e-3) continue;  // grazing rays belong to case 3
     const LD t_unit = disc >= 0 ? -od - std::sqrt(disc) : 0;
@@ -545,7 +582,8 @@ TEST(StiffDirections, LengthsFrom1eMinus4To1e4GiveTheSameHits) {
         using Real = decltype(zero);
         const Latches<Real> l = load_latches<Real>(u, o);
         const Abg<Real> abg = form_abg(l, load_ram<Real>(q));
-        const PrimitiveHit h = first_hit_in_window(std::vector<HalfSpace>{}, solve_quadratic(abg.a, abg.b, abg.g), l, 0.0, 0.0, kInf);
+        const PrimitiveHit h = first_hit_in_window(
+            std::vector<HalfSpace>{}, solve_quadratic(abg.a, abg.b, abg.g), l, 0.0, 0.0, kInf);
         bool ok = h.hit == (disc >= 0);
         double err = 0;
         if (ok && h.hit) {

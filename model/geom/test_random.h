@@ -9,9 +9,13 @@
 
 namespace rtm::test {
 
-inline double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+inline double uniform(std::mt19937& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
 /// 10^x for x uniform in [lo_exp, hi_exp]: magnitudes spread evenly over decades.
-inline double log_uniform(std::mt19937& rng, double lo_exp, double hi_exp) { return std::pow(10.0, uniform(rng, lo_exp, hi_exp)); }
+inline double log_uniform(std::mt19937& rng, double lo_exp, double hi_exp) {
+  return std::pow(10.0, uniform(rng, lo_exp, hi_exp));
+}
 inline double random_sign(std::mt19937& rng) { return (rng() & 1) ? 1.0 : -1.0; }
 
 // Draws in the arguments of one call or the operands of one operator come in an order the

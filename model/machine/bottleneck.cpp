@@ -34,22 +34,27 @@ Bottleneck bottleneck(const FrameProfile& p) {
   const double host = p.total > 0 ? p.host_preprocess / p.total : 0;
   const double link = p.total > 0 ? (p.transfer + p.gather) / p.total : 0;
   const char* host_or_link = host >= link ? "host_preprocessing" : "interconnect";
-  const std::string host_and_link = "host pre-processing " + percent(host) + " and the link " + percent(link) + " of the frame";
+  const std::string host_and_link =
+      "host pre-processing " + percent(host) + " and the link " + percent(link) + " of the frame";
   if (host + link >= 0.5) return {host_or_link, host_and_link};
   if (p.memory_access >= 0.5 || p.memory_wait >= 0.5)
-    return {"memory", "reads of local memory " + percent(p.memory_access) + " of the units' item-cycles, results waiting for it " +
-                          percent(p.memory_wait) + " of the PEs' working windows (summed over the units); the busiest port busy " +
-                          percent(p.memory_port) + " of the frame"};
+    return {"memory",
+            "reads of local memory " + percent(p.memory_access) +
+                " of the units' item-cycles, results waiting for it " + percent(p.memory_wait) +
+                " of the PEs' working windows (summed over the units); the busiest port busy " +
+                percent(p.memory_port) + " of the frame"};
 
   // The unit whose entry is taken most (of equal ones, the first in the unit table).
   double share = -1;
   const char* unit = "";
   for (const UnitSpec& s : unit_table())
     if (s.in_utilisation && p.issue[s.kind] > share) share = p.issue[s.kind], unit = s.name;
-  if (share >= 0.6) return {unit, "its entry taken " + percent(share) + " of the PEs' working windows"};
+  if (share >= 0.6)
+    return {unit, "its entry taken " + percent(share) + " of the PEs' working windows"};
 
   // Nothing saturated: the reason says how close the busiest unit came.
-  const std::string busiest = std::string("no unit saturated (the busiest, ") + unit + ", " + percent(share) + ")";
+  const std::string busiest =
+      std::string("no unit saturated (the busiest, ") + unit + ", " + percent(share) + ")";
   if (p.credit_stall >= 0.3)
     return {"loop_credits", "the front buffer had rays but no credit " + percent(p.credit_stall) +
                                 " of the PEs' working windows; " + busiest};

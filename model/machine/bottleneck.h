@@ -18,21 +18,25 @@ struct UnitShares {
 };
 
 struct FrameProfile {
-  double total = 0;             ///< the frame's cycles
-  double host_preprocess = 0;   ///< the host's voxel and primary-ray generation (HostTimes::work)
-  double transfer = 0;          ///< until the transfer is done, the rest: the host waiting for the link
-  double pe = 0;                ///< the PEs' work: transfer done to the last PE done
-  double gather = 0;            ///< frame buffers back to the host
+  double total = 0;            ///< the frame's cycles
+  double host_preprocess = 0;  ///< the host's voxel and primary-ray generation (HostTimes::work)
+  double transfer = 0;  ///< until the transfer is done, the rest: the host waiting for the link
+  double pe = 0;        ///< the PEs' work: transfer done to the last PE done
+  double gather = 0;    ///< frame buffers back to the host
   // Of the PEs' working windows, per unit (units/pipeline.h's UnitStats):
   UnitShares busy;       ///< holding any item
   UnitShares issue;      ///< its entry taken by an item's interval: how close it is to saturated
   UnitShares occupancy;  ///< mean items inside
   UnitShares starved;    ///< able to take an item, none there
-  double credit_stall = 0;      ///< fraction of the working windows the front buffer had rays but no credit
-  double memory_wait = 0;       ///< results' waits for local-memory data, summed over the units, per working-window cycle
-  double memory_port = 0;       ///< the busiest local-memory port's busy share of the frame (0: ideal memory)
-  double memory_access = 0;     ///< the units' reads' times over the item-cycles the units held: their share of the work
-  double imbalance = 1;         ///< max / mean PE working window
+  double credit_stall =
+      0;  ///< fraction of the working windows the front buffer had rays but no credit
+  double memory_wait =
+      0;  ///< results' waits for local-memory data, summed over the units, per working-window cycle
+  double memory_port =
+      0;  ///< the busiest local-memory port's busy share of the frame (0: ideal memory)
+  double memory_access =
+      0;  ///< the units' reads' times over the item-cycles the units held: their share of the work
+  double imbalance = 1;  ///< max / mean PE working window
 };
 
 /// Every verdict bottleneck() gives: host_preprocessing (voxel and primary-ray generation on the

@@ -76,11 +76,13 @@ TEST(Bottleneck, TheReasonGivesTheFiguresThatDecidedIt) {
   p.issue[UnitKind::Mac] = 0.41;
   EXPECT_EQ(bottleneck(p).reason, "no unit saturated (the busiest, mac, 41.0%)");
   p.imbalance = 1.5;
-  EXPECT_EQ(bottleneck(p).reason, "the longest PE works 1.50 x the mean; no unit saturated (the busiest, mac, 41.0%)");
+  EXPECT_EQ(bottleneck(p).reason,
+            "the longest PE works 1.50 x the mean; no unit saturated (the busiest, mac, 41.0%)");
   p.imbalance = 1;
   p.credit_stall = 0.35;
   EXPECT_EQ(bottleneck(p).reason,
-            "the front buffer had rays but no credit 35.0% of the PEs' working windows; no unit saturated (the "
+            "the front buffer had rays but no credit 35.0% of the PEs' working windows; no unit "
+            "saturated (the "
             "busiest, mac, 41.0%)");
   p = busy_pes();
   p.host_preprocess = 600;
@@ -95,8 +97,10 @@ TEST(Bottleneck, LocalMemoryWhenReadsOrWaitsDominate) {
   p.memory_access = 0.6;
   p.memory_port = 0.25;
   EXPECT_EQ(bottleneck(p).name, "memory");
-  EXPECT_EQ(bottleneck(p).reason, "reads of local memory 60.0% of the units' item-cycles, results waiting for it 0.0% of the "
-                                  "PEs' working windows (summed over the units); the busiest port busy 25.0% of the frame");
+  EXPECT_EQ(
+      bottleneck(p).reason,
+      "reads of local memory 60.0% of the units' item-cycles, results waiting for it 0.0% of the "
+      "PEs' working windows (summed over the units); the busiest port busy 25.0% of the frame");
   p.memory_access = 0.1;
   p.memory_wait = 0.8;
   EXPECT_EQ(bottleneck(p).name, "memory");

@@ -7,7 +7,8 @@ namespace rtm {
 
 using sc_core::sc_time;
 
-ClockedMac::ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision, sc_time period)
+ClockedMac::ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision,
+                       sc_time period)
     : sc_module(name),
       timing_(timing),
       precision_(precision),
@@ -21,7 +22,8 @@ ClockedMac::ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Pr
 void ClockedMac::start(MacJob job) {
   Posted p;
   std::vector<int> counts;
-  for (size_t i = 0; i < job.rams.size(); ++i) counts.push_back(job.ops.empty() ? kMacProducts : int(job.ops[i].size()));
+  for (size_t i = 0; i < job.rams.size(); ++i)
+    counts.push_back(job.ops.empty() ? kMacProducts : int(job.ops[i].size()));
   p.plan = timing_.job(counts, job.loads);
   p.done.sums.assign(job.rams.size(), {0, 0, 0});
   p.job = std::move(job);
@@ -91,7 +93,8 @@ void ClockedMac::edge() {
         j.done.cycles = tick_ - j.start + 1;
         j.finished = true;
         accumulated_ = 0;
-        // The sums are in the accumulator at this edge; the stage takes them at the next cycle boundary.
+        // The sums are in the accumulator at this edge; the stage takes them at the next cycle
+        // boundary.
         finished_.notify(period_ / 2);
       }
     }
@@ -99,7 +102,9 @@ void ClockedMac::edge() {
   // Multiplier 2: multiplier 1's product times the coefficient RAM word.
   Stage m2 = mul2_.back();
   mul2_.pop_back();
-  if (m2.valid) m2.value = round_to(p, m2.value * job(m2.job).job.rams[size_t(m2.prim)][kMacSchedule[size_t(m2.k)].w]);
+  if (m2.valid)
+    m2.value =
+        round_to(p, m2.value * job(m2.job).job.rams[size_t(m2.prim)][kMacSchedule[size_t(m2.k)].w]);
   adder_.push_front(m2);
   // Multiplier 1: two latch operands.
   Stage m1 = mul1_.back();
@@ -142,7 +147,9 @@ void ClockedMac::edge() {
       m1_a.write(l[op.x]);
       m1_b.write(l[op.y]);
     }
-    if (m1.valid) m1_out.write(m1.value), m2_coef.write(job(m1.job).job.rams[size_t(m1.prim)][kMacSchedule[size_t(m1.k)].w]);
+    if (m1.valid)
+      m1_out.write(m1.value),
+          m2_coef.write(job(m1.job).job.rams[size_t(m1.prim)][kMacSchedule[size_t(m1.k)].w]);
     m2_valid.write(m1.valid);
     if (m2.valid) m2_out.write(m2.value);
     add_valid.write(m2.valid);

@@ -25,15 +25,18 @@ namespace rtm {
 /// Rounds a double to the machine's precision. Computing a float operation in double and
 /// rounding once gives exactly the IEEE float result for +, − and × (53 >= 2·24 + 2), so the
 /// clocked MAC can hold its registers as doubles.
-inline double round_to(Precision p, double x) { return p == Precision::Fp32 ? double(float(x)) : x; }
+inline double round_to(Precision p, double x) {
+  return p == Precision::Fp32 ? double(float(x)) : x;
+}
 
 /// A MAC job in the clocked unit's terms: latches and one RAM image per primitive, already
 /// rounded to the machine precision.
 struct MacJob {
   std::vector<Latches<double>> latches;  ///< per primitive (the origin is re-centred on each)
   std::vector<CoefRam<double>> rams;
-  std::vector<MacOps> ops;               ///< per primitive; empty: the full schedule for all
-  std::vector<uint64_t> loads;           ///< per primitive, cycles to load its coefficients (MacTiming::Job::loads)
+  std::vector<MacOps> ops;  ///< per primitive; empty: the full schedule for all
+  std::vector<uint64_t>
+      loads;  ///< per primitive, cycles to load its coefficients (MacTiming::Job::loads)
   uint32_t ray_id = 0;
 };
 
@@ -53,15 +56,19 @@ class ClockedMac : public sc_core::sc_module {
   sc_core::sc_signal<double> m1_a{"m1_a"}, m1_b{"m1_b"}, m1_out{"m1_out"};
   sc_core::sc_signal<double> m2_coef{"m2_coef"}, m2_out{"m2_out"};
   sc_core::sc_signal<double> acc{"acc"};
-  sc_core::sc_signal<uint32_t> abg_select{"abg_select"};  ///< the sum the adder accumulates: 0 α, 1 β, 2 γ
-  sc_core::sc_signal<uint32_t> product_counter{"product_counter"};  ///< products accumulated in the adder's job
+  sc_core::sc_signal<uint32_t> abg_select{
+      "abg_select"};  ///< the sum the adder accumulates: 0 α, 1 β, 2 γ
+  sc_core::sc_signal<uint32_t> product_counter{
+      "product_counter"};  ///< products accumulated in the adder's job
   sc_core::sc_signal<uint32_t> adder_ray_id{"adder_ray_id"};  ///< the adder's job's ray ...
-  sc_core::sc_signal<uint32_t> prim{"prim"};      ///< ... and primitive (its place in the voxel's list)
-  sc_core::sc_signal<bool> sums_valid{"sums_valid"};  ///< a primitive's α, β, γ are handed on this cycle
+  sc_core::sc_signal<uint32_t> prim{"prim"};  ///< ... and primitive (its place in the voxel's list)
+  sc_core::sc_signal<bool> sums_valid{
+      "sums_valid"};  ///< a primitive's α, β, γ are handed on this cycle
   sc_core::sc_signal<double> alpha{"alpha"}, beta{"beta"}, gamma{"gamma"};
 
   SC_HAS_PROCESS(ClockedMac);
-  ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision, sc_core::sc_time period);
+  ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision,
+             sc_core::sc_time period);
 
   /// A finished job: α, β, γ per primitive and its cycles from its first edge to its last.
   struct Done {
@@ -90,7 +97,7 @@ class ClockedMac : public sc_core::sc_module {
   /// A product on its way down the pipeline.
   struct Stage {
     bool valid = false;
-    uint64_t job = 0;   ///< its job's serial number
+    uint64_t job = 0;  ///< its job's serial number
     int prim = 0;
     int k = 0;          ///< index into kMacSchedule
     bool last = false;  ///< the primitive's last product
@@ -99,7 +106,7 @@ class ClockedMac : public sc_core::sc_module {
   struct Posted {
     MacJob job;
     MacTiming::Job plan;
-    uint64_t start = 0;  ///< the tick of its cycle 0
+    uint64_t start = 0;   ///< the tick of its cycle 0
     int prim = 0, j = 0;  ///< its next product to issue
     Done done;
     bool finished = false;

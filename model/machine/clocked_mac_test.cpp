@@ -59,7 +59,8 @@ class Driver : public sc_core::sc_module {
           }
           l[kOne] = 1;
           CoefRam<double> ram{};
-          for (int w = 0; w < 10; ++w) ram[size_t(w)] = (sparse && rng() % 2) ? 0.0 : round_to(c.precision, u(rng));
+          for (int w = 0; w < 10; ++w)
+            ram[size_t(w)] = (sparse && rng() % 2) ? 0.0 : round_to(c.precision, u(rng));
           if (sparse && ram == CoefRam<double>{}) ram[kRamJ] = 1;  // at least one product
           ram[kRam2A] = 2 * ram[kRamA];
           ram[kRam2B] = 2 * ram[kRamB];
@@ -74,7 +75,9 @@ class Driver : public sc_core::sc_module {
         const uint64_t cycles = done.cycles;
         sums = done.sums;
         ++jobs;
-        if (cycles != c.timing.job(counts).cycles() || (!sparse && cycles != c.timing.job_cycles(n))) ++cycle_mismatches;
+        if (cycles != c.timing.job(counts).cycles() ||
+            (!sparse && cycles != c.timing.job_cycles(n)))
+          ++cycle_mismatches;
         if (sc_core::sc_time_stamp() - start != period * double(cycles)) ++time_mismatches;
         for (int p = 0; p < n; ++p) {
           double expect[3];
@@ -82,7 +85,8 @@ class Driver : public sc_core::sc_module {
             Latches<float> lf{};
             CoefRam<float> rf{};
             for (int i = 0; i < 7; ++i) lf[size_t(i)] = float(job.latches[size_t(p)][size_t(i)]);
-            for (int w = 0; w < kRamWords; ++w) rf[size_t(w)] = float(job.rams[size_t(p)][size_t(w)]);
+            for (int w = 0; w < kRamWords; ++w)
+              rf[size_t(w)] = float(job.rams[size_t(p)][size_t(w)]);
             const Abg<float> a = form_abg(lf, rf);
             expect[0] = a.a, expect[1] = a.b, expect[2] = a.g;
           } else {
@@ -104,14 +108,16 @@ class Driver : public sc_core::sc_module {
 TEST(ClockedMac, AgreesWithTheScheduleAndTheTimingFormulaOnRandomFullAndSparseJobs) {
   const sc_core::sc_time period(10, sc_core::SC_NS);
   sc_core::sc_clock clk("clk", period, 0.5, period / 2, true);
-  const std::vector<Case> cases = {{MacTiming(1, 1, 0), Precision::Fp32}, {MacTiming(1, 1, 4), Precision::Fp64},
-                                   {MacTiming(2, 3, 5), Precision::Fp32}, {MacTiming(3, 1, 90), Precision::Fp64},
+  const std::vector<Case> cases = {{MacTiming(1, 1, 0), Precision::Fp32},
+                                   {MacTiming(1, 1, 4), Precision::Fp64},
+                                   {MacTiming(2, 3, 5), Precision::Fp32},
+                                   {MacTiming(3, 1, 90), Precision::Fp64},
                                    {MacTiming(1, 1, 12), Precision::Fp32}};
   std::vector<std::unique_ptr<ClockedMac>> macs;
   std::vector<ClockedMac*> raw;
   for (size_t i = 0; i < cases.size(); ++i) {
-    macs.push_back(std::make_unique<ClockedMac>(("mac" + std::to_string(i)).c_str(), cases[i].timing,
-                                                cases[i].precision, period));
+    macs.push_back(std::make_unique<ClockedMac>(("mac" + std::to_string(i)).c_str(),
+                                                cases[i].timing, cases[i].precision, period));
     macs.back()->clk(clk);
     raw.push_back(macs.back().get());
   }

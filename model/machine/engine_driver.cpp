@@ -10,7 +10,8 @@ int engine_threads(int sim_threads, int pes) {
   return std::max(1, std::min(sim_threads > 0 ? sim_threads : cores, pes));
 }
 
-EngineDriver::EngineDriver(sc_core::sc_module_name name, WorkerPool& pool) : sc_module(name), pool_(pool) {
+EngineDriver::EngineDriver(sc_core::sc_module_name name, WorkerPool& pool)
+    : sc_module(name), pool_(pool) {
   SC_THREAD(drive);
 }
 

@@ -2,8 +2,8 @@
 
 namespace rtm {
 
-EnginePe::EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
-                               size_t pixels, Timekeeper* keeper, EngineDriver& driver)
+EnginePe::EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c,
+                   const PeUnits& units, size_t pixels, Timekeeper* keeper, EngineDriver& driver)
     : Pe(name, index, c, units, pixels, keeper),
       engine_(ctx, memory.frame, memory.ids, memory.rays, pixels),
       driver_(driver) {
@@ -25,7 +25,8 @@ void EnginePe::run() {
     const uint64_t boundary = (now / quantum + 1) * quantum;
     if (all_in) driver_.run_before(engine_, boundary + quantum);
     if (engine_.finished()) break;
-    if (all_in && engine_.idle()) return;  // rays outstanding and nothing to do: the machine reports it
+    if (all_in && engine_.idle())
+      return;  // rays outstanding and nothing to do: the machine reports it
     if (all_in)
       sc_core::wait(sc_core::sc_time::from_value(boundary - now));
     else
@@ -39,13 +40,17 @@ void EnginePe::run() {
 }
 
 FifoStatsList EnginePe::fifo_stats() {
-  return engine_.fifo_stats(sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds());
+  return engine_.fifo_stats(sc_core::sc_time_stamp().value(),
+                            sc_core::sc_get_time_resolution().to_seconds());
 }
 
-std::string EnginePe::occupancy_report() { return std::string(name()) + ": " + engine_.occupancy_report(); }
+std::string EnginePe::occupancy_report() {
+  return std::string(name()) + ": " + engine_.occupancy_report();
+}
 
 void EnginePe::trace(Waveform&) {
-  SC_REPORT_ERROR("rtm/pe", "a PE on the engine has no signals to trace (waveforms select the modules)");
+  SC_REPORT_ERROR("rtm/pe",
+                  "a PE on the engine has no signals to trace (waveforms select the modules)");
 }
 
 }  // namespace rtm

@@ -12,8 +12,8 @@ namespace rtm {
 class EnginePe : public Pe {
  public:
   SC_HAS_PROCESS(EnginePe);
-  EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-                 Timekeeper* keeper, EngineDriver& driver);
+  EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+           size_t pixels, Timekeeper* keeper, EngineDriver& driver);
 
   bool finished() const override { return finished_; }
   FifoStatsList fifo_stats() override;

@@ -25,8 +25,8 @@ FrameActivity frame_activity(const MachineResult& m, const MachineConfig& c, uin
   return a;
 }
 
-MachineCost frame_cost(const MachineResult& m, const MachineConfig& c, uint64_t pixels, uint64_t primitives,
-                       const Technology& t) {
+MachineCost frame_cost(const MachineResult& m, const MachineConfig& c, uint64_t pixels,
+                       uint64_t primitives, const Technology& t) {
   return machine_cost(c, m.units, primitives, frame_activity(m, c, pixels), t);
 }
 

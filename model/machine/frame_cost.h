@@ -13,7 +13,7 @@ namespace rtm {
 FrameActivity frame_activity(const MachineResult& m, const MachineConfig& c, uint64_t pixels);
 
 /// The machine's area and the frame's energy in technology t, for a scene of `primitives`.
-MachineCost frame_cost(const MachineResult& m, const MachineConfig& c, uint64_t pixels, uint64_t primitives,
-                       const Technology& t);
+MachineCost frame_cost(const MachineResult& m, const MachineConfig& c, uint64_t pixels,
+                       uint64_t primitives, const Technology& t);
 
 }  // namespace rtm

@@ -14,7 +14,8 @@ UnitShares sum(const MachineResult& m, const MachineConfig& c, uint64_t UnitStat
   UnitShares u;
   for (const PeCounters& p : m.per_pe)
     for (const UnitSpec& s : unit_table())
-      if (s.in_utilisation && unit_count(s.kind, c) > 0) u[s.kind] += double(p.total(s.kind).*of) / unit_count(s.kind, c);
+      if (s.in_utilisation && unit_count(s.kind, c) > 0)
+        u[s.kind] += double(p.total(s.kind).*of) / unit_count(s.kind, c);
   return u;
 }
 
@@ -28,11 +29,13 @@ double working_window(const PeCounters& p, const sc_core::sc_time& period) {
   return sc_core::sc_time::from_value(p.finish - p.start) / period;
 }
 
-std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p, const sc_core::sc_time& period) {
+std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p,
+                                                 const sc_core::sc_time& period) {
   const double w = working_window(p, period);
   std::vector<SearchUnitShares> shares;
   for (const UnitStats& u : p.units[size_t(UnitKind::Search)])
-    shares.push_back(w > 0 ? SearchUnitShares{double(u.busy_cycles) / w, double(u.issue_cycles) / w} : SearchUnitShares{});
+    shares.push_back(w > 0 ? SearchUnitShares{double(u.busy_cycles) / w, double(u.issue_cycles) / w}
+                           : SearchUnitShares{});
   return shares;
 }
 

@@ -1,5 +1,6 @@
 // The frame's derived statistics: utilisation, the frame profile and its bottleneck, the MAC
-// bound, computed once from the counters of a run. The command line only prints and serialises them.
+// bound, computed once from the counters of a run. The command line only prints and serialises
+// them.
 #pragma once
 
 #include <string>
@@ -23,11 +24,12 @@ struct SearchUnitShares {
 
 struct FrameStats {
   FrameUtilisation utilisation;  ///< over the frame
-  FrameProfile profile;          ///< phases, utilisation over the PEs' working windows, stalls, imbalance
+  FrameProfile profile;  ///< phases, utilisation over the PEs' working windows, stalls, imbalance
   /// Per PE, each search unit on its own: the profile's mean hides a last unit that never works.
   std::vector<std::vector<SearchUnitShares>> search_units;
-  Bottleneck bottleneck;         ///< bottleneck(profile)
-  /// Total MAC products / PEs, rounded up: the frame can't be shorter on a one-product-per-cycle MAC.
+  Bottleneck bottleneck;  ///< bottleneck(profile)
+  /// Total MAC products / PEs, rounded up: the frame can't be shorter on a one-product-per-cycle
+  /// MAC.
   double mac_bound_cycles = 0;
   double cycles_over_mac_bound = 0;  ///< 0 when there were no MAC products
 };

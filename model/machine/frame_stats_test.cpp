@@ -28,7 +28,9 @@ struct TwoPes {
     config.clock_ns = 10;
     config.search_units = 4;
     config.intersection_units = 2;
-    auto at = [&](double cycle) { return sc_core::sc_time(config.clock_ns, sc_core::SC_NS) * cycle; };
+    auto at = [&](double cycle) {
+      return sc_core::sc_time(config.clock_ns, sc_core::SC_NS) * cycle;
+    };
     auto ticks = [&](double cycle) { return at(cycle).value(); };  // PeCounters' times
     MachineResult& m = result;
     m.cycles = 1200;
@@ -46,8 +48,9 @@ struct TwoPes {
     a.credit_stall = ticks(90);
     a.unit(UnitKind::FrontBuffer, 0).busy_cycles = 300;
     // The four search units: busy 2000 cycles together, issue 600, held 6000, starved 1200.
-    a.units[size_t(UnitKind::Search)] = {search_unit(800, 300, 2000, 0), search_unit(600, 150, 2000, 200),
-                      search_unit(400, 100, 1000, 400), search_unit(200, 50, 1000, 600)};
+    a.units[size_t(UnitKind::Search)] = {
+        search_unit(800, 300, 2000, 0), search_unit(600, 150, 2000, 200),
+        search_unit(400, 100, 1000, 400), search_unit(200, 50, 1000, 600)};
     a.unit(UnitKind::Mac, 0).busy_cycles = 1600;
     a.unit(UnitKind::Root, 0).busy_cycles = 400;
     a.unit(UnitKind::Shading, 0).busy_cycles = 240;
@@ -57,8 +60,8 @@ struct TwoPes {
     b.finish = ticks(650);
     b.credit_stall = ticks(60);
     b.unit(UnitKind::FrontBuffer, 0).busy_cycles = 150;
-    b.units[size_t(UnitKind::Search)] = {search_unit(400, 0, 0, 0), search_unit(300, 0, 0, 0), search_unit(200, 0, 0, 0),
-                      search_unit(100, 0, 0, 0)};
+    b.units[size_t(UnitKind::Search)] = {search_unit(400, 0, 0, 0), search_unit(300, 0, 0, 0),
+                                         search_unit(200, 0, 0, 0), search_unit(100, 0, 0, 0)};
     b.unit(UnitKind::Mac, 0).busy_cycles = 400;
     b.unit(UnitKind::Root, 0).busy_cycles = 200;
     b.unit(UnitKind::Shading, 0).busy_cycles = 60;
@@ -149,7 +152,8 @@ TEST(FrameStats, TheBottleneckOfTheProfile) {
   t.result.per_pe[0].unit(UnitKind::Mac, 0).issue_cycles = 1600;
   t.result.per_pe[1].unit(UnitKind::Mac, 0).issue_cycles = 400;
   FrameStats s = frame_stats(t.result, t.config);
-  EXPECT_EQ(s.bottleneck.name, "mac") << "the MAC lanes' entries are taken 2/3 of the working windows";
+  EXPECT_EQ(s.bottleneck.name, "mac")
+      << "the MAC lanes' entries are taken 2/3 of the working windows";
   EXPECT_EQ(s.bottleneck.reason, bottleneck(s.profile).reason);
   t.result.per_pe[0].unit(UnitKind::Mac, 0).issue_cycles = 600;
   t.result.per_pe[1].unit(UnitKind::Mac, 0).issue_cycles = 200;

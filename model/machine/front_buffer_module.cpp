@@ -46,7 +46,8 @@ struct FrontBufferModule::Ops {
   void woke(uint64_t now) { m.policy_.woke(now); }
   bool write_head(uint64_t) {
     // With credits, never full: in_flight <= credits <= the FIFO's depth.
-    return m.try_write({FifoId::Search, Output::What::Item}, m.pipe_.head().item, UnitKind::FrontBuffer, 0);
+    return m.try_write({FifoId::Search, Output::What::Item}, m.pipe_.head().item,
+                       UnitKind::FrontBuffer, 0);
   }
   void retired(const MachineRay&) {
     if (m.pipe_.empty()) m.probe_.end();
@@ -62,7 +63,8 @@ struct FrontBufferModule::Ops {
 void FrontBufferModule::run() {
   Ops ops{*this};
   // Built once: constructing an event list on every wait costs allocations on the hottest path.
-  sc_core::sc_event_or_list either = ends_in()->data_written_event() | mem_.rays_arrived | sleep_->event();
+  sc_core::sc_event_or_list either =
+      ends_in()->data_written_event() | mem_.rays_arrived | sleep_->event();
   for (const FifoSpec& f : fifo_table())
     if (f.payload == Payload::Ray && has_input(f.id)) either |= rays_in(f.id)->data_written_event();
   run_unit(pipe_, ops, *sleep_, either);

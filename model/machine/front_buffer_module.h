@@ -15,7 +15,8 @@ class FrontBufferModule : public UnitModule {
  public:
   SC_HAS_PROCESS(FrontBufferModule);
   /// `finished` is notified when every ray of the PE's part of the frame has ended.
-  FrontBufferModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem, sc_core::sc_event& finished);
+  FrontBufferModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem,
+                    sc_core::sc_event& finished);
 
   const FrontBufferPolicy<MachineRay>& policy() const { return policy_; }
   void trace(Waveform& wave);

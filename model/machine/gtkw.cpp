@@ -55,7 +55,8 @@ std::string gtkw_alias(const std::string& signal) {
   return alias;
 }
 
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave, const GtkwView& view) {
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave,
+                const GtkwView& view) {
   // GTKWave shows 2^-zoom ns over 200 pixels.
   const double span = double(std::max<uint64_t>(1, view.to_ns - view.from_ns));
   const double zoom = -std::log2(span * 200 / kWavePixels);
@@ -63,7 +64,8 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
   std::snprintf(clock, sizeof clock, "%g", view.clock_ns);
   const std::string cycle = std::string("PE cycle = time / ") + clock + " ns";
   std::ostringstream out;
-  out << "[*] rtm waveform; " << cycle << "\n"
+  out << "[*] rtm waveform; " << cycle
+      << "\n"
       // Both absolute: GTKWave then finds the VCD from any folder, and after both were moved.
       << "[dumpfile] \"" << std::filesystem::absolute(vcd_path).string() << "\"\n"
       << "[savefile] \"" << std::filesystem::absolute(gtkw_path).string() << "\"\n"
@@ -78,7 +80,8 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
   // Groups in the order their first signal was traced; GTKWave closes them in reverse.
   std::vector<std::string> open;
   auto close_to = [&](size_t depth) {
-    for (; open.size() > depth; open.pop_back()) out << flags(kBlank | kGroupEnd) << "-" << open.back() << "\n";
+    for (; open.size() > depth; open.pop_back())
+      out << flags(kBlank | kGroupEnd) << "-" << open.back() << "\n";
   };
   auto enter = [&](size_t depth, const std::string& title) {
     if (open.size() > depth && open[depth] == title) return;
@@ -95,7 +98,8 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
                                                             : kDec | kRightJustify;
     // The VCD's top scope is SystemC's; a multi-bit value's name carries its bit range.
     out << flags(f) << "+{" << gtkw_alias(s.name) << "} SystemC." << s.name
-        << (s.format == Waveform::Format::Decimal ? "[" + std::to_string(s.bits - 1) + ":0]" : "") << "\n";
+        << (s.format == Waveform::Format::Decimal ? "[" + std::to_string(s.bits - 1) + ":0]" : "")
+        << "\n";
   }
   close_to(0);
   write_text_atomically(gtkw_path, out.str());

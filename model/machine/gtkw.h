@@ -16,7 +16,8 @@ struct GtkwView {
   double clock_ns = 10;             ///< the PE clock period: how the ruler's ns become cycles
 };
 
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave, const GtkwView& view);
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave,
+                const GtkwView& view);
 
 /// The name GTKWave shows for a traced signal: its hierarchy below the machine, joined by '/'
 /// (GTKWave cuts a name at its dots and shows only the last part, four `busy` in a row).

@@ -20,7 +20,9 @@ auto timed(Ask&& ask) -> decltype(ask()) {
   try {
     return ask();
   } catch (const InterconnectTimeError& e) {
-    const std::string msg = std::string(e.what()) + ": past the simulated time a frame may take (SystemC counts time in 64-bit picoseconds)";
+    const std::string msg =
+        std::string(e.what()) +
+        ": past the simulated time a frame may take (SystemC counts time in 64-bit picoseconds)";
     SC_REPORT_ERROR("rtm/time", msg.c_str());
     throw;
   }
@@ -29,8 +31,8 @@ auto timed(Ask&& ask) -> decltype(ask()) {
 }  // namespace
 
 Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
-           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
-           Timekeeper* keeper)
+           std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts,
+           std::vector<Pe*> pes, Timekeeper* keeper)
     : sc_module(name),
       image(s.camera.width, s.camera.height),
       config_(c),
@@ -42,12 +44,13 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       sleep_(keeper, 0),
       net_(c, kTimeHorizonTicks) {
   for (size_t i = 0; i < pes_.size(); ++i)
-    links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(("link" + std::to_string(i)).c_str()));
+    links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(
+        ("link" + std::to_string(i)).c_str()));
   SC_THREAD(run);
 }
 
-void Host::transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len, sc_time delay,
-                     SceneImageExtension* ext) {
+void Host::transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len,
+                     sc_time delay, SceneImageExtension* ext) {
   tlm::tlm_generic_payload t;
   t.set_command(cmd);
   t.set_address(addr);
@@ -60,7 +63,10 @@ void Host::transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char*
   if (ext) t.set_extension(ext);
   (*links[size_t(pe)])->b_transport(t, delay);
   if (ext) t.clear_extension(ext);
-  if (t.is_response_error()) SC_REPORT_FATAL("rtm/host", ("transfer to PE " + std::to_string(pe) + " failed: " + t.get_response_string()).c_str());
+  if (t.is_response_error())
+    SC_REPORT_FATAL(
+        "rtm/host",
+        ("transfer to PE " + std::to_string(pe) + " failed: " + t.get_response_string()).c_str());
 }
 
 void Host::deliver_at(uint64_t arrive, std::function<void()> deliver) {
@@ -108,11 +114,14 @@ void Host::preprocess() {
   // Pre-processing 0: every primitive, light and the camera into the grid's frame, in fp64 (the
   // simulator framed them before simulation, as it built the grid).
   if (config_.pe_frame == PeFrame::Grid)
-    host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_frame_cycles) * (scene_.primitives.size() + scene_.lights.size() + 1)),
+    host_work(checked_periods(host_cycle(),
+                              double(uint64_t(config_.host_frame_cycles) *
+                                     (scene_.primitives.size() + scene_.lights.size() + 1)),
                               "the host's change of frame"));
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
   // host is charged per primitive reference it registers).
-  host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+  host_work(checked_periods(host_cycle(),
+                            double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
                             "the host's voxel-data generation"));
   times.voxels = sc_core::sc_time_stamp();
 }
@@ -122,7 +131,8 @@ std::vector<Ray> Host::rays_of(int pe, size_t from, size_t count) const {
   std::vector<Ray> rays;
   const auto& px = parts_[size_t(pe)];
   for (size_t i = from; i < from + count && i < px.size(); ++i)
-    rays.push_back(camera.at(int(px[i] % uint32_t(scene_.camera.width)), int(px[i] / uint32_t(scene_.camera.width))));
+    rays.push_back(camera.at(int(px[i] % uint32_t(scene_.camera.width)),
+                             int(px[i] / uint32_t(scene_.camera.width))));
   return rays;
 }
 
@@ -139,8 +149,9 @@ void Host::send_rays(int pe, std::vector<Ray> rays) {
   const TransferTimes t = timed([&] { return net_.send(pe, bytes, now()); });
   auto data = std::make_shared<std::vector<Ray>>(std::move(rays));
   deliver_at(t.arrive, [this, pe, data, d = t.end - t.arrive] {
-    transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase, reinterpret_cast<unsigned char*>(data->data()),
-              data->size() * sizeof(Ray), sc_time::from_value(d));
+    transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase,
+              reinterpret_cast<unsigned char*>(data->data()), data->size() * sizeof(Ray),
+              sc_time::from_value(d));
   });
   wait_for_a_port();
 }
@@ -150,7 +161,8 @@ void Host::deliver_scene(int pe, const TransferTimes& t) {
     SceneImageExtension ext;
     ext.image = image_;
     unsigned char unused = 0;  // the image travels in the extension; its size times the transfer
-    transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kSceneBase, &unused, 1, sc_time::from_value(d), &ext);
+    transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kSceneBase, &unused, 1,
+              sc_time::from_value(d), &ext);
   });
 }
 
@@ -187,7 +199,8 @@ void Host::distribute() {
     }
     return;
   }
-  // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs' work.
+  // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs'
+  // work.
   send_scene_to_all();
   for (size_t from = 0;; from += size_t(config_.ray_block)) {
     bool any = false;
@@ -195,7 +208,8 @@ void Host::distribute() {
       std::vector<Ray> rays = rays_of(pe, from, size_t(config_.ray_block));
       if (rays.empty()) continue;
       any = true;
-      host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_ray_cycles) * rays.size()),
+      host_work(checked_periods(host_cycle(),
+                                double(uint64_t(config_.host_ray_cycles) * rays.size()),
                                 "the host's primary-ray generation"));
       send_rays(pe, std::move(rays));
     }
@@ -208,14 +222,16 @@ void Host::gather(int pe) {
   const auto& px = parts_[size_t(pe)];
   std::vector<PixelSum> frame(px.size());
   std::vector<int32_t> ids(px.size());
-  const TransferTimes t = timed([&] { return net_.gather(pe, px.size() * kPixelRecordBytes, now()); });
+  const TransferTimes t =
+      timed([&] { return net_.gather(pe, px.size() * kPixelRecordBytes, now()); });
   // The PE is done, so its frame buffer no longer changes: read at once, the interconnect timing
   // the transfer. The ids travel in the same 16 bytes a pixel.
   const sc_time d = sc_time::from_value(t.end - t.arrive);
-  transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase, reinterpret_cast<unsigned char*>(frame.data()),
-            frame.size() * sizeof(PixelSum), d);
-  transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase, reinterpret_cast<unsigned char*>(ids.data()),
-            ids.size() * sizeof(int32_t), sc_core::SC_ZERO_TIME);
+  transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase,
+            reinterpret_cast<unsigned char*>(frame.data()), frame.size() * sizeof(PixelSum), d);
+  transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase,
+            reinterpret_cast<unsigned char*>(ids.data()), ids.size() * sizeof(int32_t),
+            sc_core::SC_ZERO_TIME);
   for (size_t i = 0; i < px.size(); ++i) {
     image.rgb[px[i]] = frame[i].value();
     image.ids[px[i]] = ids[i];
@@ -255,7 +271,8 @@ void Host::gather_all() {
   }
   // The frame's PE phase ends with the last PE, whatever the link was doing then.
   for (Pe* pe : pes_)
-    times.pes_done = std::max(times.pes_done, sc_core::sc_time::from_value(pe->ctx.counters.finish));
+    times.pes_done =
+        std::max(times.pes_done, sc_core::sc_time::from_value(pe->ctx.counters.finish));
 }
 
 }  // namespace rtm

@@ -36,13 +36,14 @@ class Host : public sc_core::sc_module {
 
   SC_HAS_PROCESS(Host);
   Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s, const Grid& g,
-       std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts, std::vector<Pe*> pes,
-       Timekeeper* keeper);
+       std::shared_ptr<const SceneImage> image, std::vector<std::vector<uint32_t>> parts,
+       std::vector<Pe*> pes, Timekeeper* keeper);
 
   HostTimes times;
   Image image;  ///< the gathered frame
   bool done = false;
-  sc_core::sc_time busy_until = sc_core::SC_ZERO_TIME;  ///< the host's current work ends then (for stall detection)
+  sc_core::sc_time busy_until =
+      sc_core::SC_ZERO_TIME;  ///< the host's current work ends then (for stall detection)
   /// The links' use over the frame (topology's names, busy times and bytes).
   const std::vector<LinkUse>& link_use() const { return net_.links(); }
 
@@ -87,6 +88,5 @@ class Host : public sc_core::sc_module {
   /// Writes issued for later (a star's or a tree's link still busy), by arrival, then issue order.
   std::multimap<uint64_t, std::function<void()>> pending_;
 };
-
 
 }  // namespace rtm

@@ -23,8 +23,8 @@ TEST(InterconnectTime, AHopIsTheOriginalLinksSystemCTimeToThePicosecond) {
     const uint64_t b = i % 5 ? bytes(rng) : uint64_t(i);
     const double seconds = double(b) / (c.link_bandwidth_mb_s * 1e6);
     if (seconds * 1e12 > 1e18) continue;
-    const sc_core::sc_time original =
-        sc_core::sc_time(c.link_latency_ns, sc_core::SC_NS) + sc_core::sc_time(seconds, sc_core::SC_SEC);
+    const sc_core::sc_time original = sc_core::sc_time(c.link_latency_ns, sc_core::SC_NS) +
+                                      sc_core::sc_time(seconds, sc_core::SC_SEC);
     EXPECT_EQ(Interconnect(c, kTimeHorizonTicks).hop_ticks(b), original.value())
         << c.link_latency_ns << " ns, " << c.link_bandwidth_mb_s << " MB/s, " << b << " bytes";
   }

@@ -2,19 +2,21 @@
 
 namespace rtm {
 
-IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
-                                       Dispatcher& dispatcher, int lane)
+IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& ctx,
+                                       sc_core::sc_clock* clock, Dispatcher& dispatcher, int lane)
     : UnitModule(name, ctx, {UnitKind::Mac, UnitKind::Root}),
       mac_(ctx, lane),
       root_(ctx, lane),
       mac_sleep_(ctx.sleeper(UnitKind::Mac)),
       root_sleep_(ctx.sleeper(UnitKind::Root, lane)),
       dispatcher_(dispatcher),
-      root_fifo_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth, fifo_spec(FifoId::Root).kind),
+      root_fifo_(fifo_spec(FifoId::Root).name, ctx.config.*fifo_spec(FifoId::Root).depth,
+                 fifo_spec(FifoId::Root).kind),
       mac_pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Mac, lane)),
       root_pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Root, lane)) {
   if (clock) {
-    clocked_ = std::make_unique<ClockedMac>("mac", mac_.timing(), ctx.config.intersection_precision_in_force(), ctx.period);
+    clocked_ = std::make_unique<ClockedMac>(
+        "mac", mac_.timing(), ctx.config.intersection_precision_in_force(), ctx.period);
     clocked_->clk(*clock);
   }
   SC_THREAD(mac_thread);
@@ -45,7 +47,8 @@ MacJob make_job(const SceneMemory<Real>& mem, const MachineRay& r, int64_t voxel
 /// The fast MAC model must predict the clocked MAC's sums bit for bit and its cycles exactly;
 /// anything else is a model bug. The clocked sums are then the ones the root unit takes.
 template <class Real>
-void take_clocked(std::vector<Abg<Real>>& fast, const ClockedMac::Done& clocked, uint64_t fast_cycles, bool ran) {
+void take_clocked(std::vector<Abg<Real>>& fast, const ClockedMac::Done& clocked,
+                  uint64_t fast_cycles, bool ran) {
   bool same = ran && fast.size() == clocked.sums.size() && fast_cycles == clocked.cycles;
   for (size_t i = 0; same && i < fast.size(); ++i)
     same = double(fast[i].a) == clocked.sums[i][0] && double(fast[i].b) == clocked.sums[i][1] &&
@@ -53,7 +56,8 @@ void take_clocked(std::vector<Abg<Real>>& fast, const ClockedMac::Done& clocked,
   if (!same)
     SC_REPORT_FATAL("rtm/pe/mac",
                     (std::string("the fast MAC model disagrees with the clocked MAC: ") +
-                     (ran ? "clocked " + std::to_string(clocked.cycles) + " cycles (or other sums) against fast "
+                     (ran ? "clocked " + std::to_string(clocked.cycles) +
+                                " cycles (or other sums) against fast "
                           : std::string("still running after the fast model's ")) +
                      std::to_string(fast_cycles) + (ran ? "" : " cycles"))
                         .c_str());

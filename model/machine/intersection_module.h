@@ -21,8 +21,8 @@ class IntersectionModule : public UnitModule {
   /// With a clock (clocked timing), every MAC job runs on a clock-level MAC unit and is checked
   /// against the schedule; without one, the fast model times it by formula. `dispatcher` hands
   /// the intersection units their rays; `lane`: this one's number.
-  IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock, Dispatcher& dispatcher,
-                     int lane);
+  IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
+                     Dispatcher& dispatcher, int lane);
 
   void trace(Waveform& wave);
   MeteredFifo<MacResult>& root_fifo() { return root_fifo_; }
@@ -41,7 +41,7 @@ class IntersectionModule : public UnitModule {
   RootUnit root_;
   std::unique_ptr<Sleeper> mac_sleep_, root_sleep_;
   std::unique_ptr<ClockedMac> clocked_;  ///< null in fast timing
-  std::deque<uint64_t> job_cycles_;       ///< the fast model's cycles of each job in the clocked MAC
+  std::deque<uint64_t> job_cycles_;      ///< the fast model's cycles of each job in the clocked MAC
   Dispatcher& dispatcher_;
   MeteredFifo<MacResult> root_fifo_;
   Pipeline<Held> mac_pipe_, root_pipe_;

@@ -15,7 +15,8 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time& del
   t.set_response_status(tlm::TLM_OK_RESPONSE);
   // A write arrives over the transfer's last hop, from now until `delay` later: in PE cycles.
   const uint64_t period = ctx_.period.value(), now = sc_core::sc_time_stamp().value();
-  const uint64_t from = (now + period - 1) / period, to = (now + delay.value() + period - 1) / period;
+  const uint64_t from = (now + period - 1) / period,
+                 to = (now + delay.value() + period - 1) / period;
   if (t.is_write() && addr == kSceneBase) {
     SceneImageExtension* ext = nullptr;
     t.get_extension(ext);
@@ -30,9 +31,12 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time& del
     rays_arrived.notify(sc_core::SC_ZERO_TIME);
     const bool camera = ctx_.config.ray_generation == MachineConfig::RayGeneration::Pe;
     const MemoryAddresses& at = ctx_.memory->addresses();
-    if (n > 0) ctx_.memory->host_write(camera ? at.rays : at.primary_ray(old), camera ? kCameraRecordBytes : n * kRayRecordBytes, from, to);
+    if (n > 0)
+      ctx_.memory->host_write(camera ? at.rays : at.primary_ray(old),
+                              camera ? kCameraRecordBytes : n * kRayRecordBytes, from, to);
   } else if (t.is_read() && addr == kFrameBase && len == frame.size() * sizeof(PixelSum)) {
-    if (len > 0) std::memcpy(t.get_data_ptr(), frame.data(), len);  // a PE without pixels has no frame buffer
+    if (len > 0)
+      std::memcpy(t.get_data_ptr(), frame.data(), len);  // a PE without pixels has no frame buffer
     // The ids travel in the frame entries' bytes: one read of the frame buffer.
     if (len > 0) ctx_.memory->count(ctx_.memory->host(), frame.size() * kPixelRecordBytes);
   } else if (t.is_read() && addr == kIdBase && len == ids.size() * sizeof(int32_t)) {
@@ -43,4 +47,3 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time& del
 }
 
 }  // namespace rtm
-

@@ -18,7 +18,9 @@ namespace rtm {
 struct SceneImageExtension : tlm::tlm_extension<SceneImageExtension> {
   std::shared_ptr<const SceneImage> image;
   tlm::tlm_extension_base* clone() const override { return new SceneImageExtension(*this); }
-  void copy_from(const tlm::tlm_extension_base& e) override { image = static_cast<const SceneImageExtension&>(e).image; }
+  void copy_from(const tlm::tlm_extension_base& e) override {
+    image = static_cast<const SceneImageExtension&>(e).image;
+  }
 };
 
 class LocalMemory : public sc_core::sc_module {
@@ -26,7 +28,7 @@ class LocalMemory : public sc_core::sc_module {
   static constexpr uint64_t kSceneBase = 0x0000'0000;
   static constexpr uint64_t kRayBase = 0x1000'0000;    ///< primary rays, appended in arrival order
   static constexpr uint64_t kFrameBase = 0x2000'0000;  ///< frame buffer (PixelSum per pixel slot)
-  static constexpr uint64_t kIdBase = 0x3000'0000;     ///< primary-hit primitive ids (int32 per slot)
+  static constexpr uint64_t kIdBase = 0x3000'0000;  ///< primary-hit primitive ids (int32 per slot)
 
   tlm_utils::simple_target_socket<LocalMemory> socket{"socket"};
 

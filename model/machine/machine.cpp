@@ -33,29 +33,30 @@ class Machine : public sc_core::sc_module {
  public:
   std::unique_ptr<sc_core::sc_clock> clock;  ///< clocked timing only; edges mid-cycle
   std::unique_ptr<Timekeeper> keeper;        ///< arbitration = ranked only
-  std::unique_ptr<WorkerPool> own_pool;      ///< the PEs on the engine, when the caller started no threads
-  std::unique_ptr<EngineDriver> driver;      ///< the PEs on the engine only
+  std::unique_ptr<WorkerPool>
+      own_pool;  ///< the PEs on the engine, when the caller started no threads
+  std::unique_ptr<EngineDriver> driver;  ///< the PEs on the engine only
   std::vector<std::unique_ptr<Pe>> pes;
   std::unique_ptr<Host> host;
   SceneNeeds needs;
   PeUnits units;
   uint64_t scene_bytes = 0;
-  std::vector<MemoryLayout> memory;  ///< per PE
+  std::vector<MemoryLayout> memory;                   ///< per PE
   std::unique_ptr<ProgressDisplay> progress_display;  ///< null: none
   std::unique_ptr<Watchdog> watchdog;
 
   SC_HAS_PROCESS(Machine);
   std::string engine_unsupported;  ///< why the PEs run as modules; empty: on the engine
 
-  Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c, bool progress,
-          bool tracing, uint64_t max_memory, uint64_t max_rays, WorkerPool* pool, int sim_threads)
-      : sc_module(name),
-        engine_unsupported(rtm::engine_unsupported(c, tracing)),
-        config_(c) {
+  Machine(sc_core::sc_module_name name, const Scene& s, const Grid& g, const MachineConfig& c,
+          bool progress, bool tracing, uint64_t max_memory, uint64_t max_rays, WorkerPool* pool,
+          int sim_threads)
+      : sc_module(name), engine_unsupported(rtm::engine_unsupported(c, tracing)), config_(c) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     if (c.timing == Timing::Clocked)
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
-    if (c.arbitration == MachineConfig::Arbitration::Ranked) keeper = std::make_unique<Timekeeper>("timekeeper");
+    if (c.arbitration == MachineConfig::Arbitration::Ranked)
+      keeper = std::make_unique<Timekeeper>("timekeeper");
     auto parts = partition_screen(s.camera.width, s.camera.height, c);
     auto image = std::make_shared<SceneImage>(s, g, c);
     needs = image->visit([&](const auto& mem) { return analyse_scene(s, mem.rams); });
@@ -79,20 +80,26 @@ class Machine : public sc_core::sc_module {
       const std::string pe = "pe" + std::to_string(i);
       const size_t pixels = parts[size_t(i)].size();
       if (engine_unsupported.empty())
-        pes.push_back(std::make_unique<EnginePe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
+        pes.push_back(
+            std::make_unique<EnginePe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
       else
-        pes.push_back(std::make_unique<ModularPe>(pe.c_str(), i, c, units, pixels, clock.get(), keeper.get()));
+        pes.push_back(std::make_unique<ModularPe>(pe.c_str(), i, c, units, pixels, clock.get(),
+                                                  keeper.get()));
       raw.push_back(pes.back().get());
       PeState& st = pes.back()->ctx;
       st.spill_rays = memory[size_t(i)].spill_rays();
       st.memory = std::make_shared<PeMemory>(c, *image, pixels);
-      st.spawn_fanout = (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
+      st.spawn_fanout =
+          (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
     }
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
     for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
-    if (progress) progress_display = std::make_unique<ProgressDisplay>(uint64_t(s.camera.width) * uint64_t(s.camera.height));
+    if (progress)
+      progress_display =
+          std::make_unique<ProgressDisplay>(uint64_t(s.camera.width) * uint64_t(s.camera.height));
     for (auto& pe : pes) watched_.push_back(pe.get());
-    watchdog = std::make_unique<Watchdog>(s, g, c, watched_, *host, max_memory, max_rays, progress_display.get());
+    watchdog = std::make_unique<Watchdog>(s, g, c, watched_, *host, max_memory, max_rays,
+                                          progress_display.get());
     // With arbitration = kernel a monitor process's wake-ups would take part in SystemC's
     // same-time order, and so in the figures: there the monitor looks from outside, between
     // slices of the simulation (run()).
@@ -128,9 +135,10 @@ class Machine : public sc_core::sc_module {
     for (size_t pe = 0; pe < memory.size(); ++pe) {
       const MemoryLayout& m = memory[pe];
       if (m.fits()) continue;
-      throw std::runtime_error("local memory too small: PE " + std::to_string(pe) + " needs " + std::to_string(m.used) +
-                               " bytes (" + m.describe() + ") but local_memory_bytes is " +
-                               std::to_string(m.capacity) + "; a larger local memory, more PEs or a smaller frame fits");
+      throw std::runtime_error("local memory too small: PE " + std::to_string(pe) + " needs " +
+                               std::to_string(m.used) + " bytes (" + m.describe() +
+                               ") but local_memory_bytes is " + std::to_string(m.capacity) +
+                               "; a larger local memory, more PEs or a smaller frame fits");
     }
   }
 
@@ -190,7 +198,8 @@ std::vector<FifoSummary> summarise_fifos(std::vector<std::unique_ptr<Pe>>& pes, 
 /// elaborated.
 size_t expected_threads(const MachineConfig& c, bool tracing) {
   if (engine_unsupported(c, tracing).empty()) return 4 + size_t(c.pes);
-  const size_t per_pe = 2 + size_t(c.search_units) + size_t(c.intersection_units) * (c.timing == Timing::Clocked ? 3 : 2);
+  const size_t per_pe = 2 + size_t(c.search_units) +
+                        size_t(c.intersection_units) * (c.timing == Timing::Clocked ? 3 : 2);
   return 3 + size_t(c.pes) * per_pe;
 }
 
@@ -210,20 +219,24 @@ void check_threads_fit(size_t threads, const MachineConfig& c) {
   const long per_pe = std::max<long>(1, long(threads) / c.pes);
   const long fit = std::max<long>(0, (limit - in_use - spare) / 2 / per_pe);
   throw MachineLimitError("pes: " + std::to_string(c.pes) + " PEs need " + std::to_string(threads) +
-                          " SystemC threads (" + std::to_string(per_pe) + " a PE with pe_simulation = " +
-                          to_string(c.pe_simulation) + ", timing = " + to_string(c.timing) +
-                          "); each stack takes 2 memory maps and this host allows " + std::to_string(limit) +
-                          " (vm.max_map_count), " + std::to_string(in_use) + " in use: at most about " +
-                          std::to_string(fit) + " PEs of this configuration fit");
+                          " SystemC threads (" + std::to_string(per_pe) +
+                          " a PE with pe_simulation = " + to_string(c.pe_simulation) +
+                          ", timing = " + to_string(c.timing) +
+                          "); each stack takes 2 memory maps and this host allows " +
+                          std::to_string(limit) + " (vm.max_map_count), " + std::to_string(in_use) +
+                          " in use: at most about " + std::to_string(fit) +
+                          " PEs of this configuration fit");
 }
 
 /// Creates the file (and its folder) as every output is, or says in one line why it cannot.
 void open_for_writing(const std::string& path, const std::string& final_path) {
   std::error_code ec;
-  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir, ec);
+  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty())
+    std::filesystem::create_directories(dir, ec);
   errno = 0;
   if (!std::ofstream(path, std::ios::binary))
-    throw std::runtime_error(final_path + ": cannot write: " + (ec ? ec.message() : std::strerror(errno ? errno : EACCES)));
+    throw std::runtime_error(final_path + ": cannot write: " +
+                             (ec ? ec.message() : std::strerror(errno ? errno : EACCES)));
 }
 
 /// A time in whole PE cycles, as the stats give it.
@@ -234,8 +247,8 @@ uint64_t cycles_of(sc_time t, const MachineConfig& c) {
 /// What the save file shows of a waveform: its window, narrowed to the time the traced PEs
 /// worked (before, during the host's phases, nothing of theirs changes). A window that holds
 /// none of that recorded nothing: that is a warning.
-GtkwView recorded_view(const std::vector<std::unique_ptr<Pe>>& pes, const std::vector<int>& traced, sc_time end,
-                       const MachineConfig& c, std::vector<std::string>& warnings) {
+GtkwView recorded_view(const std::vector<std::unique_ptr<Pe>>& pes, const std::vector<int>& traced,
+                       sc_time end, const MachineConfig& c, std::vector<std::string>& warnings) {
   const TraceWindow& w = pes[size_t(traced.front())]->ctx.window;
   auto ns = [](sc_time t) { return uint64_t(std::llround(t.to_seconds() * 1e9)); };
   GtkwView view{0, ns(end), c.clock_ns};
@@ -261,8 +274,10 @@ GtkwView recorded_view(const std::vector<std::unique_ptr<Pe>>& pes, const std::v
     warnings.push_back("--vcd-window: cycles " + std::to_string(cycles_of(from, c)) + ".." +
                        std::to_string(cycles_of(to, c)) + " hold none of the traced PEs' work (" +
                        (worked.empty() ? std::string("they have no pixels") : worked) +
-                       "), so the waveform recorded nothing; e.g. --vcd-window pe" + std::to_string(traced.front()) +
-                       "+0:2000 records the first 2000 cycles of PE " + std::to_string(traced.front()) + "'s work");
+                       "), so the waveform recorded nothing; e.g. --vcd-window pe" +
+                       std::to_string(traced.front()) +
+                       "+0:2000 records the first 2000 cycles of PE " +
+                       std::to_string(traced.front()) + "'s work");
     first = from;
     last = to;
   }
@@ -277,17 +292,19 @@ std::string vcd_file(const std::string& vcd) {
   return vcd.size() > 4 && vcd.substr(vcd.size() - 4) == ".vcd" ? vcd : vcd + ".vcd";
 }
 
-MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c, const MachineOptions& opt) {
+MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
+                          const MachineOptions& opt) {
   c.validate();
   // The kernel's informational notes (the machine stopping itself when the frame is gathered,
   // the trace file's time unit) are not news to the user.
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   const auto t0 = std::chrono::steady_clock::now();
-  check_threads_fit(expected_threads(c, !opt.vcd.empty()), c);  // before the seconds elaboration takes
+  check_threads_fit(expected_threads(c, !opt.vcd.empty()),
+                    c);  // before the seconds elaboration takes
   // What the host hands the PEs, in the frame they compute in (its cost is the host's: host.cpp).
   const FramedScene pe_view = framed(s, g, c.pe_frame);
-  Machine top("machine", pe_view.scene, pe_view.grid, c, opt.progress && isatty(2), !opt.vcd.empty(), opt.max_memory,
-              opt.max_rays, opt.pool, opt.sim_threads);
+  Machine top("machine", pe_view.scene, pe_view.grid, c, opt.progress && isatty(2),
+              !opt.vcd.empty(), opt.max_memory, opt.max_rays, opt.pool, opt.sim_threads);
 
   check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
 
@@ -301,18 +318,22 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   if (!opt.vcd.empty()) {
     const std::string tmp = temporary_beside(vcd_file(opt.vcd));
     vcd = std::make_unique<PartialFile>(tmp);
-    open_for_writing(tmp, vcd_file(opt.vcd));  // SystemC would report a failure twice, in its own words
-    tf = sc_core::sc_create_vcd_trace_file(tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
+    open_for_writing(tmp,
+                     vcd_file(opt.vcd));  // SystemC would report a failure twice, in its own words
+    tf = sc_core::sc_create_vcd_trace_file(
+        tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
     tf->set_time_unit(1, sc_core::SC_NS);
     wave = std::make_unique<Waveform>(tf);
     const sc_time period(c.clock_ns, sc_core::SC_NS);
     auto time_of = [&](uint64_t cycles) {  // past the horizon: never
-      return double(cycles) * double(period.value()) >= double(kTimeHorizonTicks) ? sc_core::sc_max_time()
-                                                                                   : period * double(cycles);
+      return double(cycles) * double(period.value()) >= double(kTimeHorizonTicks)
+                 ? sc_core::sc_max_time()
+                 : period * double(cycles);
     };
     // Every PE's window shares the anchor: the PE it names sets it, traced or not.
     std::shared_ptr<WindowAnchor> anchor;
-    if (opt.vcd_anchor_pe >= 0) anchor = std::make_shared<WindowAnchor>(WindowAnchor{opt.vcd_anchor_pe});
+    if (opt.vcd_anchor_pe >= 0)
+      anchor = std::make_shared<WindowAnchor>(WindowAnchor{opt.vcd_anchor_pe});
     for (auto& pe : top.pes) {
       pe->ctx.window.anchor = anchor;
       pe->ctx.window.from = time_of(opt.vcd_from_cycle);
@@ -335,33 +356,37 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     std::ostringstream why;
     why << "the simulation stopped ";
     if (top.watchdog->over_budget)
-      why << "holding " << bytes_text(top.watchdog->over_budget) << ", more than its memory budget of "
-          << bytes_text(opt.max_memory) << " (--max-memory)";
+      why << "holding " << bytes_text(top.watchdog->over_budget)
+          << ", more than its memory budget of " << bytes_text(opt.max_memory) << " (--max-memory)";
     else
       why << "at its work budget of " << opt.max_rays << " rays (--max-rays)";
-    why << ", at cycle " << uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS)) << " with "
-        << rays << " rays traced: ";
+    why << ", at cycle " << uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))
+        << " with " << rays << " rays traced: ";
     if (top.watchdog->over_budget)
-      why << "the rays waiting in the front buffers grow with the ray tree (max_depth " << s.max_depth
-          << ", threshold " << s.threshold << ")";
+      why << "the rays waiting in the front buffers grow with the ray tree (max_depth "
+          << s.max_depth << ", threshold " << s.threshold << ")";
     else
-      why << "the ray trees grow with max_depth " << s.max_depth << " and threshold " << s.threshold;
+      why << "the ray trees grow with max_depth " << s.max_depth << " and threshold "
+          << s.threshold;
     throw BudgetExceeded(why.str());
   }
   for (size_t pe = 0; pe < top.pes.size(); ++pe)
     if (const PeCounters& k = top.pes[pe]->ctx.counters; k.spill_overflow)
       throw std::runtime_error(
-          "local memory too small for the ray trees: PE " + std::to_string(pe) + "'s front buffer had " +
-          std::to_string(k.spill_overflow) + " rays waiting at cycle " + std::to_string(top.pes[pe]->ctx.cycles(k.spill_overflow_at)) +
-          ", more than its " + std::to_string(c.front_buffer_capacity) + " on chip and the " +
-          std::to_string(top.memory[pe].spill_rays()) + " its spill area holds (" + std::to_string(top.memory[pe].spill_bytes()) +
-          " bytes of local_memory_bytes " + std::to_string(c.local_memory_bytes) +
+          "local memory too small for the ray trees: PE " + std::to_string(pe) +
+          "'s front buffer had " + std::to_string(k.spill_overflow) + " rays waiting at cycle " +
+          std::to_string(top.pes[pe]->ctx.cycles(k.spill_overflow_at)) + ", more than its " +
+          std::to_string(c.front_buffer_capacity) + " on chip and the " +
+          std::to_string(top.memory[pe].spill_rays()) + " its spill area holds (" +
+          std::to_string(top.memory[pe].spill_bytes()) + " bytes of local_memory_bytes " +
+          std::to_string(c.local_memory_bytes) +
           "); a larger local memory, a higher threshold or a lower max_depth fits");
   if (top.watchdog->overran)
-    throw std::runtime_error("the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
-                             std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
-                             ", the most a frame may take (SystemC counts time in 64-bit picoseconds); a shorter "
-                             "clock_ns or a smaller frame fits");
+    throw std::runtime_error(
+        "the simulated time passed " + describe_ticks(double(kTimeHorizonTicks)) + " at cycle " +
+        std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
+        ", the most a frame may take (SystemC counts time in 64-bit picoseconds); a shorter "
+        "clock_ns or a smaller frame fits");
 
   MachineResult r;
   r.end = sc_core::sc_time_stamp();
@@ -397,10 +422,11 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   r.scene_bytes = top.scene_bytes;
   r.memory = top.memory;
   r.units = top.units;
-  for (auto [kept, name] : {std::pair<bool, const char*>{top.units.spawn_path, fifo_spec(FifoId::Spawn).name},
-                            {top.units.shadow_rays, "shading.shadow_rays"},
-                            {top.units.reflection, "shading.reflection"},
-                            {top.units.refraction, "shading.refraction"}})
+  for (auto [kept, name] :
+       {std::pair<bool, const char*>{top.units.spawn_path, fifo_spec(FifoId::Spawn).name},
+        {top.units.shadow_rays, "shading.shadow_rays"},
+        {top.units.reflection, "shading.reflection"},
+        {top.units.refraction, "shading.refraction"}})
     if (!kept) r.left_out_units.push_back(name);
   for (auto& pe : top.pes) {
     r.mac_products_saved += pe->ctx.counters.mac_products_saved;

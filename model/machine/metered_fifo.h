@@ -19,7 +19,8 @@ namespace rtm {
 template <class T>
 class MeteredFifo : public sc_core::sc_fifo<T> {
  public:
-  MeteredFifo(const char* name, int depth, const char* kind) : sc_core::sc_fifo<T>(name, depth), meter_(kind, depth) {}
+  MeteredFifo(const char* name, int depth, const char* kind)
+      : sc_core::sc_fifo<T>(name, depth), meter_(kind, depth) {}
 
   /// Any number of reader and writer ports (plain sc_fifo allows one of each).
   void register_port(sc_core::sc_port_base&, const char*) override {}
@@ -52,7 +53,8 @@ class MeteredFifo : public sc_core::sc_fifo<T> {
   FifoMeter& meter() { return meter_; }
   /// Closes the time integral at the end of simulation.
   const FifoStats& stats() {
-    return meter_.close(sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds());
+    return meter_.close(sc_core::sc_time_stamp().value(),
+                        sc_core::sc_get_time_resolution().to_seconds());
   }
   /// Traces the occupancy; only changes inside the waveform window reach the file.
   void trace(Waveform& wave, const std::string& name, const TraceWindow* window) {

@@ -5,8 +5,9 @@
 #include "units/fifo_report.h"
 
 namespace rtm {
-ModularPe::ModularPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
-                     size_t pixels, sc_core::sc_clock* clock, Timekeeper* keeper)
+ModularPe::ModularPe(sc_core::sc_module_name name, int index, const MachineConfig& c,
+                     const PeUnits& units, size_t pixels, sc_core::sc_clock* clock,
+                     Timekeeper* keeper)
     : Pe(name, index, c, units, pixels, keeper) {
   for (const FifoSpec& f : fifo_table()) {
     if (f.per_lane || !units.has(f)) continue;
@@ -18,7 +19,8 @@ ModularPe::ModularPe(sc_core::sc_module_name name, int index, const MachineConfi
   // In the unit table's order: the kernel's order among processes runnable together follows it
   // (arbitration = kernel).
   for (const UnitSpec& u : unit_table())
-    for (int k = 0, n = unit_count(u.kind, c); k < n; ++k) create(u.kind, k, c.timing == Timing::Clocked ? clock : nullptr);
+    for (int k = 0, n = unit_count(u.kind, c); k < n; ++k)
+      create(u.kind, k, c.timing == Timing::Clocked ? clock : nullptr);
 
   for (const FifoSpec& f : fifo_table()) {
     if (f.per_lane || !units.has(f)) continue;
@@ -46,17 +48,22 @@ void ModularPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
       shading_ = std::make_unique<ShadingModule>(unit_name(kind), ctx, memory);
       return of.push_back(shading_.get());
     case UnitKind::Search:
-      if (k == 0) search_dispatch_ = std::make_unique<Dispatcher>("search_dispatch", *rays_[size_t(FifoId::Search)], c.search_units);
-      search_.push_back(std::make_unique<SearchModule>((unit_name(kind) + std::to_string(k)).c_str(), ctx, k, *search_dispatch_));
+      if (k == 0)
+        search_dispatch_ = std::make_unique<Dispatcher>(
+            "search_dispatch", *rays_[size_t(FifoId::Search)], c.search_units);
+      search_.push_back(std::make_unique<SearchModule>(
+          (unit_name(kind) + std::to_string(k)).c_str(), ctx, k, *search_dispatch_));
       return of.push_back(search_.back().get());
     case UnitKind::Mac:
       // An intersection unit runs its lane's MAC and root unit.
       if (k == 0)
-        intersect_dispatch_ = std::make_unique<Dispatcher>("intersect_dispatch", *rays_[size_t(FifoId::Intersect)], c.intersection_units);
-      intersection_.push_back(std::make_unique<IntersectionModule>(("intersection" + std::to_string(k)).c_str(), ctx,
-                                                                   clock, *intersect_dispatch_, k));
+        intersect_dispatch_ = std::make_unique<Dispatcher>(
+            "intersect_dispatch", *rays_[size_t(FifoId::Intersect)], c.intersection_units);
+      intersection_.push_back(std::make_unique<IntersectionModule>(
+          ("intersection" + std::to_string(k)).c_str(), ctx, clock, *intersect_dispatch_, k));
       return of.push_back(intersection_.back().get());
-    case UnitKind::Root: return of.push_back(intersection_.at(size_t(k)).get());
+    case UnitKind::Root:
+      return of.push_back(intersection_.at(size_t(k)).get());
   }
 }
 
@@ -66,19 +73,23 @@ FifoMeter& ModularPe::meter(const FifoSpec& f, int lane) {
 }
 
 FifoStatsList ModularPe::fifo_stats() {
-  return rtm::fifo_stats(ctx, sc_core::sc_time_stamp().value(), sc_core::sc_get_time_resolution().to_seconds(),
+  return rtm::fifo_stats(ctx, sc_core::sc_time_stamp().value(),
+                         sc_core::sc_get_time_resolution().to_seconds(),
                          [&](const FifoSpec& f, int lane) -> FifoMeter& { return meter(f, lane); });
 }
 
 std::string ModularPe::occupancy_report() {
   return std::string(name()) + ": " +
-         rtm::occupancy_report(ctx, front_->policy(), [&](const FifoSpec& f, int lane) -> FifoMeter& { return meter(f, lane); });
+         rtm::occupancy_report(
+             ctx, front_->policy(),
+             [&](const FifoSpec& f, int lane) -> FifoMeter& { return meter(f, lane); });
 }
 
 void ModularPe::trace(Waveform& wave) {
   for (const FifoSpec& f : fifo_table())
     if (f.payload == Payload::Ray && rays_[size_t(f.id)])
-      rays_[size_t(f.id)]->trace(wave, std::string(rays_[size_t(f.id)]->name()) + ".occupancy", &ctx.window);
+      rays_[size_t(f.id)]->trace(wave, std::string(rays_[size_t(f.id)]->name()) + ".occupancy",
+                                 &ctx.window);
   ends_->trace(wave, std::string(ends_->name()) + ".occupancy", &ctx.window);
   front_->trace(wave);
   for (auto& s : search_) s->trace(wave);

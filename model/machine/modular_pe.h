@@ -15,8 +15,8 @@ namespace rtm {
 
 class ModularPe : public Pe {
  public:
-  ModularPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-            sc_core::sc_clock* clock, Timekeeper* keeper);
+  ModularPe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+            size_t pixels, sc_core::sc_clock* clock, Timekeeper* keeper);
 
   bool finished() const override { return front_->policy().finished(); }
   FifoStatsList fifo_stats() override;
@@ -36,9 +36,11 @@ class ModularPe : public Pe {
   std::unique_ptr<FrontBufferModule> front_;
   std::vector<std::unique_ptr<SearchModule>> search_;
   std::unique_ptr<Dispatcher> search_dispatch_, intersect_dispatch_;
-  std::vector<std::unique_ptr<IntersectionModule>> intersection_;  ///< the paper has one; more is an option
+  std::vector<std::unique_ptr<IntersectionModule>>
+      intersection_;  ///< the paper has one; more is an option
   std::unique_ptr<ShadingModule> shading_;
-  std::array<std::vector<UnitModule*>, kUnitKinds> modules_;  ///< by kind, the modules that run its units
+  std::array<std::vector<UnitModule*>, kUnitKinds>
+      modules_;  ///< by kind, the modules that run its units
 };
 
 }  // namespace rtm

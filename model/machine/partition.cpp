@@ -14,10 +14,14 @@ void deal_pixels(int width, int height, const MachineConfig& c, Visit visit) {
   const int tiles_x = (width + c.tile - 1) / c.tile;
   auto pe_of = [&](int x, int y) -> int {
     switch (c.partition) {
-      case Partition::Scanlines: return y % n;
-      case Partition::Blocks: return int((int64_t(y / c.tile) * tiles_x + x / c.tile) % n);
-      case Partition::Strips: return int(int64_t(y) * n / height);
-      case Partition::Pixels: return int((x + shear * y) % n);
+      case Partition::Scanlines:
+        return y % n;
+      case Partition::Blocks:
+        return int((int64_t(y / c.tile) * tiles_x + x / c.tile) % n);
+      case Partition::Strips:
+        return int(int64_t(y) * n / height);
+      case Partition::Pixels:
+        return int((x + shear * y) % n);
     }
     return 0;
   };
@@ -29,7 +33,8 @@ void deal_pixels(int width, int height, const MachineConfig& c, Visit visit) {
 
 std::vector<std::vector<uint32_t>> partition_screen(int width, int height, const MachineConfig& c) {
   std::vector<std::vector<uint32_t>> parts(static_cast<size_t>(c.pes));
-  deal_pixels(width, height, c, [&](int pe, uint32_t pixel) { parts[size_t(pe)].push_back(pixel); });
+  deal_pixels(width, height, c,
+              [&](int pe, uint32_t pixel) { parts[size_t(pe)].push_back(pixel); });
   return parts;
 }
 

@@ -27,7 +27,8 @@ TEST_P(EveryScheme, EveryPixelExactlyOnceInScanOrder) {
       EXPECT_TRUE(std::is_sorted(part.begin(), part.end()));
       for (uint32_t px : part) ++seen[px];
     }
-    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; })) << pes << " PEs";
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int n) { return n == 1; }))
+        << pes << " PEs";
   }
 }
 
@@ -35,13 +36,15 @@ TEST_P(EveryScheme, CountsThePesLeftWithoutPixels) {
   for (int pes : {1, 2, 3, 7, 64, 1000}) {
     const MachineConfig c = with(GetParam(), pes, 5);
     const auto parts = partition_screen(37, 23, c);
-    EXPECT_EQ(pes_without_pixels(37, 23, c), std::count_if(parts.begin(), parts.end(), [](const auto& p) { return p.empty(); }))
+    EXPECT_EQ(pes_without_pixels(37, 23, c),
+              std::count_if(parts.begin(), parts.end(), [](const auto& p) { return p.empty(); }))
         << pes << " PEs";
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(Partition, EveryScheme,
-                         ::testing::Values(Partition::Scanlines, Partition::Blocks, Partition::Strips, Partition::Pixels));
+                         ::testing::Values(Partition::Scanlines, Partition::Blocks,
+                                           Partition::Strips, Partition::Pixels));
 
 TEST(Partition, BlocksOfATenPixelFrameLeaveTwoOfThreePesIdle) {
   EXPECT_EQ(pes_without_pixels(10, 10, with(Partition::Blocks, 3)), 2);  // one 16x16 tile
@@ -63,7 +66,7 @@ TEST(Partition, PixelsGiveEveryPeEveryNthPixelOfEveryRowSheared) {
       rows.insert(px / w);
       columns.insert(px % w);
     }
-    EXPECT_EQ(rows.size(), size_t(h));  // every row
+    EXPECT_EQ(rows.size(), size_t(h));         // every row
     EXPECT_GT(columns.size(), size_t(w / n));  // and not the same columns in every row
   }
   // Neighbouring pixels of a row go to different PEs.

@@ -2,7 +2,8 @@
 
 namespace rtm {
 namespace {
-PeContext make_context(int index, const MachineConfig& c, const PeUnits& units, Timekeeper* keeper) {
+PeContext make_context(int index, const MachineConfig& c, const PeUnits& units,
+                       Timekeeper* keeper) {
   PeContext ctx;
   ctx.keeper = keeper;
   ctx.pe = index;
@@ -16,8 +17,8 @@ PeContext make_context(int index, const MachineConfig& c, const PeUnits& units, 
 
 }  // namespace
 
-Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-       Timekeeper* keeper)
+Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+       size_t pixels, Timekeeper* keeper)
     : sc_module(name), ctx(make_context(index, c, units, keeper)), memory("memory", ctx, pixels) {
   memory.rays_expected = pixels;
 }

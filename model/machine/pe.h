@@ -37,8 +37,8 @@ class Pe : public sc_core::sc_module {
 
  protected:
   /// `pixels`: how many pixels of the screen this PE renders.
-  Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units, size_t pixels,
-     Timekeeper* keeper);
+  Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
+     size_t pixels, Timekeeper* keeper);
 };
 
 }  // namespace rtm

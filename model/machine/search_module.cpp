@@ -2,7 +2,8 @@
 
 namespace rtm {
 
-SearchModule::SearchModule(sc_core::sc_module_name name, PeContext& ctx, int index, Dispatcher& dispatcher)
+SearchModule::SearchModule(sc_core::sc_module_name name, PeContext& ctx, int index,
+                           Dispatcher& dispatcher)
     : UnitModule(name, ctx, {UnitKind::Search}),
       unit_(ctx, index),
       sleep_(ctx.sleeper(UnitKind::Search)),

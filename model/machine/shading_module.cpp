@@ -3,11 +3,17 @@
 namespace rtm {
 
 ShadingModule::ShadingModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem)
-    : UnitModule(name, ctx, {UnitKind::Shading}), unit_(ctx), sleep_(ctx.sleeper(UnitKind::Shading)), mem_(mem),
+    : UnitModule(name, ctx, {UnitKind::Shading}),
+      unit_(ctx),
+      sleep_(ctx.sleeper(UnitKind::Shading)),
+      mem_(mem),
       pipe_(ctx.period.value(), &ctx.counters.unit(UnitKind::Shading, 0)) {
-  if (ctx.units.shadow_rays) generators_[size_t(RayKind::Shadow)] = std::make_unique<SpawnUnit>("shadow_rays");
-  if (ctx.units.reflection) generators_[size_t(RayKind::Reflected)] = std::make_unique<SpawnUnit>("reflection");
-  if (ctx.units.refraction) generators_[size_t(RayKind::Transmitted)] = std::make_unique<SpawnUnit>("refraction");
+  if (ctx.units.shadow_rays)
+    generators_[size_t(RayKind::Shadow)] = std::make_unique<SpawnUnit>("shadow_rays");
+  if (ctx.units.reflection)
+    generators_[size_t(RayKind::Reflected)] = std::make_unique<SpawnUnit>("reflection");
+  if (ctx.units.refraction)
+    generators_[size_t(RayKind::Transmitted)] = std::make_unique<SpawnUnit>("refraction");
   SC_THREAD(run);
 }
 
@@ -27,7 +33,9 @@ struct ShadingModule::WriteOps {
     if (auto& g = m.generators_[size_t(m.unit_.spawned_kind(k - 1))]) g->probe.begin(r.id);
     return m.unit_.spawn(r, k);
   }
-  bool write(const Output& o, const MachineRay& child) { return m.try_write(o, child, UnitKind::Shading, 0); }
+  bool write(const Output& o, const MachineRay& child) {
+    return m.try_write(o, child, UnitKind::Shading, 0);
+  }
 };
 
 struct ShadingModule::Ops {
@@ -60,7 +68,8 @@ struct ShadingModule::Ops {
 
 void ShadingModule::run() {
   Ops ops{*this};
-  const sc_core::sc_event_or_list either = rays_in(FifoId::Shade)->data_written_event() | sleep_->event();
+  const sc_core::sc_event_or_list either =
+      rays_in(FifoId::Shade)->data_written_event() | sleep_->event();
   run_unit(pipe_, ops, *sleep_, either);
 }
 

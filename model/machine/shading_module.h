@@ -1,7 +1,7 @@
 // The shading unit (paper §6) as a module: shades each ray into the PE's frame buffer and writes
-// its outputs (units/shading_unit.h), several rays in flight when pipelined. Each ray generator (shadow, reflected, transmitted) is a
-// child module elaborated only when the scene can spawn that kind of ray; its busy flag shows in
-// waveforms.
+// its outputs (units/shading_unit.h), several rays in flight when pipelined. Each ray generator
+// (shadow, reflected, transmitted) is a child module elaborated only when the scene can spawn that
+// kind of ray; its busy flag shows in waveforms.
 #pragma once
 
 #include <memory>

@@ -8,12 +8,14 @@ namespace rtm {
 namespace {
 
 [[noreturn]] void past_horizon(double ticks, const std::string& what) {
-  const std::string msg = what + " would take " + describe_ticks(ticks) + " from " +
-                          describe_ticks(double(sc_core::sc_time_stamp().value())) +
-                          ", past the " + describe_ticks(double(kTimeHorizonTicks)) +
-                          " of simulated time a frame may take (SystemC counts time in 64-bit picoseconds)";
+  const std::string msg =
+      what + " would take " + describe_ticks(ticks) + " from " +
+      describe_ticks(double(sc_core::sc_time_stamp().value())) + ", past the " +
+      describe_ticks(double(kTimeHorizonTicks)) +
+      " of simulated time a frame may take (SystemC counts time in 64-bit picoseconds)";
   SC_REPORT_ERROR("rtm/time", msg.c_str());
-  throw std::logic_error(msg);  // not reached: errors throw (main sets it), but never return a wrapped time
+  throw std::logic_error(
+      msg);  // not reached: errors throw (main sets it), but never return a wrapped time
 }
 
 void check(double ticks, const std::string& what) {
@@ -33,7 +35,8 @@ std::string describe_ticks(double ticks) {
   return s;
 }
 
-sc_core::sc_time checked_periods(const sc_core::sc_time& period, double count, const std::string& what) {
+sc_core::sc_time checked_periods(const sc_core::sc_time& period, double count,
+                                 const std::string& what) {
   check(double(period.value()) * count, what);
   return period * count;
 }

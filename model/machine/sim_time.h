@@ -19,7 +19,8 @@ std::string describe_ticks(double ticks);
 
 /// `count` times `period` (rounded as sc_time's own operator* rounds), or, if that would end past
 /// the horizon counted from now, an SC_REPORT_ERROR of type "rtm/time" naming `what`.
-sc_core::sc_time checked_periods(const sc_core::sc_time& period, double count, const std::string& what);
+sc_core::sc_time checked_periods(const sc_core::sc_time& period, double count,
+                                 const std::string& what);
 /// `seconds` of simulated time, likewise checked.
 sc_core::sc_time checked_seconds(double seconds, const std::string& what);
 

@@ -32,7 +32,9 @@ TEST(SimTime, ADelayPastTheHorizonIsAnErrorNamingIt) {
   // own operator* would convert an out-of-range double (undefined behaviour).
   const std::string why = refusal(us, 65536.0 * double(uint64_t(1) << 40));
   EXPECT_NE(why.find("the test's delay would take 7.21e+22 ps"), std::string::npos) << why;
-  EXPECT_NE(why.find("past the 4.61e+18 ps (53.4 days) of simulated time a frame may take"), std::string::npos) << why;
+  EXPECT_NE(why.find("past the 4.61e+18 ps (53.4 days) of simulated time a frame may take"),
+            std::string::npos)
+      << why;
   EXPECT_NE(refusal(us, double(kTimeHorizonTicks) / 1e6), "");
   EXPECT_NE(refusal(us, HUGE_VAL), "");
   EXPECT_NE(refusal(us, std::nan("")), "");

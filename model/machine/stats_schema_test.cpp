@@ -1,5 +1,6 @@
 // The stats schema (docs/stats.schema.json) names what the tables declare: every unit of the unit
-// table in each per-unit group and in the flat summary, and exactly the bottlenecks the model gives.
+// table in each per-unit group and in the flat summary, and exactly the bottlenecks the model
+// gives.
 #include <algorithm>
 #include <fstream>
 #include <sstream>
@@ -62,7 +63,9 @@ TEST(StatsSchema, TheCostNamesEveryUnitAndElement) {
       elements.push_back(n + "_fp64");
     }
   }
-  EXPECT_EQ(defs["unit_cost"]["properties"]["elements"]["propertyNames"]["enum"].get<std::vector<std::string>>(), elements);
+  EXPECT_EQ(defs["unit_cost"]["properties"]["elements"]["propertyNames"]["enum"]
+                .get<std::vector<std::string>>(),
+            elements);
   const auto required = defs["summary"]["required"].get<std::vector<std::string>>();
   for (const std::string& u : units) {
     const std::string key = "energy_" + u + "_j";
@@ -72,7 +75,8 @@ TEST(StatsSchema, TheCostNamesEveryUnitAndElement) {
 }
 
 TEST(StatsSchema, NamesTheBottlenecksTheModelGives) {
-  EXPECT_EQ(schema()["$defs"]["bottleneck"]["enum"].get<std::vector<std::string>>(), bottleneck_names());
+  EXPECT_EQ(schema()["$defs"]["bottleneck"]["enum"].get<std::vector<std::string>>(),
+            bottleneck_names());
 }
 
 }  // namespace

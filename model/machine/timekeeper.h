@@ -70,7 +70,8 @@ class Sleeper {
       // The kernel keeps one pending notification per event: the earliest.
       wake_.cancel();
       const uint64_t next = wakeups_.next().first;
-      if (next != Wakeups::kNever) wake_.notify(sc_core::sc_time::from_value(next - sc_core::sc_time_stamp().value()));
+      if (next != Wakeups::kNever)
+        wake_.notify(sc_core::sc_time::from_value(next - sc_core::sc_time_stamp().value()));
     }
     if (either)
       sc_core::wait(*either);

@@ -17,7 +17,8 @@ struct Sleepers : sc_core::sc_module {
     std::vector<int> naps_ns;
   };
   SC_HAS_PROCESS(Sleepers);
-  Sleepers(sc_core::sc_module_name name, std::vector<Plan> plans) : sc_module(name), keeper("keeper"), plans_(plans) {
+  Sleepers(sc_core::sc_module_name name, std::vector<Plan> plans)
+      : sc_module(name), keeper("keeper"), plans_(plans) {
     for (size_t i = 0; i < plans_.size(); ++i) {
       sleepers_.push_back(std::make_unique<Sleeper>(&keeper, plans_[i].rank));
       sc_core::sc_spawn([this, i] { run(i); });

@@ -20,7 +20,8 @@ struct TraceWindow {
   bool enabled = false;
   sc_core::sc_time from = sc_core::SC_ZERO_TIME;  ///< after the anchor's time when there is one
   sc_core::sc_time to = sc_core::sc_max_time();
-  std::shared_ptr<WindowAnchor> anchor;  ///< shared by every PE's window; null: from and to are absolute
+  std::shared_ptr<WindowAnchor>
+      anchor;  ///< shared by every PE's window; null: from and to are absolute
 
   bool now() const {
     if (!enabled) return false;
@@ -38,7 +39,9 @@ struct TraceWindow {
   /// Where the window lies in simulated time, its end clipped to `end`; placed() windows only.
   std::pair<sc_core::sc_time, sc_core::sc_time> span(sc_core::sc_time end) const {
     const sc_core::sc_time base = anchor ? anchor->at : sc_core::SC_ZERO_TIME;
-    auto at = [&](sc_core::sc_time offset) { return offset >= end - base ? end : base + offset; };  // no overflow
+    auto at = [&](sc_core::sc_time offset) {
+      return offset >= end - base ? end : base + offset;
+    };  // no overflow
     return {at(from), at(to)};
   }
 };

@@ -11,7 +11,8 @@ bool any_of(const std::vector<UnitKind>& of, std::initializer_list<UnitKind> kin
 }
 }  // namespace
 
-UnitModule::UnitModule(sc_core::sc_module_name name, PeContext& ctx, std::initializer_list<UnitKind> kinds)
+UnitModule::UnitModule(sc_core::sc_module_name name, PeContext& ctx,
+                       std::initializer_list<UnitKind> kinds)
     : sc_module(name), ctx_(ctx) {
   for (const FifoSpec& f : fifo_table()) {
     if (f.per_lane) continue;  // inside an intersection unit
@@ -60,7 +61,8 @@ Dispatcher::Dispatcher(sc_core::sc_module_name name, MeteredFifo<MachineRay>& in
 
 void Dispatcher::dispatch() {
   // Immediate notifications: the units run next, in the order notified, and each takes one ray.
-  for (int n = in_.num_available(); n > 0 && waiting_.any_idle(); --n) wake_[size_t(waiting_.take())]->notify();
+  for (int n = in_.num_available(); n > 0 && waiting_.any_idle(); --n)
+    wake_[size_t(waiting_.take())]->notify();
 }
 
 }  // namespace rtm

@@ -56,19 +56,24 @@ class UnitModule : public sc_core::sc_module {
   UnitModule(sc_core::sc_module_name name, PeContext& ctx, std::initializer_list<UnitKind> kinds);
 
   In<MachineRay>& rays_in(FifoId id) { return *rays_in_[size_t(id)]; }
-  bool has_input(FifoId id) const { return rays_in_[size_t(id)] && rays_in_[size_t(id)]->size() > 0; }
+  bool has_input(FifoId id) const {
+    return rays_in_[size_t(id)] && rays_in_[size_t(id)]->size() > 0;
+  }
   In<RayEnd>& ends_in() { return *ends_in_; }
 
-  /// Writes a unit's output for ray `r` and records it; false (nothing written) when its FIFO is full.
+  /// Writes a unit's output for ray `r` and records it; false (nothing written) when its FIFO is
+  /// full.
   bool try_write(const Output& o, const MachineRay& r, UnitKind kind, int index);
 
   /// Runs a unit forever: each wake-up is units/unit_step.h's step_unit with `ops`; a unit that
   /// waits for input sleeps until `either` (its input's events | the sleeper's: a list, built
   /// once; the expression `a | b` itself would be freed after its first wait).
   template <class Item, class Ops>
-  [[noreturn]] void run_unit(Pipeline<Item>& pipe, Ops& ops, Sleeper& sleep, const sc_core::sc_event_or_list& either) {
+  [[noreturn]] void run_unit(Pipeline<Item>& pipe, Ops& ops, Sleeper& sleep,
+                             const sc_core::sc_event_or_list& either) {
     for (;;) {
-      const bool waiting = step_unit(pipe, PeContext::now(), ctx_.period.value(), ctx_.memory.get(), ops);
+      const bool waiting =
+          step_unit(pipe, PeContext::now(), ctx_.period.value(), ctx_.memory.get(), ops);
       sleep.wait(waiting ? &either : nullptr);
     }
   }

@@ -14,7 +14,8 @@ using sc_core::sc_time;
 
 void ProgressDisplay::draw(const std::vector<Pe*>& pes, const Host& host) {
   const auto now = std::chrono::steady_clock::now();
-  if (now - last_draw_ < std::chrono::milliseconds(500) || now - start_ < std::chrono::seconds(1)) return;
+  if (now - last_draw_ < std::chrono::milliseconds(500) || now - start_ < std::chrono::seconds(1))
+    return;
   last_draw_ = now;
   Progress p;
   bool all_done = true;
@@ -36,12 +37,13 @@ uint64_t Watchdog::longest_item_cycles(const Scene& s, const Grid& g, const Mach
   ItemBounds b;
   for (size_t v = 0; v + 1 < g.start.size(); ++v)
     b.fullest_voxel = std::max<uint64_t>(b.fullest_voxel, g.start[v + 1] - g.start[v]);
-  for (const Primitive& p : s.primitives) b.most_clips = std::max<uint64_t>(b.most_clips, p.clips.size());
+  for (const Primitive& p : s.primitives)
+    b.most_clips = std::max<uint64_t>(b.most_clips, p.clips.size());
   b.lights = s.lights.size();
   b.walk_voxels = uint64_t(g.n[0] + g.n[1] + g.n[2] + 3);
   // A local-memory access at its slowest: its largest record behind one of every requester's.
-  const uint64_t record =
-      std::max<uint64_t>({kSpillRecordBytes, coef_record_bytes(Precision::Fp64), voxel_list_bytes(b.fullest_voxel + 2)});
+  const uint64_t record = std::max<uint64_t>({kSpillRecordBytes, coef_record_bytes(Precision::Fp64),
+                                              voxel_list_bytes(b.fullest_voxel + 2)});
   b.access = uint64_t(c.search_units + c.intersection_units + 3) *
              (uint64_t(c.memory_latency) + record / uint64_t(c.memory_bytes_per_cycle) + 1);
   uint64_t cycles = 0;
@@ -49,14 +51,22 @@ uint64_t Watchdog::longest_item_cycles(const Scene& s, const Grid& g, const Mach
   return cycles;
 }
 
-Watchdog::Watchdog(const Scene& s, const Grid& g, const MachineConfig& c, const std::vector<Pe*>& pes, const Host& host,
-                   uint64_t max_memory, uint64_t max_rays, ProgressDisplay* progress)
-    : pes_(pes), host_(host), max_memory_(max_memory), max_rays_(max_rays), progress_(progress), active_(pes) {
+Watchdog::Watchdog(const Scene& s, const Grid& g, const MachineConfig& c,
+                   const std::vector<Pe*>& pes, const Host& host, uint64_t max_memory,
+                   uint64_t max_rays, ProgressDisplay* progress)
+    : pes_(pes),
+      host_(host),
+      max_memory_(max_memory),
+      max_rays_(max_rays),
+      progress_(progress),
+      active_(pes) {
   // The clock, and units retrying writes into full FIFOs, keep a simulation alive even when the
   // loop has stalled; and any frame's time must stay below the horizon: watch for both.
   const sc_time period(c.clock_ns, sc_core::SC_NS);
-  const double quiet_cycles = std::max(8.0 * kStepCycles, 2.0 * double(longest_item_cycles(s, g, c)));
-  quiet_window_ = sc_time::from_value(uint64_t(std::min(quiet_cycles * double(period.value()), double(kTimeHorizonTicks))));
+  const double quiet_cycles =
+      std::max(8.0 * kStepCycles, 2.0 * double(longest_item_cycles(s, g, c)));
+  quiet_window_ = sc_time::from_value(
+      uint64_t(std::min(quiet_cycles * double(period.value()), double(kTimeHorizonTicks))));
   base_step_ = period * kStepCycles;
   longest_step_ = std::max(base_step_, quiet_window_ / 8.0);
 }
@@ -93,7 +103,8 @@ bool Watchdog::look(sc_time& step) {
     return false;
   }
   // Rays waiting in the front buffers grow with the ray tree: hold the process to the budget.
-  if (const auto wall = std::chrono::steady_clock::now(); max_memory_ && wall - last_measured_ > kMeasureEvery) {
+  if (const auto wall = std::chrono::steady_clock::now();
+      max_memory_ && wall - last_measured_ > kMeasureEvery) {
     last_measured_ = wall;
     if (const uint64_t rss = resident_bytes(); rss > max_memory_) {
       over_budget = rss;

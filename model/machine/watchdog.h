@@ -24,14 +24,16 @@ class ProgressDisplay {
  private:
   uint64_t pixels_;
   bool drew_ = false;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_draw_ = start_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(),
+                                        last_draw_ = start_;
 };
 
 class Watchdog {
  public:
-  /// `pes` and `host` must outlive it; `progress`: null for no progress line. A budget of 0 is none.
-  Watchdog(const Scene& s, const Grid& g, const MachineConfig& c, const std::vector<Pe*>& pes, const Host& host,
-           uint64_t max_memory, uint64_t max_rays, ProgressDisplay* progress);
+  /// `pes` and `host` must outlive it; `progress`: null for no progress line. A budget of 0 is
+  /// none.
+  Watchdog(const Scene& s, const Grid& g, const MachineConfig& c, const std::vector<Pe*>& pes,
+           const Host& host, uint64_t max_memory, uint64_t max_rays, ProgressDisplay* progress);
 
   /// How often it looks while things move.
   sc_core::sc_time base_step() const { return base_step_; }
@@ -53,7 +55,7 @@ class Watchdog {
   bool stalled = false;      ///< it stopped a simulation in which nothing moved
   bool overran = false;      ///< it stopped a simulation whose time passed the horizon
   uint64_t over_budget = 0;  ///< the resident size it stopped the simulation at; 0: it did not
-  uint64_t over_rays = 0;    ///< the rays traced when it stopped it at the work budget; 0: it did not
+  uint64_t over_rays = 0;  ///< the rays traced when it stopped it at the work budget; 0: it did not
 
  private:
   static constexpr double kStepCycles = 4096;
@@ -67,7 +69,8 @@ class Watchdog {
   uint64_t max_memory_, max_rays_;
   ProgressDisplay* progress_;
   sc_core::sc_time quiet_window_;  ///< this long with nothing done (and the host idle) is a stall
-  sc_core::sc_time base_step_, longest_step_;  ///< how often it looks while things move, and at least
+  sc_core::sc_time base_step_,
+      longest_step_;  ///< how often it looks while things move, and at least
   sc_core::sc_time quiet_since_ = sc_core::SC_ZERO_TIME;
   uint64_t last_work_ = ~0ull, finished_work_ = 0, finished_rays_ = 0;
   std::vector<Pe*> active_;  ///< the PEs not yet finished

@@ -17,7 +17,7 @@ class Waveform {
   struct Signal {
     std::string name;  ///< hierarchical, e.g. machine.pe0.search2.busy
     Format format;
-    int bits;          ///< of a Decimal value
+    int bits;  ///< of a Decimal value
   };
 
   explicit Waveform(sc_core::sc_trace_file* file) : file_(file) {}
@@ -33,7 +33,9 @@ class Waveform {
   template <class T>
   static constexpr Format format_of() {
     using V = typename value_of<T>::type;
-    return std::is_same_v<V, bool> ? Format::Bit : std::is_floating_point_v<V> ? Format::Real : Format::Decimal;
+    return std::is_same_v<V, bool>       ? Format::Bit
+           : std::is_floating_point_v<V> ? Format::Real
+                                         : Format::Decimal;
   }
   template <class T>
   struct value_of {

@@ -47,7 +47,8 @@ class BookedCycles {
     uint64_t c = cycle < base_ ? base_ : cycle;
     if (cycle < base_ && flip) return cycle;
     for (uint64_t w = (c - base_) / 64; w < words_.size(); ++w) {
-      const uint64_t bits = (words_[w] ^ flip) & (w == (c - base_) / 64 ? ~uint64_t(0) << (c % 64) : ~uint64_t(0));
+      const uint64_t bits =
+          (words_[w] ^ flip) & (w == (c - base_) / 64 ? ~uint64_t(0) << (c % 64) : ~uint64_t(0));
       if (bits) return base_ + 64 * w + uint64_t(__builtin_ctzll(bits));
     }
     return flip ? std::max(c, base_ + 64 * words_.size()) : kNone;

@@ -7,7 +7,8 @@
 // of the scene (the literal reading of §5.2), so every access hits, the first included.
 // Otherwise it holds `capacity` primitives and starts empty: the first access to each primitive
 // misses (compulsory), and a miss with the RAM full evicts one:
-//   lru   the least recently used (the default). A ray's next voxels and the next rays (neighbouring
+//   lru   the least recently used (the default). A ray's next voxels and the next rays
+//   (neighbouring
 //         pixels, handed out one after another) list mostly the same primitives, so what was used
 //         last is what is used next; for the handful of entries a RAM of this kind holds it takes a
 //         few age bits each. Its known weakness: a cycle over capacity + 1 primitives misses every
@@ -23,7 +24,8 @@ namespace rtm {
 
 class CoefficientRam {
  public:
-  explicit CoefficientRam(uint32_t capacity = 0, Replacement r = Replacement::Lru) : capacity_(capacity), held_(capacity, r) {}
+  explicit CoefficientRam(uint32_t capacity = 0, Replacement r = Replacement::Lru)
+      : capacity_(capacity), held_(capacity, r) {}
 
   /// The MAC needs primitive `p`'s coefficients: true if they are in the RAM; false if they had to
   /// be loaded (a miss), evicting another primitive's when the RAM is full.
@@ -39,7 +41,9 @@ class CoefficientRam {
   uint64_t misses() const { return misses_; }
   uint64_t evictions() const { return held_.evictions(); }
   /// hits / accesses; 1 before any access.
-  double hit_rate() const { return hits_ + misses_ == 0 ? 1.0 : double(hits_) / double(hits_ + misses_); }
+  double hit_rate() const {
+    return hits_ + misses_ == 0 ? 1.0 : double(hits_) / double(hits_ + misses_);
+  }
 
  private:
   uint32_t capacity_;

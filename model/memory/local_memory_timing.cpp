@@ -14,9 +14,12 @@ LocalMemoryTiming::Config LocalMemoryTiming::Config::from(const MachineConfig& c
           c.memory_arbitration};
 }
 
-LocalMemoryTiming::LocalMemoryTiming(const Config& c, std::vector<std::string> requesters) : config_(c) {
-  if (c.ports < 0 || c.banks < 0 || c.interleave_bytes < 1 || c.latency < 1 || c.bytes_per_cycle < 1)
-    throw std::invalid_argument("local memory: ports and banks must be >= 0, granule, latency and width >= 1");
+LocalMemoryTiming::LocalMemoryTiming(const Config& c, std::vector<std::string> requesters)
+    : config_(c) {
+  if (c.ports < 0 || c.banks < 0 || c.interleave_bytes < 1 || c.latency < 1 ||
+      c.bytes_per_cycle < 1)
+    throw std::invalid_argument(
+        "local memory: ports and banks must be >= 0, granule, latency and width >= 1");
   if (requesters.empty()) throw std::invalid_argument("local memory: no requester");
   for (std::string& name : requesters) requesters_.push_back({std::move(name)});
   port_stats_.resize(size_t(c.ports));
@@ -25,13 +28,14 @@ LocalMemoryTiming::LocalMemoryTiming(const Config& c, std::vector<std::string> r
   bank_booked_.resize(size_t(c.banks));
 }
 
-LocalMemoryTiming::Ticket LocalMemoryTiming::request(int requester, uint64_t address, uint64_t bytes, uint64_t cycle) {
+LocalMemoryTiming::Ticket LocalMemoryTiming::request(int requester, uint64_t address,
+                                                     uint64_t bytes, uint64_t cycle) {
   if (requester < 0 || size_t(requester) >= requesters_.size())
     throw std::invalid_argument("local memory: no requester " + std::to_string(requester));
   if (bytes == 0) throw std::invalid_argument("local memory: a request of 0 bytes");
   if (cycle < open_from_)
-    throw std::logic_error("local memory: a request for cycle " + std::to_string(cycle) + ", but cycles before " +
-                           std::to_string(open_from_) + " are closed");
+    throw std::logic_error("local memory: a request for cycle " + std::to_string(cycle) +
+                           ", but cycles before " + std::to_string(open_from_) + " are closed");
   // A request for a later cycle closes the cycle of those waiting: none can join them now.
   if (!waiting_.empty() && waiting_.front().cycle < cycle) admit_waiting();
   open_from_ = cycle;
@@ -51,8 +55,9 @@ void LocalMemoryTiming::resolve(uint64_t cycle) {
 LocalMemoryTiming::Grant LocalMemoryTiming::collect(Ticket t) {
   const auto it = grants_.find(t);
   if (it == grants_.end())
-    throw std::logic_error("local memory: request " + std::to_string(t) +
-                           (t < next_ticket_ ? " is not resolved yet, or was collected" : " was never made"));
+    throw std::logic_error(
+        "local memory: request " + std::to_string(t) +
+        (t < next_ticket_ ? " is not resolved yet, or was collected" : " was never made"));
   const Grant g = it->second;
   grants_.erase(it);
   return g;
@@ -61,10 +66,12 @@ LocalMemoryTiming::Grant LocalMemoryTiming::collect(Ticket t) {
 void LocalMemoryTiming::admit_waiting() {
   const int n = int(requesters_.size());
   auto rank = [&](const Request& r) {
-    return config_.arbitration == MemoryArbitration::RoundRobin ? (r.requester - pointer_ + n) % n : r.requester;
+    return config_.arbitration == MemoryArbitration::RoundRobin ? (r.requester - pointer_ + n) % n
+                                                                : r.requester;
   };
   // Stable: one requester's requests keep the order they were made in.
-  std::stable_sort(waiting_.begin(), waiting_.end(), [&](const Request& a, const Request& b) { return rank(a) < rank(b); });
+  std::stable_sort(waiting_.begin(), waiting_.end(),
+                   [&](const Request& a, const Request& b) { return rank(a) < rank(b); });
   pointer_ = (waiting_.front().requester + 1) % n;
   for (const Request& r : waiting_) admit(r);
   waiting_.clear();
@@ -100,15 +107,19 @@ void LocalMemoryTiming::admit(const Request& r) {
 }
 
 /// The banks each beat uses.
-std::vector<LocalMemoryTiming::Use> LocalMemoryTiming::bank_uses(uint64_t address, uint64_t bytes) const {
+std::vector<LocalMemoryTiming::Use> LocalMemoryTiming::bank_uses(uint64_t address,
+                                                                 uint64_t bytes) const {
   std::vector<Use> uses;
   if (config_.banks == 0) return uses;
-  const uint64_t w = config_.bytes_per_cycle, g = config_.interleave_bytes, banks = uint64_t(config_.banks);
+  const uint64_t w = config_.bytes_per_cycle, g = config_.interleave_bytes,
+                 banks = uint64_t(config_.banks);
   for (uint64_t k = 0; k * w < bytes; ++k) {
     const uint64_t lo = address + k * w, hi = address + std::min(bytes, (k + 1) * w);
-    // Consecutive granules lie in distinct banks, up to `banks` of them: a beat over more uses every bank.
+    // Consecutive granules lie in distinct banks, up to `banks` of them: a beat over more uses
+    // every bank.
     const uint64_t first = lo / g, last = std::min((hi - 1) / g, first + banks - 1);
-    for (uint64_t granule = first; granule <= last; ++granule) uses.push_back({k, int(granule % banks)});
+    for (uint64_t granule = first; granule <= last; ++granule)
+      uses.push_back({k, int(granule % banks)});
   }
   return uses;
 }

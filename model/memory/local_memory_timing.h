@@ -96,7 +96,9 @@ class LocalMemoryTiming {
   /// configuration out of range or no requester.
   LocalMemoryTiming(const Config& c, std::vector<std::string> requesters);
 
-  uint64_t beats(uint64_t bytes) const { return (bytes + config_.bytes_per_cycle - 1) / config_.bytes_per_cycle; }
+  uint64_t beats(uint64_t bytes) const {
+    return (bytes + config_.bytes_per_cycle - 1) / config_.bytes_per_cycle;
+  }
   uint64_t unloaded_latency(uint64_t bytes) const { return config_.latency + beats(bytes) - 1; }
 
   /// Makes a request. Cycles never go back: a request for a cycle before an earlier request's, or
@@ -148,7 +150,7 @@ class LocalMemoryTiming {
   Ticket next_ticket_ = 0;
   uint64_t open_from_ = 0;  ///< the earliest cycle a request may still be made for
   uint64_t forgotten_before_ = 0;
-  int pointer_ = 0;         ///< round robin: the requester first in the next cycle's order
+  int pointer_ = 0;  ///< round robin: the requester first in the next cycle's order
 };
 
 }  // namespace rtm

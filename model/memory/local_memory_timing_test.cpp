@@ -128,7 +128,8 @@ TEST(LocalMemoryTiming, AStreamOverInterleavedBanksFollowsOneBeatBehindAnother) 
   EXPECT_EQ(gb.completion, 5u);
   for (const auto& bank : m.banks()) EXPECT_EQ(bank.busy_cycles, 2u);
   EXPECT_EQ(m.banks()[0].conflicts, 1u);
-  EXPECT_EQ(m.banks()[1].conflicts, 1u) << "its unloaded beat 1 would meet the first's beat 1 on bank 1";
+  EXPECT_EQ(m.banks()[1].conflicts, 1u)
+      << "its unloaded beat 1 would meet the first's beat 1 on bank 1";
 }
 
 TEST(LocalMemoryTiming, ABeatUsesEveryBankHoldingOneOfItsBytes) {
@@ -195,7 +196,8 @@ TEST(LocalMemoryTiming, FixedPriorityPutsTheLowerRequesterFirstAndFcfsTheOneMade
 }
 
 TEST(LocalMemoryTiming, OlderRequestsGoFirstWhateverThePolicy) {
-  for (MemoryArbitration a : {MemoryArbitration::RoundRobin, MemoryArbitration::FixedPriority, MemoryArbitration::Fcfs}) {
+  for (MemoryArbitration a :
+       {MemoryArbitration::RoundRobin, MemoryArbitration::FixedPriority, MemoryArbitration::Fcfs}) {
     LocalMemoryTiming m = with(memory(1, 0, 4, 1, 4, a));
     // Requester 1 holds the port in cycles 0..2; 2 asked in cycle 1, 0 in cycle 2: 2 first.
     const auto t1 = m.request(1, 0, 12, 0);
@@ -315,7 +317,8 @@ TEST(LocalMemoryTiming, RandomRequestsNeverDoubleBookAndTheirGrantsObeyTheFormul
     };
     std::vector<Req> reqs;
     for (uint64_t cycle = 0; cycle < 40; cycle += rng() % 3)
-      for (int n = int(rng() % 4); n > 0; --n) reqs.push_back({int(rng() % requesters), rng() % 64, 1 + rng() % 20, cycle});
+      for (int n = int(rng() % 4); n > 0; --n)
+        reqs.push_back({int(rng() % requesters), rng() % 64, 1 + rng() % 20, cycle});
     // The grants in the order of `reqs`, the requests made in the order of `order` (indices).
     auto run_all = [&](const std::vector<size_t>& order) {
       LocalMemoryTiming m = with(c, requesters);
@@ -343,15 +346,21 @@ TEST(LocalMemoryTiming, RandomRequestsNeverDoubleBookAndTheirGrantsObeyTheFormul
       }
       stall[size_t(q.r)] += g.stall();
       for (uint64_t k = 0; k < beats; ++k) {
-        EXPECT_TRUE(port_cycles.insert({g.port, g.start + k}).second) << "port " << g.port << " twice in one cycle";
+        EXPECT_TRUE(port_cycles.insert({g.port, g.start + k}).second)
+            << "port " << g.port << " twice in one cycle";
         if (banks == 0) continue;
-        const uint64_t lo = q.a + k * c.bytes_per_cycle, hi = q.a + std::min(q.b, (k + 1) * c.bytes_per_cycle);
+        const uint64_t lo = q.a + k * c.bytes_per_cycle,
+                       hi = q.a + std::min(q.b, (k + 1) * c.bytes_per_cycle);
         std::set<int> used;
-        for (uint64_t byte = lo; byte < hi; ++byte) used.insert(int(byte / c.interleave_bytes % uint64_t(banks)));
-        for (int b : used) EXPECT_TRUE(bank_cycles.insert({b, g.start + k}).second) << "bank " << b << " twice in one cycle";
+        for (uint64_t byte = lo; byte < hi; ++byte)
+          used.insert(int(byte / c.interleave_bytes % uint64_t(banks)));
+        for (int b : used)
+          EXPECT_TRUE(bank_cycles.insert({b, g.start + k}).second)
+              << "bank " << b << " twice in one cycle";
       }
     }
-    for (int r = 0; r < requesters; ++r) EXPECT_EQ(m.requesters()[size_t(r)].stall_cycles, stall[size_t(r)]);
+    for (int r = 0; r < requesters; ++r)
+      EXPECT_EQ(m.requesters()[size_t(r)].stall_cycles, stall[size_t(r)]);
     uint64_t port_busy = 0, bank_busy = 0;
     for (const auto& p : m.ports()) port_busy += p.busy_cycles;
     for (const auto& b : m.banks()) bank_busy += b.busy_cycles;

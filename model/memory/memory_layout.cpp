@@ -6,7 +6,8 @@ namespace rtm {
 
 std::string MemoryLayout::describe() const {
   std::string s;
-  for (const MemorySection& m : sections) s += (s.empty() ? "" : ", ") + m.name + " " + std::to_string(m.bytes) + " B";
+  for (const MemorySection& m : sections)
+    s += (s.empty() ? "" : ", ") + m.name + " " + std::to_string(m.bytes) + " B";
   return s;
 }
 

@@ -42,7 +42,8 @@ TEST(MemoryLayout, SectionsAreTheSceneCopyThePrimaryRaysAndTheFrameBuffer) {
   EXPECT_EQ(m.sections[4].bytes, 10 * kPixelRecordBytes);
   const uint64_t used = 184 + m.sections[1].bytes + 56 + 280 + 160;
   EXPECT_EQ(m.used, used);
-  EXPECT_EQ(m.sections[0].bytes + m.sections[1].bytes + m.sections[2].bytes, image.bytes);  // what the link carries
+  EXPECT_EQ(m.sections[0].bytes + m.sections[1].bytes + m.sections[2].bytes,
+            image.bytes);  // what the link carries
   EXPECT_TRUE(m.fits());
   EXPECT_EQ(m.spill_bytes(), 4096 - used);
   EXPECT_EQ(m.spill_rays(), (4096 - used) / kSpillRecordBytes);

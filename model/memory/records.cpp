@@ -8,7 +8,8 @@ namespace rtm {
 
 MemoryAddresses::MemoryAddresses(const SceneImage& image, uint64_t pixels, const MachineConfig& c) {
   const MemoryLayout layout = memory_layout(image, pixels, c);
-  if (layout.sections.size() != 5) throw std::logic_error("memory addresses: memory_layout's sections changed");
+  if (layout.sections.size() != 5)
+    throw std::logic_error("memory addresses: memory_layout's sections changed");
   std::vector<uint64_t> start;
   uint64_t at = 0;
   for (const MemorySection& s : layout.sections) {
@@ -21,7 +22,8 @@ MemoryAddresses::MemoryAddresses(const SceneImage& image, uint64_t pixels, const
     uint64_t record = start[0];
     for (size_t i = 0; i < mem.rams.size(); ++i) {
       primitives.push_back(record);
-      record += word * primitive_record_words(coef_record_words(mem.rams[i], sparse), image.scene->primitives[i].clips.size());
+      record += word * primitive_record_words(coef_record_words(mem.rams[i], sparse),
+                                              image.scene->primitives[i].clips.size());
     }
   });
   voxel_offsets = start[1];

@@ -46,10 +46,14 @@ uint64_t coef_record_words(const CoefRam<Real>& ram, bool sparse) {
   return words;
 }
 /// What a lane loads into its MAC's coefficient RAM on a miss (memory/coefficient_ram.h).
-constexpr uint64_t coef_record_bytes(Precision p, uint64_t words = kRamWords) { return words * word_bytes(p); }
+constexpr uint64_t coef_record_bytes(Precision p, uint64_t words = kRamWords) {
+  return words * word_bytes(p);
+}
 /// A primitive's whole record, in words: its coefficient record, 3 for its centre, 4 per clip
 /// half-space, 6 for its bounds and 1 for its material.
-constexpr uint64_t primitive_record_words(uint64_t coef_words, uint64_t clips) { return coef_words + 3 + 4 * clips + 6 + 1; }
+constexpr uint64_t primitive_record_words(uint64_t coef_words, uint64_t clips) {
+  return coef_words + 3 + 4 * clips + 6 + 1;
+}
 /// Position and colour.
 constexpr uint64_t kLightRecordWords = 6;
 /// Colour, ka, kd, ks, kt and the index of refraction.
@@ -84,7 +88,9 @@ struct MemoryAddresses {
   MemoryAddresses(const SceneImage& image, uint64_t pixels, const MachineConfig& c);
 
   uint64_t coef_record(uint32_t prim) const { return primitives[prim]; }
-  uint64_t voxel_entry(int64_t voxel) const { return voxel_offsets + kVoxelOffsetBytes * uint64_t(voxel); }
+  uint64_t voxel_entry(int64_t voxel) const {
+    return voxel_offsets + kVoxelOffsetBytes * uint64_t(voxel);
+  }
   /// The list of a voxel whose offset is `first` (Grid::start[v]).
   uint64_t voxel_list(uint32_t first) const { return voxel_lists + kPrimitiveIdBytes * first; }
   uint64_t primary_ray(uint64_t i) const { return rays + kRayRecordBytes * i; }

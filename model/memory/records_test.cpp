@@ -35,7 +35,8 @@ TEST(Records, TheRecordsAddUpToTheSectionsOfTheLayout) {
         const SceneImage image(s, g, c);
         const MemoryAddresses a(image, 7, c);
         const MemoryLayout l = memory_layout(image, 7, c);
-        const std::string what = std::string(to_string(p)) + " " + to_string(schedule) + " " + (recentre ? "recentred" : "world");
+        const std::string what = std::string(to_string(p)) + " " + to_string(schedule) + " " +
+                                 (recentre ? "recentred" : "world");
         ASSERT_EQ(l.sections[0].name, "primitives");
         ASSERT_EQ(l.sections[1].name, "voxel data");
         ASSERT_EQ(l.sections[2].name, "lights and materials");
@@ -44,7 +45,8 @@ TEST(Records, TheRecordsAddUpToTheSectionsOfTheLayout) {
         EXPECT_EQ(a.voxel_offsets - a.coef_record(0), image.primitive_bytes) << what;
         EXPECT_EQ(voxel_data_bytes(g.start.size() - 1, g.items.size()), image.voxel_bytes) << what;
         EXPECT_EQ(a.lights - a.voxel_offsets, image.voxel_bytes) << what;
-        EXPECT_EQ(word_bytes(p) * (kLightRecordWords * s.lights.size() + kMaterialRecordWords * s.materials.size()),
+        EXPECT_EQ(word_bytes(p) * (kLightRecordWords * s.lights.size() +
+                                   kMaterialRecordWords * s.materials.size()),
                   image.light_bytes)
             << what;
         EXPECT_EQ(a.rays, image.bytes) << what << ": the scene copy comes first";

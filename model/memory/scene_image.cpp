@@ -4,7 +4,8 @@
 
 namespace rtm {
 
-SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c) : scene(&s), grid(&g) {
+SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c)
+    : scene(&s), grid(&g) {
   const bool sparse = c.mac_schedule == MachineConfig::MacSchedule::Sparse;
   if (c.intersection_precision_in_force() == Precision::Fp32) {
     mem32.emplace(s, g, c.recentre, c.numerics());
@@ -20,17 +21,17 @@ SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c) : 
   // reference); per light 6 words, per material 8, in the shading unit's.
   const uint64_t word = word_bytes(c.intersection_precision_in_force());
   primitive_bytes = word * visit([&](const auto& mem) {
-    uint64_t words = 0;
-    for (size_t i = 0; i < s.primitives.size(); ++i) {
-      uint64_t ram = kRamWords;
-      if (sparse) {
-        ram = 1;
-        for (int w = 0; w < kRamWords; ++w) ram += mem.rams[i][size_t(w)] != 0;
-      }
-      words += ram + 3 + 4 * s.primitives[i].clips.size() + 6 + 1;
-    }
-    return words;
-  });
+                      uint64_t words = 0;
+                      for (size_t i = 0; i < s.primitives.size(); ++i) {
+                        uint64_t ram = kRamWords;
+                        if (sparse) {
+                          ram = 1;
+                          for (int w = 0; w < kRamWords; ++w) ram += mem.rams[i][size_t(w)] != 0;
+                        }
+                        words += ram + 3 + 4 * s.primitives[i].clips.size() + 6 + 1;
+                      }
+                      return words;
+                    });
   // With barycentric normals, a triangle with vertex normals also holds them (9 words) and the
   // reciprocals of its clips' values at the opposite corners (3), in the shading unit's words.
   if (c.normal_interpolation == NormalInterpolation::Barycentric) {
@@ -39,7 +40,8 @@ SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c) : 
     primitive_bytes += word_bytes(c.shading_precision_in_force()) * 12 * smooth;
   }
   voxel_bytes = 4 * (uint64_t(g.start.size()) + uint64_t(g.items.size()));
-  light_bytes = word_bytes(c.shading_precision_in_force()) * (6 * uint64_t(s.lights.size()) + 8 * uint64_t(s.materials.size()));
+  light_bytes = word_bytes(c.shading_precision_in_force()) *
+                (6 * uint64_t(s.lights.size()) + 8 * uint64_t(s.materials.size()));
   bytes = primitive_bytes + voxel_bytes + light_bytes;
 }
 

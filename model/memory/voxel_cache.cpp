@@ -26,7 +26,8 @@ VoxelCache::VoxelCache(uint64_t capacity_bytes, uint64_t line_bytes, Placement p
 uint64_t VoxelCache::access(uint64_t address, uint64_t bytes) {
   if (bytes == 0) throw std::invalid_argument("voxel cache: an access of 0 bytes");
   uint64_t loaded = 0;
-  for (uint64_t n = address / line_; n <= (address + bytes - 1) / line_; ++n) loaded += !line_access(n);
+  for (uint64_t n = address / line_; n <= (address + bytes - 1) / line_; ++n)
+    loaded += !line_access(n);
   ++(loaded == 0 ? hits_ : misses_);
   fills_ += loaded;
   return loaded;

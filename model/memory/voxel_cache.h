@@ -20,10 +20,11 @@ class VoxelCache {
  public:
   enum class Placement { DirectMapped, Lru };
 
-  /// voxel_cache_bytes, in lines of memory_bytes_per_cycle (a line fill is one beat), direct mapped.
+  /// voxel_cache_bytes, in lines of memory_bytes_per_cycle (a line fill is one beat), direct
+  /// mapped.
   static VoxelCache from(const MachineConfig& c);
-  /// floor(capacity / line) lines; none (every access misses, nothing is kept) when capacity < line.
-  /// Throws std::invalid_argument for line_bytes 0.
+  /// floor(capacity / line) lines; none (every access misses, nothing is kept) when capacity <
+  /// line. Throws std::invalid_argument for line_bytes 0.
   VoxelCache(uint64_t capacity_bytes, uint64_t line_bytes, Placement p = Placement::DirectMapped);
 
   /// A read of `bytes` (> 0) at `address`: how many lines it had to load (0: a hit).
@@ -35,7 +36,9 @@ class VoxelCache {
   uint64_t misses() const { return misses_; }
   uint64_t line_fills() const { return fills_; }
   /// hits / accesses; 1 before any access.
-  double hit_rate() const { return hits_ + misses_ == 0 ? 1.0 : double(hits_) / double(hits_ + misses_); }
+  double hit_rate() const {
+    return hits_ + misses_ == 0 ? 1.0 : double(hits_) / double(hits_ + misses_);
+  }
 
  private:
   bool line_access(uint64_t n);

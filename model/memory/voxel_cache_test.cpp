@@ -34,7 +34,7 @@ TEST(VoxelCache, DirectMappedLinesFourApartEvictEachOther) {
 
 TEST(VoxelCache, LruKeepsTheLinesInUseWhereverTheyFall) {
   VoxelCache c(32, 16, VoxelCache::Placement::Lru);  // 2 lines, any place
-  EXPECT_EQ(c.access(0, 4), 1u);   // line 0
+  EXPECT_EQ(c.access(0, 4), 1u);                     // line 0
   EXPECT_EQ(c.access(64, 4), 1u);  // line 4: both held (direct mapped would evict line 0)
   EXPECT_EQ(c.access(0, 4), 0u);
   EXPECT_EQ(c.access(128, 4), 1u);  // line 8 evicts line 4, the least recently used

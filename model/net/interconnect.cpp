@@ -26,8 +26,12 @@ Interconnect::Interconnect(const MachineConfig& c, uint64_t horizon_ticks)
       bytes_per_second_(c.link_bandwidth_mb_s * 1e6),
       horizon_(horizon_ticks) {
   switch (topology_) {
-    case Topology::Serial: links_.push_back({"link"}); break;
-    case Topology::Bus: links_.push_back({"bus"}); break;
+    case Topology::Serial:
+      links_.push_back({"link"});
+      break;
+    case Topology::Bus:
+      links_.push_back({"bus"});
+      break;
     case Topology::Star:
     case Topology::Tree:
       for (int i = 0; i < pes_; ++i) links_.push_back({"pe" + std::to_string(i)});
@@ -40,8 +44,9 @@ Interconnect::Interconnect(const MachineConfig& c, uint64_t horizon_ticks)
 uint64_t Interconnect::hop_ticks(uint64_t bytes) const {
   const double seconds = double(bytes) / bytes_per_second_;  // as the original link computed it
   if (!(seconds * 1e12 < double(horizon_)))
-    throw InterconnectTimeError("a transfer of " + std::to_string(bytes) + " bytes would take longer than " +
-                                std::to_string(horizon_) + " ps");
+    throw InterconnectTimeError("a transfer of " + std::to_string(bytes) +
+                                " bytes would take longer than " + std::to_string(horizon_) +
+                                " ps");
   return latency_ticks_ + ticks(seconds, 1e12);
 }
 
@@ -50,8 +55,9 @@ Interconnect::Hop Interconnect::hop(size_t link, uint64_t bytes, uint64_t earlie
   const uint64_t d = hop_ticks(bytes);
   if (start >= horizon_ || d >= horizon_ - start) {
     char s[200];
-    std::snprintf(s, sizeof s, "a transfer of %llu bytes over %s from %.3g ps would end past %.3g ps",
-                  (unsigned long long)bytes, links_[link].name.c_str(), double(start), double(horizon_));
+    std::snprintf(
+        s, sizeof s, "a transfer of %llu bytes over %s from %.3g ps would end past %.3g ps",
+        (unsigned long long)bytes, links_[link].name.c_str(), double(start), double(horizon_));
     throw InterconnectTimeError(s);
   }
   link_free_[link] = start + d;
@@ -89,7 +95,8 @@ std::vector<size_t> Interconnect::path(int pe) const {
   return down;
 }
 
-TransferTimes Interconnect::along(const std::vector<size_t>& route, uint64_t bytes, uint64_t ready) {
+TransferTimes Interconnect::along(const std::vector<size_t>& route, uint64_t bytes,
+                                  uint64_t ready) {
   // Store-and-forward: each PE on the way holds the whole transfer before it passes it on.
   TransferTimes t{0, 0, ready};
   for (size_t i = 0; i < route.size(); ++i) {
@@ -105,14 +112,16 @@ TransferTimes Interconnect::send(int pe, uint64_t bytes, uint64_t ready) {
   if (bytes == 0) return {ready, ready, ready};
   switch (topology_) {
     case Topology::Serial:
-    case Topology::Bus: return along({0}, bytes, ready);
+    case Topology::Bus:
+      return along({0}, bytes, ready);
     case Topology::Star: {
       const size_t p = star_port(size_t(pe), ready);
       const TransferTimes t = along({size_t(pe)}, bytes, std::max(ready, port_free_[p]));
       port_free_[p] = t.end;
       return t;
     }
-    case Topology::Tree: break;
+    case Topology::Tree:
+      break;
   }
   return along(path(pe), bytes, ready);
 }
@@ -128,11 +137,13 @@ std::vector<TransferTimes> Interconnect::broadcast(uint64_t bytes, uint64_t read
       break;
     }
     case Topology::Star: {
-      if (host_ports_ < pes_) throw std::logic_error("a broadcast on a star needs a host port per PE");
+      if (host_ports_ < pes_)
+        throw std::logic_error("a broadcast on a star needs a host port per PE");
       // The pes ports free first, and every link, carry it at once.
       std::vector<size_t> ports(port_free_.size());
       std::iota(ports.begin(), ports.end(), size_t(0));
-      std::stable_sort(ports.begin(), ports.end(), [&](size_t a, size_t b) { return port_free_[a] < port_free_[b]; });
+      std::stable_sort(ports.begin(), ports.end(),
+                       [&](size_t a, size_t b) { return port_free_[a] < port_free_[b]; });
       ports.resize(size_t(pes_));
       uint64_t start = ready;
       for (size_t p : ports) start = std::max(start, port_free_[p]);
@@ -145,7 +156,8 @@ std::vector<TransferTimes> Interconnect::broadcast(uint64_t bytes, uint64_t read
       break;
     }
     case Topology::Tree:
-      // Parents come before their children in PE order: each forwards once it holds the whole scene.
+      // Parents come before their children in PE order: each forwards once it holds the whole
+      // scene.
       for (int i = 0; i < pes_; ++i) {
         const int p = parent(i);
         const Hop h = hop(size_t(i), bytes, p < 0 ? ready : t[size_t(p)].end);
@@ -157,7 +169,8 @@ std::vector<TransferTimes> Interconnect::broadcast(uint64_t bytes, uint64_t read
 }
 
 TransferTimes Interconnect::gather(int pe, uint64_t bytes, uint64_t ready) {
-  if (topology_ != Topology::Tree || bytes == 0) return send(pe, bytes, ready);  // one link carries either way alike
+  if (topology_ != Topology::Tree || bytes == 0)
+    return send(pe, bytes, ready);  // one link carries either way alike
   std::vector<size_t> up = path(pe);
   std::reverse(up.begin(), up.end());
   return along(up, bytes, ready);
@@ -166,9 +179,12 @@ TransferTimes Interconnect::gather(int pe, uint64_t bytes, uint64_t ready) {
 uint64_t Interconnect::host_free() const {
   switch (topology_) {
     case Topology::Serial:
-    case Topology::Bus: return link_free_[0];
-    case Topology::Star: return *std::min_element(port_free_.begin(), port_free_.end());
-    case Topology::Tree: break;
+    case Topology::Bus:
+      return link_free_[0];
+    case Topology::Star:
+      return *std::min_element(port_free_.begin(), port_free_.end());
+    case Topology::Tree:
+      break;
   }
   // The host's own links are its children's.
   return *std::min_element(link_free_.begin(), link_free_.begin() + std::min(host_ports_, pes_));

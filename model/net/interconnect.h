@@ -25,7 +25,7 @@ struct LinkUse {
   std::string name;         ///< "link" (serial), "bus", or "peN": PE N's own link (star, tree)
   uint64_t busy_ticks = 0;  ///< picoseconds carrying data
   uint64_t bytes = 0;
-  uint64_t hops = 0;        ///< transfers it carried (a broadcast counts once per link)
+  uint64_t hops = 0;  ///< transfers it carried (a broadcast counts once per link)
 };
 
 /// When one transfer happens, in picoseconds.

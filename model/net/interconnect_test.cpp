@@ -59,8 +59,8 @@ TEST(Interconnect, AHopIsLatencyPlusBytesOverBandwidthInWholePicoseconds) {
   EXPECT_EQ(n.hop_ticks(kScene), S);
   EXPECT_EQ(n.hop_ticks(0), 1'000'000u);
   MachineConfig odd = net(Topology::Serial, 1);
-  odd.link_bandwidth_mb_s = 3;     // a byte: 333333.33 ps
-  odd.link_latency_ns = 0.0004;    // 0.4 ps: rounds to 0
+  odd.link_bandwidth_mb_s = 3;   // a byte: 333333.33 ps
+  odd.link_latency_ns = 0.0004;  // 0.4 ps: rounds to 0
   EXPECT_EQ(Interconnect(odd, kHorizon).hop_ticks(1), 333'333u);
   EXPECT_EQ(Interconnect(odd, kHorizon).hop_ticks(2), 666'667u);
 }
@@ -75,7 +75,8 @@ TEST(Interconnect, SerialCarriesOneTransferAtATime) {
       const auto rays = host_sends(n, pes, broadcast, now);
       for (int i = 0; i < pes; ++i) {
         const uint64_t arrive = broadcast ? S + i * R : (i + 1) * S + i * R;
-        EXPECT_EQ(rays[size_t(i)].arrive, arrive) << pes << " PEs, PE " << i << ", broadcast " << broadcast;
+        EXPECT_EQ(rays[size_t(i)].arrive, arrive)
+            << pes << " PEs, PE " << i << ", broadcast " << broadcast;
         EXPECT_EQ(rays[size_t(i)].end, arrive + R);
       }
       const uint64_t scenes = broadcast ? 1 : uint64_t(pes);
@@ -94,11 +95,13 @@ TEST(Interconnect, SerialCarriesOneTransferAtATime) {
 TEST(Interconnect, ABusSerialisesTransfersAndBroadcastsInOne) {
   for (int pes : {1, 2, 5, 16}) {
     for (bool broadcast : {false, true}) {
-      Interconnect bus(net(Topology::Bus, pes), kHorizon), serial(net(Topology::Serial, pes), kHorizon);
+      Interconnect bus(net(Topology::Bus, pes), kHorizon),
+          serial(net(Topology::Serial, pes), kHorizon);
       uint64_t a = 0, b = 0;
       const auto on_bus = host_sends(bus, pes, broadcast, a);
       const auto on_serial = host_sends(serial, pes, broadcast, b);
-      for (int i = 0; i < pes; ++i) EXPECT_EQ(on_bus[size_t(i)].arrive, on_serial[size_t(i)].arrive);
+      for (int i = 0; i < pes; ++i)
+        EXPECT_EQ(on_bus[size_t(i)].arrive, on_serial[size_t(i)].arrive);
       EXPECT_EQ(a, b);
       EXPECT_EQ(bus.links()[0].name, "bus");
       EXPECT_EQ(bus.links()[0].bytes, (broadcast ? 1 : uint64_t(pes)) * kScene + pes * kRays);
@@ -120,7 +123,8 @@ TEST(Interconnect, AStarDrivesHostPortsLinksAtOnce) {
       uint64_t now = 0;
       const auto rays = host_sends(n, pes, false, now);
       for (int i = 0; i < pes; ++i)
-        EXPECT_EQ(rays[size_t(i)].arrive, uint64_t(i / ports) * (S + R) + S) << pes << " PEs, " << ports << " ports, PE " << i;
+        EXPECT_EQ(rays[size_t(i)].arrive, uint64_t(i / ports) * (S + R) + S)
+            << pes << " PEs, " << ports << " ports, PE " << i;
       const uint64_t rounds = uint64_t((pes + ports - 1) / ports);
       EXPECT_EQ(n.idle_at(), rounds * (S + R));
       ASSERT_EQ(n.links().size(), size_t(pes));
@@ -195,7 +199,8 @@ TEST(Interconnect, ATreeRoutesEachTransferThroughTheAncestors) {
       EXPECT_EQ(t.arrive, 2 * k * R);
       EXPECT_EQ(t.end, (2 * k + 1) * R);
     }
-    for (int k = 0; k < pes; ++k) EXPECT_EQ(n.links()[size_t(k)].bytes, (pes - k) * kRays) << "PE " << k << "'s link";
+    for (int k = 0; k < pes; ++k)
+      EXPECT_EQ(n.links()[size_t(k)].bytes, (pes - k) * kRays) << "PE " << k << "'s link";
   }
   // The whole send phase without broadcast on 5 PEs, fan-out 2: worked through by hand.
   Interconnect n(net(Topology::Tree, 5, 1, 2), kHorizon);
@@ -234,8 +239,8 @@ TEST(Interconnect, GathersContendWithTransfers) {
     const TransferTimes r = n.send(4, kRays, 0);
     EXPECT_EQ(r.end, 3 * R);
     const TransferTimes g = n.gather(3, kFrame, 0);
-    EXPECT_EQ(g.start, 0u);                // PE 3's own link is free
-    EXPECT_EQ(g.end, 2 * R + 2 * G);       // link 1 once the rays left it (2R), then link 0
+    EXPECT_EQ(g.start, 0u);           // PE 3's own link is free
+    EXPECT_EQ(g.end, 2 * R + 2 * G);  // link 1 once the rays left it (2R), then link 0
     EXPECT_EQ(n.links()[1].bytes, kRays + kFrame);
     EXPECT_EQ(n.links()[0].busy_ticks, R + G);
   }

@@ -28,7 +28,9 @@ inline std::string partial_tag() {
 /// A temporary name beside `path`, keeping its extension (OpenImageIO picks the format by it).
 inline std::string temporary_beside(const std::string& path) {
   const std::filesystem::path p(path);
-  return (p.parent_path() / ("." + p.stem().string() + "." + partial_tag() + p.extension().string())).string();
+  return (p.parent_path() /
+          ("." + p.stem().string() + "." + partial_tag() + p.extension().string()))
+      .string();
 }
 
 /// Whether a file named `name` is a temporary whose writer is gone: written by a process of this
@@ -46,7 +48,8 @@ inline bool abandoned_partial(const std::string& name, std::filesystem::file_tim
   if (end == pid_text.c_str() || pid <= 0 || (*end && *end != '.')) return false;
   const std::string mine = partial_tag();
   const std::string my_host = mine.substr(8, mine.rfind('-') - 8);
-  if (host.empty() || host == my_host) return pid != long(getpid()) && kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+  if (host.empty() || host == my_host)
+    return pid != long(getpid()) && kill(pid_t(pid), 0) != 0 && errno == ESRCH;
   return std::filesystem::file_time_type::clock::now() - changed > std::chrono::hours(24);
 }
 
@@ -61,7 +64,8 @@ inline void remove_abandoned_partials(const std::string& path) {
     const std::string name = it->path().filename().string();
     if (name.rfind(prefix, 0) != 0 || it->path().extension() != p.extension()) continue;
     std::error_code ec2;
-    if (abandoned_partial(name, fs::last_write_time(it->path(), ec2)) && !ec2) fs::remove(it->path(), ec2);
+    if (abandoned_partial(name, fs::last_write_time(it->path(), ec2)) && !ec2)
+      fs::remove(it->path(), ec2);
   }
 }
 
@@ -70,7 +74,8 @@ template <class Fn>
 void commit_atomically(const std::string& path, Fn write) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (const fs::path parent = fs::path(path).parent_path(); !parent.empty()) fs::create_directories(parent, ec);
+  if (const fs::path parent = fs::path(path).parent_path(); !parent.empty())
+    fs::create_directories(parent, ec);
   const std::string tmp = temporary_beside(path);
   try {
     write(tmp);

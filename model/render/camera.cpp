@@ -4,10 +4,14 @@ namespace rtm {
 
 const char* ray_kind_name(RayKind k) {
   switch (k) {
-    case RayKind::Primary: return "primary";
-    case RayKind::Shadow: return "shadow";
-    case RayKind::Reflected: return "reflected";
-    case RayKind::Transmitted: return "transmitted";
+    case RayKind::Primary:
+      return "primary";
+    case RayKind::Shadow:
+      return "shadow";
+    case RayKind::Reflected:
+      return "reflected";
+    case RayKind::Transmitted:
+      return "transmitted";
   }
   return "?";
 }

@@ -26,16 +26,18 @@ std::string library_path() {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (const char* set = std::getenv("RTM_IMAGE_LIBRARY")) {
-    if (!fs::exists(set, ec)) throw std::runtime_error(std::string("RTM_IMAGE_LIBRARY: no such file: ") + set);
+    if (!fs::exists(set, ec))
+      throw std::runtime_error(std::string("RTM_IMAGE_LIBRARY: no such file: ") + set);
     return set;
   }
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   const fs::path beside = ec ? fs::path() : exe.parent_path() / kImageLibraryFile;
   if (!beside.empty() && fs::exists(beside, ec)) return beside.string();
   if (fs::exists(RTM_IMAGE_LIBRARY, ec)) return RTM_IMAGE_LIBRARY;
-  throw std::runtime_error(std::string("cannot find rtm's image library ") + kImageLibraryFile + ": it belongs beside " +
-                           (exe.empty() ? std::string("the rtm program") : exe.string()) + " (the build puts it at " +
-                           RTM_IMAGE_LIBRARY + "; RTM_IMAGE_LIBRARY=FILE names another place)");
+  throw std::runtime_error(
+      std::string("cannot find rtm's image library ") + kImageLibraryFile + ": it belongs beside " +
+      (exe.empty() ? std::string("the rtm program") : exe.string()) + " (the build puts it at " +
+      RTM_IMAGE_LIBRARY + "; RTM_IMAGE_LIBRARY=FILE names another place)");
 }
 
 const ImageLibrary* load(const std::string& path) {
@@ -43,11 +45,14 @@ const ImageLibrary* load(const std::string& path) {
   if (!handle) throw std::runtime_error(std::string("cannot load the image library: ") + dlerror());
   using Entry = const ImageLibrary* (*)();
   const auto entry = reinterpret_cast<Entry>(dlsym(handle, kImageLibrarySymbol));
-  if (!entry) throw std::runtime_error(path + ": not rtm's image library (it has no " + kImageLibrarySymbol + ")");
+  if (!entry)
+    throw std::runtime_error(path + ": not rtm's image library (it has no " + kImageLibrarySymbol +
+                             ")");
   const ImageLibrary* library = entry();
   // An older library's first member is a function pointer, never a small number.
   if (library->interface != kImageLibraryInterface)
-    throw std::runtime_error(path + ": an image library from another build of rtm: use the " + kImageLibraryFile +
+    throw std::runtime_error(path + ": an image library from another build of rtm: use the " +
+                             kImageLibraryFile +
                              " built with this rtm (or name it with RTM_IMAGE_LIBRARY=FILE)");
   return library;
 }
@@ -57,7 +62,8 @@ std::shared_future<const ImageLibrary*> loaded;
 
 /// Finding the library is immediate, so a missing one is reported before any work is done.
 void start_loading() {
-  std::call_once(load_started, [] { loaded = std::async(std::launch::async, load, library_path()).share(); });
+  std::call_once(load_started,
+                 [] { loaded = std::async(std::launch::async, load, library_path()).share(); });
 }
 
 const ImageLibrary& library() {
@@ -108,24 +114,27 @@ void require_finite(const Image& im, const char* which) {
   }
   if (bad == 0) return;
   const Vec3& v = im.rgb[first];
-  throw NonFiniteImage(std::string(which) + " has " + std::to_string(bad) + " pixel" + (bad == 1 ? "" : "s") +
-                       " with a NaN or infinite value (the first at x " + std::to_string(first % size_t(im.width)) +
-                       ", y " + std::to_string(first / size_t(im.width)) + ": " + number(v.x) + ", " + number(v.y) +
-                       ", " + number(v.z) + "), so no error figure would mean anything");
+  throw NonFiniteImage(
+      std::string(which) + " has " + std::to_string(bad) + " pixel" + (bad == 1 ? "" : "s") +
+      " with a NaN or infinite value (the first at x " + std::to_string(first % size_t(im.width)) +
+      ", y " + std::to_string(first / size_t(im.width)) + ": " + number(v.x) + ", " + number(v.y) +
+      ", " + number(v.z) + "), so no error figure would mean anything");
 }
 
 }  // namespace
 
 ImageError compare_images(const Image& img, const Image& ref) {
-  if (img.width != ref.width || img.height != ref.height) throw std::invalid_argument("images differ in size");
+  if (img.width != ref.width || img.height != ref.height)
+    throw std::invalid_argument("images differ in size");
   require_finite(img, "the image");
   require_finite(ref, "the reference image");
   ImageError e = library().compare_images(img, ref);
-  for (size_t i = 0; i < img.ids.size() && i < ref.ids.size(); ++i) e.primary_ids_differing += img.ids[i] != ref.ids[i];
+  for (size_t i = 0; i < img.ids.size() && i < ref.ids.size(); ++i)
+    e.primary_ids_differing += img.ids[i] != ref.ids[i];
   // Finite values can still square past the largest double.
   if (!std::isfinite(e.rmse) || !std::isfinite(e.max_abs) || std::isnan(e.psnr_db))
-    throw NonFiniteImage("the error figures overflow (rmse " + number(e.rmse) + ", max_abs " + number(e.max_abs) +
-                         "): the images hold values too large to compare");
+    throw NonFiniteImage("the error figures overflow (rmse " + number(e.rmse) + ", max_abs " +
+                         number(e.max_abs) + "): the images hold values too large to compare");
   return e;
 }
 

@@ -37,7 +37,8 @@ struct ImageError {
   double psnr_db = 0;  ///< 20 log10(1 / rmse); infinite for identical images
   double max_abs = 0;
   uint64_t pixels_over_1_255 = 0;  ///< pixels with some channel off by more than 1/255
-  uint64_t primary_ids_differing = 0;  ///< pixels whose primary ray hit another primitive (or the background)
+  uint64_t primary_ids_differing =
+      0;  ///< pixels whose primary ray hit another primitive (or the background)
 };
 /// An image with a NaN or infinite channel, or one whose error figures overflow: no figure would
 /// mean anything (a NaN compares false with everything, so it once read as a perfect match).

@@ -72,12 +72,15 @@ TEST(ImageIo, ANonFinitePixelInEitherImageIsAnErrorNotAPerfectMatch) {
   nan.rgb[6].y = std::nan("");
   nan.rgb[9].x = std::nan("");
   EXPECT_EQ(message(nan, b),
-            "the image has 2 pixels with a NaN or infinite value (the first at x 2, y 1: 0.5, nan, 0.125), so no "
+            "the image has 2 pixels with a NaN or infinite value (the first at x 2, y 1: 0.5, nan, "
+            "0.125), so no "
             "error figure would mean anything");
   Image inf = b;
   inf.rgb[11].z = -HUGE_VAL;
-  EXPECT_EQ(message(a, inf).rfind("the reference image has 1 pixel with a NaN or infinite value (the first at x 3, y 2", 0),
-            0u)
+  EXPECT_EQ(
+      message(a, inf).rfind(
+          "the reference image has 1 pixel with a NaN or infinite value (the first at x 3, y 2", 0),
+      0u)
       << message(a, inf);
   Image huge = a;
   huge.rgb[0] = Vec3(1e300, 1e300, 1e300);

@@ -35,7 +35,9 @@ extern "C" void on_signal(int sig) {
   int removed = 0;
   for (Slot& s : slots)
     if (s.live.load(std::memory_order_acquire)) removed += ::unlink(s.path) == 0;
-  write_text(sig == SIGINT ? "\nrtm: interrupted (SIGINT)" : sig == SIGTERM ? "\nrtm: terminated (SIGTERM)" : "\nrtm: hung up (SIGHUP)");
+  write_text(sig == SIGINT    ? "\nrtm: interrupted (SIGINT)"
+             : sig == SIGTERM ? "\nrtm: terminated (SIGTERM)"
+                              : "\nrtm: hung up (SIGHUP)");
   write_text(removed ? "; its partial output files are removed\n" : "\n");
   struct sigaction dfl {};
   dfl.sa_handler = SIG_DFL;

@@ -17,7 +17,8 @@ struct PixelSum {
   std::array<int64_t, 3> q{0, 0, 0};
 
   void add(const Vec3& v) {
-    for (int c = 0; c < 3; ++c) q[size_t(c)] += std::llround(std::clamp(v[c], -4.0e6, 4.0e6) * kScale);
+    for (int c = 0; c < 3; ++c)
+      q[size_t(c)] += std::llround(std::clamp(v[c], -4.0e6, 4.0e6) * kScale);
   }
   void add(const PixelSum& o) {
     for (size_t c = 0; c < 3; ++c) q[c] += o.q[c];

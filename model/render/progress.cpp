@@ -28,10 +28,12 @@ std::string progress_line(const Progress& p) {
   const double rate = p.seconds > 0 ? double(p.pixels_started) / p.seconds : 0;
   const bool pixels = std::string(p.item) == "pixel";
   char line[160];
-  int n = p.pixels ? std::snprintf(line, sizeof line, "%s: at %s %llu/%llu (%.1f%%), %s", p.phase, p.item,
-                                   (unsigned long long)p.pixels_started, (unsigned long long)p.pixels, 100 * share,
-                                   duration(p.seconds).c_str())
-                   : std::snprintf(line, sizeof line, "%s: %s", p.phase, duration(p.seconds).c_str());
+  int n =
+      p.pixels
+          ? std::snprintf(line, sizeof line, "%s: at %s %llu/%llu (%.1f%%), %s", p.phase, p.item,
+                          (unsigned long long)p.pixels_started, (unsigned long long)p.pixels,
+                          100 * share, duration(p.seconds).c_str())
+          : std::snprintf(line, sizeof line, "%s: %s", p.phase, duration(p.seconds).c_str());
   // A host step's rate is no figure anyone compares: its time left is.
   if (p.pixels && rate > 0 && pixels && n < int(sizeof line))
     n += std::snprintf(line + n, sizeof line - size_t(n), ", %.0f px/s", rate);
@@ -41,7 +43,8 @@ std::string progress_line(const Progress& p) {
   if (p.rays && n < int(sizeof line))
     n += std::snprintf(line + n, sizeof line - size_t(n), ", %.3g rays", double(p.rays));
   if (p.resident_bytes && n < int(sizeof line))
-    std::snprintf(line + n, sizeof line - size_t(n), ", %.2f GiB", double(p.resident_bytes) / double(1 << 30));
+    std::snprintf(line + n, sizeof line - size_t(n), ", %.2f GiB",
+                  double(p.resident_bytes) / double(1 << 30));
   return std::string(line).substr(0, 79);
 }
 
@@ -74,7 +77,8 @@ void StepLine::erase() {
 std::string bytes_text(uint64_t bytes) {
   const bool mib = bytes < (uint64_t(1) << 30);
   char t[32];
-  std::snprintf(t, sizeof t, mib ? "%.1f MiB" : "%.2f GiB", double(bytes) / double(mib ? 1 << 20 : 1 << 30));
+  std::snprintf(t, sizeof t, mib ? "%.1f MiB" : "%.2f GiB",
+                double(bytes) / double(mib ? 1 << 20 : 1 << 30));
   return t;
 }
 

@@ -15,7 +15,8 @@
 namespace rtm {
 
 struct Progress {
-  const char* phase = "host";  ///< host, transfer, PEs or gather (docs/machine.md, the phases), or reference
+  const char* phase =
+      "host";  ///< host, transfer, PEs or gather (docs/machine.md, the phases), or reference
   const char* item = "pixel";  ///< what is counted; with pixels 0, nothing is
   uint64_t pixels_started = 0, pixels = 0;
   double seconds = 0;           ///< wall time since the render started
@@ -33,7 +34,8 @@ std::string progress_line(const Progress& p);
 class StepLine {
  public:
   /// `out` and `delay` (the quiet first second) are for tests.
-  explicit StepLine(bool enabled, std::FILE* out = stderr, std::chrono::milliseconds delay = std::chrono::seconds(1))
+  explicit StepLine(bool enabled, std::FILE* out = stderr,
+                    std::chrono::milliseconds delay = std::chrono::seconds(1))
       : enabled_(enabled), out_(out), delay_(delay) {}
   StepLine(const StepLine&) = delete;
   StepLine& operator=(const StepLine&) = delete;

@@ -13,9 +13,11 @@ TEST(Progress, OneMeasureWithElapsedTimeRateAndTimeLeft) {
   p.seconds = 8;
   p.resident_bytes = uint64_t(3) << 29;
   // 512 pixels a second: the other 12288 take 24 s.
-  EXPECT_EQ(progress_line(p), "PEs: at pixel 4096/16384 (25.0%), 8.0 s, 512 px/s, ETA 24.0 s, 1.50 GiB");
+  EXPECT_EQ(progress_line(p),
+            "PEs: at pixel 4096/16384 (25.0%), 8.0 s, 512 px/s, ETA 24.0 s, 1.50 GiB");
   p.seconds = 80;
-  EXPECT_EQ(progress_line(p), "PEs: at pixel 4096/16384 (25.0%), 1m20s, 51 px/s, ETA 4m00s, 1.50 GiB");
+  EXPECT_EQ(progress_line(p),
+            "PEs: at pixel 4096/16384 (25.0%), 1m20s, 51 px/s, ETA 4m00s, 1.50 GiB");
 }
 
 TEST(Progress, BeforeThePesStartThereIsNoRate) {
@@ -46,7 +48,8 @@ TEST(Progress, TheResidentSizeIsRead) {
   EXPECT_GT(resident_bytes(), uint64_t(1) << 20);  // a test program holds more than a megabyte
 }
 
-// A host step counts what it does, with its time left but no rate; one it cannot count shows its time.
+// A host step counts what it does, with its time left but no rate; one it cannot count shows its
+// time.
 TEST(Progress, AHostStepCountsItsItems) {
   Progress p;
   p.phase = "voxelisation";
@@ -55,7 +58,8 @@ TEST(Progress, AHostStepCountsItsItems) {
   p.pixels = 1000000;
   p.seconds = 0.5;
   p.resident_bytes = uint64_t(3) << 29;
-  EXPECT_EQ(progress_line(p), "voxelisation: at primitive 250000/1000000 (25.0%), 0.5 s, ETA 1.5 s, 1.50 GiB");
+  EXPECT_EQ(progress_line(p),
+            "voxelisation: at primitive 250000/1000000 (25.0%), 0.5 s, ETA 1.5 s, 1.50 GiB");
   p.phase = "mesh import (Assimp)";
   p.item = "";
   p.pixels_started = p.pixels = 0;

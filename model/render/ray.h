@@ -14,9 +14,9 @@ constexpr int kRayKinds = 4;
 const char* ray_kind_name(RayKind k);
 
 struct Ray {
-  Vec3 origin;             ///< V
-  Vec3 dir;                ///< U, unit length
-  double t_max = kInf;     ///< shadow rays end at their light
+  Vec3 origin;               ///< V
+  Vec3 dir;                  ///< U, unit length
+  double t_max = kInf;       ///< shadow rays end at their light
   Vec3 brightness{0, 0, 0};  ///< shadow rays: added to the pixel if the light is reached
   double contribution = 1;   ///< product of kd / ks / kt along the ray's ancestry
   uint32_t pixel = 0;        ///< y * width + x
@@ -24,7 +24,8 @@ struct Ray {
   RayKind kind = RayKind::Primary;
 };
 
-static_assert(std::numeric_limits<decltype(Ray::depth)>::max() == kMaxRayDepth,
-              "Ray::depth holds every generation, and docs/scene-format.md and rtm render --help give 255");
+static_assert(
+    std::numeric_limits<decltype(Ray::depth)>::max() == kMaxRayDepth,
+    "Ray::depth holds every generation, and docs/scene-format.md and rtm render --help give 255");
 
 }  // namespace rtm

@@ -20,7 +20,7 @@ struct RayResult {
   } end = End::Missed;
   uint32_t prim = 0;
   double t = 0;
-  PixelSum added;          ///< the brightness it added to its pixel, as the pixel's sum holds it
+  PixelSum added;            ///< the brightness it added to its pixel, as the pixel's sum holds it
   std::vector<Ray> spawned;  ///< in the order shading spawned them
 };
 

@@ -31,7 +31,8 @@ std::vector<CountDifference> count_differences(const TraceCounts& a, const Trace
   std::vector<CountDifference> d;
   for (int k = 0; k < kRayKinds; ++k)
     if (a.rays[size_t(k)] != b.rays[size_t(k)])
-      d.push_back({std::string(ray_kind_name(RayKind(k))) + " rays", a.rays[size_t(k)], b.rays[size_t(k)]});
+      d.push_back(
+          {std::string(ray_kind_name(RayKind(k))) + " rays", a.rays[size_t(k)], b.rays[size_t(k)]});
   for (auto [count, name] : {std::pair{&TraceCounts::voxel_steps, "voxel steps"},
                              {&TraceCounts::intersection_tests, "intersection tests"},
                              {&TraceCounts::clip_tests, "clip tests"}})
@@ -64,8 +65,9 @@ class Mailbox {
       stamp_[id] = serial_;
       const Latches<double> l = mem.latches(ray, id);
       const Abg<double> abg = form_abg_fast(l, mem.rams[id]);
-      hit_[id] = first_hit_in_window(mem.clips[id], solve_quadratic(abg.a, abg.b, abg.g, mem.numerics.discriminant), l,
-                                   0.0, -kInf, kInf);
+      hit_[id] = first_hit_in_window(
+          mem.clips[id], solve_quadratic(abg.a, abg.b, abg.g, mem.numerics.discriminant), l, 0.0,
+          -kInf, kInf);
     }
     return hit_[id];
   }
@@ -86,15 +88,16 @@ struct TraceData {
 double walk_end(const Grid& g, const Ray& r) {
   double t = r.t_max;
   for (int a = 0; a < 3; ++a)
-    if (r.dir[a] != 0) t = std::min(t, ((r.dir[a] > 0 ? g.box.hi[a] : g.box.lo[a]) - r.origin[a]) / r.dir[a]);
+    if (r.dir[a] != 0)
+      t = std::min(t, ((r.dir[a] > 0 ? g.box.hi[a] : g.box.lo[a]) - r.origin[a]) / r.dir[a]);
   return t;
 }
 
 /// The box of cells from `cell` to where the walk ends, one cell wider at the far end (so
 /// rounding in the estimate cannot cut off a voxel the walk visits; Dda::skip_box is exact
 /// whatever box it is given).
-void rest_box(const Grid& g, const Ray& r, double t_end, const std::array<int, 3>& cell, std::array<int, 3>& lo,
-              std::array<int, 3>& hi) {
+void rest_box(const Grid& g, const Ray& r, double t_end, const std::array<int, 3>& cell,
+              std::array<int, 3>& lo, std::array<int, 3>& hi) {
   for (int a = 0; a < 3; ++a) {
     const double p = (r.origin[a] + t_end * r.dir[a] - g.box.lo[a]) / g.cell[a];
     const int e = !(p > 0) ? 0 : p >= g.n[a] ? g.n[a] - 1 : static_cast<int>(p);
@@ -185,7 +188,8 @@ struct Scratch {
 };
 
 /// One ray, as the reference renderer traces it. `shade` is scratch.
-void trace_ray(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb, ShadeOut& shade, RayResult& out) {
+void trace_ray(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb, ShadeOut& shade,
+               RayResult& out) {
   const Scene& s = *d.mem.scene;
   const VoxelHit h = walk(d, ray, c, mb);
   out.added = PixelSum{};
@@ -209,7 +213,8 @@ void trace_ray(const TraceData& d, const Ray& ray, TraceCounts& c, Mailbox& mb, 
 }
 
 /// False when the watch said stop before the tree was done (the pixel is left unfinished).
-bool trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts& c, Scratch& w, Shared& shared) {
+bool trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts& c, Scratch& w,
+                 Shared& shared) {
   PixelSum sum;
   std::vector<Ray>& stack = w.stack;
   RayResult& out = w.result;
@@ -225,7 +230,8 @@ bool trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts
       if (shared.stop.load(std::memory_order_relaxed)) return false;
     }
     trace_ray(d, ray, c, w.mailbox, w.shade, out);
-    if (ray.kind == RayKind::Primary) img.ids[ray.pixel] = out.end == RayResult::End::Hit ? int32_t(out.prim) : -1;
+    if (ray.kind == RayKind::Primary)
+      img.ids[ray.pixel] = out.end == RayResult::End::Hit ? int32_t(out.prim) : -1;
     sum.add(out.added);
     // Reverse so rays are traced in the order shading spawned them.
     stack.insert(stack.end(), out.spawned.rbegin(), out.spawned.rend());
@@ -239,25 +245,26 @@ bool trace_pixel(const TraceData& d, const Ray& primary, Image& img, TraceCounts
 /// after the first) the progress line. Returns why the render must stop; empty: it goes on.
 class Watcher {
  public:
-  Watcher(const ReferenceWatch& w, const Scene& s, const Shared& shared) : watch_(w), scene_(s), shared_(shared) {}
+  Watcher(const ReferenceWatch& w, const Scene& s, const Shared& shared)
+      : watch_(w), scene_(s), shared_(shared) {}
 
   std::string look() {
     const auto now = std::chrono::steady_clock::now();
     const uint64_t rays = shared_.rays.load(std::memory_order_relaxed);
     const uint64_t pixels = uint64_t(scene_.camera.width) * uint64_t(scene_.camera.height);
-    const std::string where = std::to_string(shared_.pixels.load(std::memory_order_relaxed)) + " of " +
-                              std::to_string(pixels) + " pixels done";
+    const std::string where = std::to_string(shared_.pixels.load(std::memory_order_relaxed)) +
+                              " of " + std::to_string(pixels) + " pixels done";
     if (watch_.max_rays && rays > watch_.max_rays) {
       std::ostringstream why;
-      why << "the reference render stopped at its work budget of " << watch_.max_rays << " rays (--max-rays), with "
-          << where << ": the ray trees grow with max_depth " << scene_.max_depth << " and threshold "
-          << scene_.threshold;
+      why << "the reference render stopped at its work budget of " << watch_.max_rays
+          << " rays (--max-rays), with " << where << ": the ray trees grow with max_depth "
+          << scene_.max_depth << " and threshold " << scene_.threshold;
       return why.str();
     }
     if (const uint64_t rss = watch_.max_memory ? resident_bytes() : 0; rss > watch_.max_memory)
-      return "the reference render stopped holding " + bytes_text(rss) + ", more than its memory budget of " +
-             bytes_text(watch_.max_memory) + " (--max-memory), with " + where + " and " + std::to_string(rays) +
-             " rays traced";
+      return "the reference render stopped holding " + bytes_text(rss) +
+             ", more than its memory budget of " + bytes_text(watch_.max_memory) +
+             " (--max-memory), with " + where + " and " + std::to_string(rays) + " rays traced";
     if (watch_.progress && now - start_ >= std::chrono::seconds(1) &&
         now - last_draw_ >= std::chrono::milliseconds(500)) {
       last_draw_ = now;
@@ -292,8 +299,8 @@ class Watcher {
 
 const char* reference_build_id() { return __DATE__ " " __TIME__; }
 
-ReferenceResult render_reference(const Scene& world, const Grid& world_grid, int threads, const ReferenceWatch& watch,
-                                 PeFrame frame) {
+ReferenceResult render_reference(const Scene& world, const Grid& world_grid, int threads,
+                                 const ReferenceWatch& watch, PeFrame frame) {
   const auto t0 = std::chrono::steady_clock::now();
   const FramedScene view = framed(world, world_grid, frame);
   const Scene& s = view.scene;
@@ -317,7 +324,8 @@ ReferenceResult render_reference(const Scene& world, const Grid& world_grid, int
     TraceCounts mine;  // local, not counts[id]: neighbouring entries share a cache line
     bool go = true;
     for (int y; go && (y = next_row.fetch_add(1)) < s.camera.height;)
-      for (int x = 0; go && x < s.camera.width; ++x) go = trace_pixel(data, camera.at(x, y), r.image, mine, scratch, shared);
+      for (int x = 0; go && x < s.camera.width; ++x)
+        go = trace_pixel(data, camera.at(x, y), r.image, mine, scratch, shared);
     counts[size_t(id)] = mine;
     const std::lock_guard<std::mutex> lock(m);
     --running;
@@ -341,12 +349,15 @@ ReferenceResult render_reference(const Scene& world, const Grid& world_grid, int
   watching.join();
   if (!stopped.empty()) throw BudgetExceeded(stopped);
   for (const TraceCounts& c : counts) r.counts.add(c);
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0 - waited_for_loader).count();
+  r.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0 - waited_for_loader)
+          .count();
   return r;
 }
 
 struct ReferenceTracer::State {
-  State(const Scene& s, const Grid& g) : mem(s, g), occupied(g), data{mem, occupied}, mailbox(s.primitives.size()) {}
+  State(const Scene& s, const Grid& g)
+      : mem(s, g), occupied(g), data{mem, occupied}, mailbox(s.primitives.size()) {}
   const SceneMemory<double> mem;
   const Occupancy occupied;
   const TraceData data;
@@ -355,7 +366,8 @@ struct ReferenceTracer::State {
   TraceCounts counts;
 };
 
-ReferenceTracer::ReferenceTracer(const Scene& s, const Grid& g) : state_(std::make_unique<State>(s, g)) {}
+ReferenceTracer::ReferenceTracer(const Scene& s, const Grid& g)
+    : state_(std::make_unique<State>(s, g)) {}
 ReferenceTracer::~ReferenceTracer() = default;
 
 void ReferenceTracer::trace(const Ray& ray, RayResult& out) {

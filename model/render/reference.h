@@ -42,7 +42,8 @@ struct Image {
   std::vector<int32_t> ids;
 
   Image() = default;
-  Image(int w, int h) : width(w), height(h), rgb(size_t(w) * size_t(h), Vec3(0)), ids(size_t(w) * size_t(h), -1) {}
+  Image(int w, int h)
+      : width(w), height(h), rgb(size_t(w) * size_t(h), Vec3(0)), ids(size_t(w) * size_t(h), -1) {}
 };
 
 struct ReferenceResult {
@@ -58,9 +59,9 @@ const char* reference_build_id();
 /// a tree that never ends (a glass sphere among mirrors at threshold 0) holds little memory, since
 /// each pixel's tree is traced depth first, but its rays go on.
 struct ReferenceWatch {
-  bool progress = false;   ///< redraw a progress line on stderr (the caller checks it is a terminal)
-  uint64_t max_memory = 0; ///< stop once the process holds more bytes; 0: no limit
-  uint64_t max_rays = 0;   ///< stop once more rays than this are traced; 0: no limit
+  bool progress = false;  ///< redraw a progress line on stderr (the caller checks it is a terminal)
+  uint64_t max_memory = 0;  ///< stop once the process holds more bytes; 0: no limit
+  uint64_t max_rays = 0;    ///< stop once more rays than this are traced; 0: no limit
 };
 
 /// A render its watch stopped, over its memory or work budget; the message says which, where.
@@ -71,8 +72,8 @@ struct BudgetExceeded : std::runtime_error {
 /// Renders the whole frame, computing in `frame` (the machine's pe_frame: the two then round
 /// alike). threads <= 0: all hardware threads. Throws BudgetExceeded when the watch's budget is
 /// passed.
-ReferenceResult render_reference(const Scene& s, const Grid& g, int threads, const ReferenceWatch& watch = {},
-                                 PeFrame frame = PeFrame::Grid);
+ReferenceResult render_reference(const Scene& s, const Grid& g, int threads,
+                                 const ReferenceWatch& watch = {}, PeFrame frame = PeFrame::Grid);
 
 /// The reference renderer one ray at a time, for a caller that follows a pixel's tree itself (the
 /// error attribution re-traces only the pixels that differ): the same walk and shading as

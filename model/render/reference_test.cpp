@@ -16,11 +16,13 @@ namespace {
 Scene glass_box() {
   std::string y =
       "name: glass-box\n"
-      "camera: {eye: [0, 0, 0.5], look_at: [0.3, 0.2, -0.3], up: [0, 1, 0], fov: 40, resolution: [1, 1]}\n"
+      "camera: {eye: [0, 0, 0.5], look_at: [0.3, 0.2, -0.3], up: [0, 1, 0], fov: 40, resolution: "
+      "[1, 1]}\n"
       "lights: [{position: [0.5, 0.8, 0.5], color: [1, 1, 1]}]\n"
       "materials:\n"
       "  mirror: {color: [1, 1, 1], ambient: 0, diffuse: 0, specular: 1}\n"
-      "  glass: {color: [1, 0.5, 0.2], ambient: 0.2, diffuse: 0.8, specular: 1, transmission: 1, ior: 1.5}\n"
+      "  glass: {color: [1, 0.5, 0.2], ambient: 0.2, diffuse: 0.8, specular: 1, transmission: 1, "
+      "ior: 1.5}\n"
       "render: {threshold: 0, max_depth: 255}\n"
       "primitives:\n";
   for (const char* wall : {"[1, 0, 0], d: 1, box: {min: [-1.1, -1.1, -1.1], max: [-0.9, 1.1, 1.1]}",
@@ -45,13 +47,15 @@ TEST(ReferenceWatch, AWorkBudgetStopsATreeThatNeverEnds) {
     FAIL() << "the render finished";
   } catch (const BudgetExceeded& e) {
     EXPECT_EQ(std::string(e.what()),
-              "the reference render stopped at its work budget of 200000 rays (--max-rays), with 0 of 1 pixels done: "
+              "the reference render stopped at its work budget of 200000 rays (--max-rays), with 0 "
+              "of 1 pixels done: "
               "the ray trees grow with max_depth 255 and threshold 0");
   }
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10);
 }
 
-// The watch reads the process's size every 50 ms: below what a test program holds, the first look stops it.
+// The watch reads the process's size every 50 ms: below what a test program holds, the first look
+// stops it.
 TEST(ReferenceWatch, AMemoryBudgetBelowWhatTheProcessHoldsStopsIt) {
   const Scene s = glass_box();
   const Grid g = build_grid(s.primitives, s.grid);
@@ -61,7 +65,10 @@ TEST(ReferenceWatch, AMemoryBudgetBelowWhatTheProcessHoldsStopsIt) {
   } catch (const BudgetExceeded& e) {
     const std::string m = e.what();
     EXPECT_EQ(m.rfind("the reference render stopped holding ", 0), 0u) << m;
-    EXPECT_NE(m.find(" MiB, more than its memory budget of 1.0 MiB (--max-memory), with 0 of 1 pixels done and "), std::string::npos) << m;
+    EXPECT_NE(m.find(" MiB, more than its memory budget of 1.0 MiB (--max-memory), with 0 of 1 "
+                     "pixels done and "),
+              std::string::npos)
+        << m;
   }
 }
 
@@ -71,7 +78,8 @@ TEST(ReferenceWatch, ARenderWithinItsBudgetsIsTheSame) {
   set_resolution(s, 24, 24);
   const Grid g = build_grid(s.primitives, s.grid);
   const ReferenceResult free = render_reference(s, g, 2);
-  const ReferenceResult watched = render_reference(s, g, 2, ReferenceWatch{false, uint64_t(1) << 40, 1000000000});
+  const ReferenceResult watched =
+      render_reference(s, g, 2, ReferenceWatch{false, uint64_t(1) << 40, 1000000000});
   EXPECT_TRUE(count_differences(free.counts, watched.counts).empty());
   EXPECT_EQ(free.image.ids, watched.image.ids);
   ASSERT_EQ(free.image.rgb.size(), watched.image.rgb.size());

@@ -33,7 +33,7 @@ struct SceneMemory {
   std::vector<MacOps> ops;                    ///< sparse MAC schedules; empty: the full schedule
   std::vector<MacMask> masks;                 ///< the same schedules as bit masks
 
-  MacNumerics numerics;                       ///< discriminant form and coefficient scaling (geom/numerics.h)
+  MacNumerics numerics;  ///< discriminant form and coefficient scaling (geom/numerics.h)
 
   SceneMemory(const Scene& s, const Grid& g, bool recentre = true, MacNumerics num = {})
       : scene(&s), grid(&g), numerics(num) {
@@ -46,10 +46,14 @@ struct SceneMemory {
         // or the shape's own origin where its local form has no linear terms (a sphere's centre:
         // its box's centre rounds differently once the host has moved it into the grid's frame),
         // so a centred shape has none, and sparse MAC schedules skip them.
-        const bool centred = p.has_local && p.local.c[kG] == 0 && p.local.c[kH] == 0 && p.local.c[kI] == 0;
-        const Vec3 mid = centred && num.origin != OriginLatch::Machine ? p.origin : 0.5 * (p.bounds.lo + p.bounds.hi);
+        const bool centred =
+            p.has_local && p.local.c[kG] == 0 && p.local.c[kH] == 0 && p.local.c[kI] == 0;
+        const Vec3 mid = centred && num.origin != OriginLatch::Machine
+                             ? p.origin
+                             : 0.5 * (p.bounds.lo + p.bounds.hi);
         c = num.origin == OriginLatch::Machine
-                ? Vec3(round_to_real<Real>(mid.x), round_to_real<Real>(mid.y), round_to_real<Real>(mid.z))
+                ? Vec3(round_to_real<Real>(mid.x), round_to_real<Real>(mid.y),
+                       round_to_real<Real>(mid.z))
                 : mid;
       }
       centres.push_back(c);
@@ -76,7 +80,9 @@ struct SceneMemory {
 
   /// Where the roots are measured from for a voxel entered at t_enter: 0, or t_enter when the
   /// origin latch is advanced (the root unit adds it back).
-  double t_shift(double t_enter) const { return numerics.origin == OriginLatch::Advance ? t_enter : 0.0; }
+  double t_shift(double t_enter) const {
+    return numerics.origin == OriginLatch::Advance ? t_enter : 0.0;
+  }
 
   /// The U/V latches for testing primitive `prim`: V in the primitive's frame (for a voxel entered
   /// at t_enter, which only OriginLatch::Advance uses).

@@ -26,7 +26,8 @@ SceneNeeds analyse_scene(const Scene& s, const std::vector<CoefRam<Real>>& rams)
   // A branch ray of generation d has contribution at most max(ks, kt)^(d−1).
   const double k = std::max(ks, kt);
   double c = 1;
-  // max_depth is at most kMaxRayDepth in a validated scene; the bound keeps d from overflowing anyway.
+  // max_depth is at most kMaxRayDepth in a validated scene; the bound keeps d from overflowing
+  // anyway.
   for (int d = 2; d <= std::min(s.max_depth, kMaxRayDepth); ++d) {
     c *= k;
     if (!(c > s.threshold)) break;

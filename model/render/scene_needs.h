@@ -19,12 +19,13 @@ struct SceneNeeds {
   /// The deepest ray generation a branch ray can reach: the largest d <= max_depth with
   /// max(ks, kt)^(d−1) > threshold (primary rays are generation 1).
   int deepest_generation = 1;
-  std::vector<MacOps> mac_ops;    ///< per primitive: the products with a non-zero coefficient word
-  uint64_t products_full = 0;     ///< 28 per primitive
-  uint64_t products_sparse = 0;   ///< Σ non-zero products over primitives
-  std::vector<bool> clipped;      ///< per primitive: has clip half-spaces
+  std::vector<MacOps> mac_ops;   ///< per primitive: the products with a non-zero coefficient word
+  uint64_t products_full = 0;    ///< 28 per primitive
+  uint64_t products_sparse = 0;  ///< Σ non-zero products over primitives
+  std::vector<bool> clipped;     ///< per primitive: has clip half-spaces
   int clipped_primitives = 0;
-  std::array<int, 3> grid{1, 1, 1};  ///< the scene's grid resolution: its own, else the automatic one
+  std::array<int, 3> grid{1, 1,
+                          1};  ///< the scene's grid resolution: its own, else the automatic one
 
   bool spawns_rays() const { return shadow_rays || reflected_rays || transmitted_rays; }
 };

@@ -10,10 +10,12 @@ namespace {
 /// A one-sphere scene (plus whatever `extra` adds) in the native format.
 Scene scene_with(const std::string& materials, const std::string& lights, const std::string& render,
                  const std::string& extra_primitives = "") {
-  const std::string text = "camera: {eye: [0, 0, 10], look_at: [0, 0, 0], up: [0, 1, 0], fov: 40, resolution: [8, 8]}\n" +
-                           lights + "materials:\n" + materials + "render: " + render +
-                           "\nprimitives:\n  - {sphere: {center: [0, 0, 0], radius: 1}, material: m}\n" +
-                           extra_primitives;
+  const std::string text =
+      "camera: {eye: [0, 0, 10], look_at: [0, 0, 0], up: [0, 1, 0], fov: 40, resolution: [8, "
+      "8]}\n" +
+      lights + "materials:\n" + materials + "render: " + render +
+      "\nprimitives:\n  - {sphere: {center: [0, 0, 0], radius: 1}, material: m}\n" +
+      extra_primitives;
   return parse_native(text, "needs.yaml");
 }
 
@@ -26,7 +28,8 @@ SceneNeeds needs_of(const Scene& s) {
 const std::string kOneLight = "lights: [{position: [5, 5, 5]}]\n";
 
 TEST(SceneNeeds, MatteSceneSpawnsOnlyShadowRays) {
-  const SceneNeeds n = needs_of(scene_with("  m: {diffuse: 0.8}\n", kOneLight, "{threshold: 0.01, max_depth: 5}"));
+  const SceneNeeds n =
+      needs_of(scene_with("  m: {diffuse: 0.8}\n", kOneLight, "{threshold: 0.01, max_depth: 5}"));
   EXPECT_TRUE(n.shadow_rays);
   EXPECT_FALSE(n.reflected_rays);
   EXPECT_FALSE(n.transmitted_rays);
@@ -35,29 +38,34 @@ TEST(SceneNeeds, MatteSceneSpawnsOnlyShadowRays) {
 }
 
 TEST(SceneNeeds, NoLightsNoShadowRays) {
-  const SceneNeeds n = needs_of(scene_with("  m: {diffuse: 0.8}\n", "", "{threshold: 0.01, max_depth: 5}"));
+  const SceneNeeds n =
+      needs_of(scene_with("  m: {diffuse: 0.8}\n", "", "{threshold: 0.01, max_depth: 5}"));
   EXPECT_FALSE(n.shadow_rays);
   EXPECT_FALSE(n.spawns_rays());
 }
 
 TEST(SceneNeeds, NoDiffuseNoShadowRays) {
-  const SceneNeeds n = needs_of(scene_with("  m: {diffuse: 0, ambient: 1}\n", kOneLight, "{threshold: 0.01, max_depth: 5}"));
+  const SceneNeeds n = needs_of(
+      scene_with("  m: {diffuse: 0, ambient: 1}\n", kOneLight, "{threshold: 0.01, max_depth: 5}"));
   EXPECT_FALSE(n.shadow_rays);
 }
 
 TEST(SceneNeeds, BranchRaysOnlyAboveTheThreshold) {
   // ks = 0.5 passes a 0.3 threshold once (generation 2 carries 0.5), generation 3 would carry 0.25.
-  SceneNeeds n = needs_of(scene_with("  m: {specular: 0.5}\n", kOneLight, "{threshold: 0.3, max_depth: 5}"));
+  SceneNeeds n =
+      needs_of(scene_with("  m: {specular: 0.5}\n", kOneLight, "{threshold: 0.3, max_depth: 5}"));
   EXPECT_TRUE(n.reflected_rays);
   EXPECT_FALSE(n.transmitted_rays);
   EXPECT_EQ(n.deepest_generation, 2);
   // At or below the threshold a branch ray is dropped, so it is never spawned.
-  n = needs_of(scene_with("  m: {specular: 0.3, transmission: 0.2}\n", kOneLight, "{threshold: 0.3, max_depth: 5}"));
+  n = needs_of(scene_with("  m: {specular: 0.3, transmission: 0.2}\n", kOneLight,
+                          "{threshold: 0.3, max_depth: 5}"));
   EXPECT_FALSE(n.reflected_rays);
   EXPECT_FALSE(n.transmitted_rays);
   EXPECT_EQ(n.deepest_generation, 1);
   // max_depth 1: primary rays only, whatever the materials.
-  n = needs_of(scene_with("  m: {specular: 0.9, transmission: 0.9}\n", kOneLight, "{threshold: 0, max_depth: 1}"));
+  n = needs_of(scene_with("  m: {specular: 0.9, transmission: 0.9}\n", kOneLight,
+                          "{threshold: 0, max_depth: 1}"));
   EXPECT_FALSE(n.reflected_rays);
   EXPECT_FALSE(n.transmitted_rays);
 }
@@ -72,15 +80,17 @@ TEST(SceneNeeds, DeepestGenerationFollowsTheLargestCoefficient) {
 }
 
 TEST(SceneNeeds, UnusedMaterialsDoNotCount) {
-  const SceneNeeds n = needs_of(scene_with("  m: {diffuse: 0.8}\n  unused: {specular: 0.9, transmission: 0.9}\n",
-                                           kOneLight, "{threshold: 0.01, max_depth: 5}"));
+  const SceneNeeds n =
+      needs_of(scene_with("  m: {diffuse: 0.8}\n  unused: {specular: 0.9, transmission: 0.9}\n",
+                          kOneLight, "{threshold: 0.01, max_depth: 5}"));
   EXPECT_FALSE(n.reflected_rays);
   EXPECT_FALSE(n.transmitted_rays);
 }
 
 TEST(SceneNeeds, SparseProductsPerPrimitive) {
-  const Scene s = scene_with("  m: {diffuse: 0.8}\n", kOneLight, "{threshold: 0.01, max_depth: 5}",
-                             "  - {polygon: {vertices: [[-1, -1, -2], [1, -1, -2], [0, 1, -2]]}, material: m}\n");
+  const Scene s = scene_with(
+      "  m: {diffuse: 0.8}\n", kOneLight, "{threshold: 0.01, max_depth: 5}",
+      "  - {polygon: {vertices: [[-1, -1, -2], [1, -1, -2], [0, 1, -2]]}, material: m}\n");
   const SceneNeeds n = needs_of(s);
   ASSERT_EQ(n.mac_ops.size(), 2u);
   // A re-centred sphere: A, B, C (α), 2A, 2B, 2C (β), A, B, C, J (γ).
@@ -119,7 +129,8 @@ TEST(SceneNeeds, TheRamPrecisionDecidesWhatIsZero) {
 
 TEST(SceneNeeds, GridIsTheScenesOwnElseTheAutomaticResolution) {
   const std::string m = "  m: {diffuse: 0.8}\n";
-  EXPECT_EQ(needs_of(scene_with(m, kOneLight, "{max_depth: 5, grid: [3, 4, 5]}")).grid, (std::array<int, 3>{3, 4, 5}));
+  EXPECT_EQ(needs_of(scene_with(m, kOneLight, "{max_depth: 5, grid: [3, 4, 5]}")).grid,
+            (std::array<int, 3>{3, 4, 5}));
   const Scene s = scene_with(m, kOneLight, "{max_depth: 5}");
   EXPECT_EQ(needs_of(s).grid, build_grid(s.primitives, s.grid).n);
 }

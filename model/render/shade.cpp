@@ -15,7 +15,8 @@ Vec3Of<Real> gradient_at(const Primitive& prim, const Vec3Of<Real>& p) {
   const Quadric& q = prim.has_local ? prim.local : prim.q;
   const Vec3Of<Real> x = prim.has_local ? p - Vec3Of<Real>(prim.origin) : p;
   auto k = [&](Coef i) { return Real(q.c[i]); };
-  return {2 * k(kA) * x.x + k(kD) * x.y + k(kF) * x.z + k(kG), 2 * k(kB) * x.y + k(kD) * x.x + k(kE) * x.z + k(kH),
+  return {2 * k(kA) * x.x + k(kD) * x.y + k(kF) * x.z + k(kG),
+          2 * k(kB) * x.y + k(kD) * x.x + k(kE) * x.z + k(kH),
           2 * k(kC) * x.z + k(kE) * x.y + k(kF) * x.x + k(kI)};
 }
 
@@ -29,11 +30,13 @@ Real rounding_scale(const Primitive& prim, const Vec3Of<Real>& p) {
   const V c(mid);
   const V x = p - c;
   auto k = [&](Coef i) { return Real(q.c[i]); };
-  const Real terms = std::abs(k(kA) * x.x * x.x) + std::abs(k(kB) * x.y * x.y) + std::abs(k(kC) * x.z * x.z) +
-                     std::abs(k(kD) * x.x * x.y) + std::abs(k(kE) * x.y * x.z) + std::abs(k(kF) * x.z * x.x) +
-                     std::abs(k(kG) * x.x) + std::abs(k(kH) * x.y) + std::abs(k(kI) * x.z) + std::abs(k(kJ));
+  const Real terms =
+      std::abs(k(kA) * x.x * x.x) + std::abs(k(kB) * x.y * x.y) + std::abs(k(kC) * x.z * x.z) +
+      std::abs(k(kD) * x.x * x.y) + std::abs(k(kE) * x.y * x.z) + std::abs(k(kF) * x.z * x.x) +
+      std::abs(k(kG) * x.x) + std::abs(k(kH) * x.y) + std::abs(k(kI) * x.z) + std::abs(k(kJ));
   const Real diag = Real(length(prim.bounds.extent()));
-  const V g = {2 * k(kA) * x.x + k(kD) * x.y + k(kF) * x.z + k(kG), 2 * k(kB) * x.y + k(kD) * x.x + k(kE) * x.z + k(kH),
+  const V g = {2 * k(kA) * x.x + k(kD) * x.y + k(kF) * x.z + k(kG),
+               2 * k(kB) * x.y + k(kD) * x.x + k(kE) * x.z + k(kH),
                2 * k(kC) * x.z + k(kE) * x.y + k(kF) * x.x + k(kI)};
   const Real grad = length(g);
   const Real local = grad > 0 && std::isfinite(terms / grad) ? std::min(terms / grad, diag) : diag;
@@ -42,12 +45,15 @@ Real rounding_scale(const Primitive& prim, const Vec3Of<Real>& p) {
 
 template <class Real>
 Real spawn_offset(const Scene& s, const Primitive& prim, const Vec3Of<Real>& p) {
-  if (s.spawn_policy == SpawnPolicy::Bound) return Real(s.spawn_offset) * rounding_scale<Real>(prim, p);
-  return Real(s.spawn_offset) * std::max(Real(1), std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+  if (s.spawn_policy == SpawnPolicy::Bound)
+    return Real(s.spawn_offset) * rounding_scale<Real>(prim, p);
+  return Real(s.spawn_offset) *
+         std::max(Real(1), std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
 }
 
 template <class Real>
-Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& d, bool* entering) {
+Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& d,
+                           bool* entering) {
   Vec3Of<Real> n = gradient_at<Real>(prim, p);
   // Scaled first when tiny or huge, so |n|² can neither underflow nor overflow (near a cone's
   // apex the gradient goes to zero; a subnormal |n|² would give a normal that is not unit length).
@@ -70,11 +76,14 @@ Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const V
 template <class Real>
 bool barycentric(const Primitive& prim, const Vec3Of<Real>& p, Real w[3]) {
   using V = Vec3Of<Real>;
-  if (prim.kind != ShapeKind::Polygon || prim.vertices.size() != 3 || prim.clips.size() != 3) return false;
+  if (prim.kind != ShapeKind::Polygon || prim.vertices.size() != 3 || prim.clips.size() != 3)
+    return false;
   Real sum = 0;
   for (int k = 0; k < 3; ++k) {
     const HalfSpace& h = prim.clips[size_t(k)];
-    auto edge = [&](const V& x) { return dot(V(h.n), x) + Real(h.d); };  // as the clip test forms it
+    auto edge = [&](const V& x) {
+      return dot(V(h.n), x) + Real(h.d);
+    };  // as the clip test forms it
     // Inside, the clip values are <= 0; the opposite corner's is the most negative.
     const Real at = edge(p), corner = edge(V(prim.vertices[size_t((k + 2) % 3)]));
     Real x = corner < 0 ? at / corner : Real(0);
@@ -88,11 +97,12 @@ bool barycentric(const Primitive& prim, const Vec3Of<Real>& p, Real w[3]) {
 }
 
 template <class Real>
-Vec3Of<Real> shading_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& facing,
-                            NormalInterpolation mode) {
+Vec3Of<Real> shading_normal(const Primitive& prim, const Vec3Of<Real>& p,
+                            const Vec3Of<Real>& facing, NormalInterpolation mode) {
   using V = Vec3Of<Real>;
   Real w[3];
-  if (mode != NormalInterpolation::Barycentric || prim.normals.size() != 3 || !barycentric<Real>(prim, p, w))
+  if (mode != NormalInterpolation::Barycentric || prim.normals.size() != 3 ||
+      !barycentric<Real>(prim, p, w))
     return facing;
   const V n = w[0] * V(prim.normals[0]) + w[1] * V(prim.normals[1]) + w[2] * V(prim.normals[2]);
   const Real len = length(n);
@@ -110,8 +120,8 @@ double refine_hit(const Primitive& prim, const Ray& ray, double t) {
 }
 
 template <class Real>
-void shade_hit(const Scene& s, const Ray& ray, double t_hit, const Primitive& prim, HitRefine refine,
-               NormalInterpolation normals, ShadeOut& out) {
+void shade_hit(const Scene& s, const Ray& ray, double t_hit, const Primitive& prim,
+               HitRefine refine, NormalInterpolation normals, ShadeOut& out) {
   using V = Vec3Of<Real>;
   const Material& m = s.materials[size_t(prim.material)];
   const Real t = Real(refine == HitRefine::Newton ? refine_hit(prim, ray, t_hit) : t_hit);
@@ -136,7 +146,8 @@ void shade_hit(const Scene& s, const Ray& ray, double t_hit, const Primitive& pr
       if (!(dist > 0)) continue;
       const V l = to_light / dist;
       const Real ndl = dot(n, l);
-      if (ndl <= 0 || dot(surface, l) <= 0) continue;  // a light behind the surface itself is hidden by it
+      if (ndl <= 0 || dot(surface, l) <= 0)
+        continue;  // a light behind the surface itself is hidden by it
       Ray r;
       r.kind = RayKind::Shadow;
       r.origin = Vec3(above);
@@ -190,17 +201,19 @@ template float rounding_scale<float>(const Primitive&, const Vec3Of<float>&);
 template double rounding_scale<double>(const Primitive&, const Vec3Of<double>&);
 template float spawn_offset<float>(const Scene&, const Primitive&, const Vec3Of<float>&);
 template double spawn_offset<double>(const Scene&, const Primitive&, const Vec3Of<double>&);
-template Vec3Of<float> facing_normal<float>(const Primitive&, const Vec3Of<float>&, const Vec3Of<float>&, bool*);
-template Vec3Of<double> facing_normal<double>(const Primitive&, const Vec3Of<double>&, const Vec3Of<double>&, bool*);
+template Vec3Of<float> facing_normal<float>(const Primitive&, const Vec3Of<float>&,
+                                            const Vec3Of<float>&, bool*);
+template Vec3Of<double> facing_normal<double>(const Primitive&, const Vec3Of<double>&,
+                                              const Vec3Of<double>&, bool*);
 template bool barycentric<float>(const Primitive&, const Vec3Of<float>&, float[3]);
 template bool barycentric<double>(const Primitive&, const Vec3Of<double>&, double[3]);
-template Vec3Of<float> shading_normal<float>(const Primitive&, const Vec3Of<float>&, const Vec3Of<float>&,
-                                             NormalInterpolation);
-template Vec3Of<double> shading_normal<double>(const Primitive&, const Vec3Of<double>&, const Vec3Of<double>&,
-                                               NormalInterpolation);
-template void shade_hit<float>(const Scene&, const Ray&, double, const Primitive&, HitRefine, NormalInterpolation,
-                               ShadeOut&);
-template void shade_hit<double>(const Scene&, const Ray&, double, const Primitive&, HitRefine, NormalInterpolation,
-                                ShadeOut&);
+template Vec3Of<float> shading_normal<float>(const Primitive&, const Vec3Of<float>&,
+                                             const Vec3Of<float>&, NormalInterpolation);
+template Vec3Of<double> shading_normal<double>(const Primitive&, const Vec3Of<double>&,
+                                               const Vec3Of<double>&, NormalInterpolation);
+template void shade_hit<float>(const Scene&, const Ray&, double, const Primitive&, HitRefine,
+                               NormalInterpolation, ShadeOut&);
+template void shade_hit<double>(const Scene&, const Ray&, double, const Primitive&, HitRefine,
+                                NormalInterpolation, ShadeOut&);
 
 }  // namespace rtm

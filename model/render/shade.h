@@ -30,7 +30,8 @@ using Vec3Of = glm::vec<3, Real>;
 
 struct ShadeOut {
   Vec3 brightness{0, 0, 0};
-  std::vector<Ray> rays;  ///< spawned rays, shadow rays first (in light order), then reflected, transmitted
+  std::vector<Ray>
+      rays;  ///< spawned rays, shadow rays first (in light order), then reflected, transmitted
 };
 
 /// The rounding scale of a hit point p on `prim`, as a distance: |p|∞ (where the point itself is
@@ -51,7 +52,8 @@ Real spawn_offset(const Scene& s, const Primitive& prim, const Vec3Of<Real>& p);
 /// The unit surface normal at p facing against the incoming direction d. Where the gradient
 /// vanishes (a cone's apex) or is not finite, falls back to −d.
 template <class Real = double>
-Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& d, bool* entering);
+Vec3Of<Real> facing_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& d,
+                           bool* entering);
 
 /// The barycentric coordinates of p on a triangle (a polygon of 3 corners, its clips one per edge,
 /// geom/quadric.h make_polygon), from the clip tests' edge values: clip k, the edge from corner k
@@ -65,8 +67,8 @@ bool barycentric(const Primitive& prim, const Vec3Of<Real>& p, Real w[3]);
 /// `facing`: with NormalInterpolation::Barycentric and vertex normals, their barycentric blend;
 /// else `facing` itself.
 template <class Real>
-Vec3Of<Real> shading_normal(const Primitive& prim, const Vec3Of<Real>& p, const Vec3Of<Real>& facing,
-                            NormalInterpolation mode);
+Vec3Of<Real> shading_normal(const Primitive& prim, const Vec3Of<Real>& p,
+                            const Vec3Of<Real>& facing, NormalInterpolation mode);
 
 /// One Newton step on Q(o + t d) = 0 from the intersection stage's t, in double precision on
 /// the primitive's local form (no cancellation far from the origin); the step is limited so a
@@ -82,7 +84,8 @@ void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, 
 
 /// The reference renderer's shading: double precision, each hit refined by a Newton step, the
 /// normals as the scene's normal_interpolation says.
-inline void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim, ShadeOut& out) {
+inline void shade_hit(const Scene& s, const Ray& ray, double t, const Primitive& prim,
+                      ShadeOut& out) {
   shade_hit<double>(s, ray, t, prim, HitRefine::Newton, s.normal_interpolation, out);
 }
 

@@ -24,8 +24,10 @@ struct Hit {
 TEST(ShadePrecision, Fp32FormsEveryShadingResultInFloat) {
   const Hit h;
   ShadeOut o32, o64;
-  shade_hit<float>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, NormalInterpolation::Flat, o32);
-  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, NormalInterpolation::Flat, o64);
+  shade_hit<float>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, NormalInterpolation::Flat,
+                   o32);
+  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::None, NormalInterpolation::Flat,
+                    o64);
   ASSERT_EQ(o32.rays.size(), 3u);  // shadow, reflected, transmitted
   ASSERT_EQ(o64.rays.size(), 3u);
   EXPECT_TRUE(is_float(o32.brightness));
@@ -34,7 +36,9 @@ TEST(ShadePrecision, Fp32FormsEveryShadingResultInFloat) {
     EXPECT_EQ(a.kind, b.kind);
     // Origins, directions, contributions and a shadow ray's brightness and length are floats,
     // each within float rounding of the double result, and (here) not all equal to it.
-    EXPECT_TRUE(is_float(a.origin) && is_float(a.dir) && is_float(a.contribution) && is_float(a.brightness)) << i;
+    EXPECT_TRUE(is_float(a.origin) && is_float(a.dir) && is_float(a.contribution) &&
+                is_float(a.brightness))
+        << i;
     EXPECT_TRUE(a.t_max == kInf || is_float(a.t_max)) << i;
     EXPECT_LT(length(a.origin - b.origin), 1e-5 * 30) << i;
     EXPECT_LT(length(a.dir - b.dir), 1e-5) << i;
@@ -44,7 +48,8 @@ TEST(ShadePrecision, Fp32FormsEveryShadingResultInFloat) {
   ShadeOut ref;
   shade_hit(h.s, h.ray, h.t, h.s.primitives[0], ref);
   ShadeOut newton;
-  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::Newton, NormalInterpolation::Flat, newton);
+  shade_hit<double>(h.s, h.ray, h.t, h.s.primitives[0], HitRefine::Newton,
+                    NormalInterpolation::Flat, newton);
   ASSERT_EQ(ref.rays.size(), newton.rays.size());
   for (size_t i = 0; i < ref.rays.size(); ++i) {
     EXPECT_EQ(ref.rays[i].origin, newton.rays[i].origin);
@@ -73,7 +78,8 @@ TEST(HitRefine, NewtonPutsAFloatTOnTheSurfaceAndNoneLeavesIt) {
   const double off = std::abs(p.value_at(h.ray.origin + t32 * h.ray.dir));
   const double refined = refine_hit(p, h.ray, t32);
   EXPECT_GT(off, 1e-7);
-  EXPECT_LT(std::abs(p.value_at(h.ray.origin + refined * h.ray.dir)), 1e-10);  // one step: about the error squared
+  EXPECT_LT(std::abs(p.value_at(h.ray.origin + refined * h.ray.dir)),
+            1e-10);  // one step: about the error squared
   EXPECT_NEAR(refined, h.t, 1e-10);
   // Shading follows the choice: newton shades at the refined point, none at t32.
   ShadeOut none, newton;
@@ -114,9 +120,9 @@ TEST(SmoothShading, BarycentricCoordinatesComeFromTheClipValues) {
   const SmoothTriangle t;
   double w[3];
   ASSERT_TRUE(barycentric<double>(t.s.primitives[0], {0.5, 0.5, 0}, w));
-  EXPECT_NEAR(w[0], 0.5, 1e-15);   // 1 - x/2 - y/2
-  EXPECT_NEAR(w[1], 0.25, 1e-15);  // x / 2
-  EXPECT_NEAR(w[2], 0.25, 1e-15);  // y / 2
+  EXPECT_NEAR(w[0], 0.5, 1e-15);                                      // 1 - x/2 - y/2
+  EXPECT_NEAR(w[1], 0.25, 1e-15);                                     // x / 2
+  EXPECT_NEAR(w[2], 0.25, 1e-15);                                     // y / 2
   ASSERT_TRUE(barycentric<double>(t.s.primitives[0], {2, 0, 0}, w));  // a corner: all its own
   EXPECT_NEAR(w[1], 1, 1e-15);
   float f[3];
@@ -165,13 +171,16 @@ TEST(SmoothShading, TheShadowRaysCarryTheBlendedNormalsBrightness) {
   // The shadow ray leaves from spawn_offset above the hit: its direction differs by ~1e-7.
   EXPECT_NEAR(shadow(0.2, 0.2, NormalInterpolation::Flat, false), kd * l.z, 1e-9);
   EXPECT_NEAR(shadow(1.2, 0.3, NormalInterpolation::Flat, false),
-              kd * normalize(Vec3(0.5, 0.5, 100) - Vec3(1.2, 0.3, 0)).z, 1e-9);  // the plane's normal there too
+              kd * normalize(Vec3(0.5, 0.5, 100) - Vec3(1.2, 0.3, 0)).z,
+              1e-9);  // the plane's normal there too
   const Primitive& p = t.s.primitives[0];
-  const Vec3 n = shading_normal<double>(p, {0.2, 0.2, 0}, {0, 0, 1}, NormalInterpolation::Barycentric);
+  const Vec3 n =
+      shading_normal<double>(p, {0.2, 0.2, 0}, {0, 0, 1}, NormalInterpolation::Barycentric);
   EXPECT_NEAR(shadow(0.2, 0.2, NormalInterpolation::Barycentric, false), kd * dot(n, l), 1e-9);
   EXPECT_NEAR(shadow(0.2, 0.2, NormalInterpolation::Barycentric, true), kd * dot(n, l), 1e-6);
   // Near the tilted corner (0, 0) and near the middle: the normal turns across the triangle.
-  EXPECT_GT(shadow(0.6, 0.6, NormalInterpolation::Barycentric, false) - shadow(0.1, 0.1, NormalInterpolation::Barycentric, false),
+  EXPECT_GT(shadow(0.6, 0.6, NormalInterpolation::Barycentric, false) -
+                shadow(0.1, 0.1, NormalInterpolation::Barycentric, false),
             0.1);
 }
 

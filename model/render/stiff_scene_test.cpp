@@ -21,7 +21,8 @@ using namespace rtm::test;
 using LD = long double;
 
 void report(const std::string& what, const Tally& t) {
-  std::printf("[numerics] %-62s n=%d wrong=%.4f%% worst=%.3g\n", what.c_str(), t.n, 100 * t.rate(), t.worst);
+  std::printf("[numerics] %-62s n=%d wrong=%.4f%% worst=%.3g\n", what.c_str(), t.n, 100 * t.rate(),
+              t.worst);
 }
 
 /// The machine's arithmetic settings under test.
@@ -37,9 +38,12 @@ MacNumerics with(OriginLatch o, CoefScaling s = CoefScaling::Pow2) {
   m.coef_scaling = s;
   return m;
 }
-const Arith kPaper{"fp32 paper (recentre=false, coef_scaling=none)", false, false, with(OriginLatch::Machine, CoefScaling::None)};
-const Arith kMachineLatch{"fp32 recentre, origin_latch=machine", false, true, with(OriginLatch::Machine)};
-const Arith kWide{"fp32 default (recentre, origin_latch=wide)", false, true, with(OriginLatch::Wide)};
+const Arith kPaper{"fp32 paper (recentre=false, coef_scaling=none)", false, false,
+                   with(OriginLatch::Machine, CoefScaling::None)};
+const Arith kMachineLatch{"fp32 recentre, origin_latch=machine", false, true,
+                          with(OriginLatch::Machine)};
+const Arith kWide{"fp32 default (recentre, origin_latch=wide)", false, true,
+                  with(OriginLatch::Wide)};
 const Arith kAdvance{"fp32 origin_latch=advance", false, true, with(OriginLatch::Advance)};
 const Arith kFp64{"fp64 default", true, true, with(OriginLatch::Wide)};
 
@@ -64,8 +68,9 @@ PrimitiveHit machine_hit(const SceneMemory<Real>& mem, uint32_t prim, const Ray&
   const Latches<Real> l = mem.latches(ray, prim, te);
   const Abg<Real> abg = form_abg(l, mem.rams[prim]);
   const double sh = mem.t_shift(te);
-  PrimitiveHit h = first_hit_in_window(mem.clips[prim], solve_quadratic(abg.a, abg.b, abg.g, mem.numerics.discriminant),
-                                       l, -sh, -sh, ray.t_max - sh);
+  PrimitiveHit h = first_hit_in_window(
+      mem.clips[prim], solve_quadratic(abg.a, abg.b, abg.g, mem.numerics.discriminant), l, -sh, -sh,
+      ray.t_max - sh);
   if (h.hit) h.t += sh;
   return h;
 }
@@ -112,7 +117,8 @@ TEST(StiffScene, OriginAtTheSphereCentreGivesBetaZeroAfterRecentring) {
   std::mt19937 rng(200);
   for (const double far : {0.0, 1e3, 1e5}) {
     // A centre representable in float, so the re-centred frame's origin is the centre exactly.
-    const Vec3 c{round_to_real<float>(far * 0.6 + 0.3), round_to_real<float>(-far * 0.8 + 0.7), 0.25};
+    const Vec3 c{round_to_real<float>(far * 0.6 + 0.3), round_to_real<float>(-far * 0.8 + 0.7),
+                 0.25};
     Shapes sh({make_sphere(c, 2)});
     const SceneMemory<float> m32(sh.s, sh.g, true);
     const SceneMemory<double> m64(sh.s, sh.g, true);
@@ -138,7 +144,8 @@ TEST(StiffScene, OriginAtTheSphereCentreGivesBetaZeroAfterRecentring) {
 
 /// Rays from `eye_dist` radii away at spheres of radius r centred `far` from the origin, aimed at
 /// the sphere's disc; rays within 1e-4 of tangency are left to case 3.
-Tally far_spheres(const Arith& a, double far, double r, double eye_dist, int seed, double* worst_t) {
+Tally far_spheres(const Arith& a, double far, double r, double eye_dist, int seed,
+                  double* worst_t) {
   std::mt19937 rng(seed);
   Tally t;
   *worst_t = 0;
@@ -151,7 +158,8 @@ Tally far_spheres(const Arith& a, double far, double r, double eye_dist, int see
     LD te = 0, close = 0;
     const bool exact = sphere_exact(c, r, ray.origin, ray.dir, te, close);
     if (close < 1e-4) continue;
-    const PrimitiveHit h = with_arith(a, sh.s, sh.g, [&](const auto& mem) { return machine_hit(mem, 0, ray); });
+    const PrimitiveHit h =
+        with_arith(a, sh.s, sh.g, [&](const auto& mem) { return machine_hit(mem, 0, ray); });
     t.add(h.hit == exact);
     if (h.hit && exact) *worst_t = std::max(*worst_t, double(std::abs(LD(h.t) - te) / r));
   }
@@ -169,7 +177,8 @@ TEST(StiffScene, FarFromTheOriginPaperMachineFailsRecentringAndWideLatchFix) {
     const Arith* arith[5] = {&kPaper, &kMachineLatch, &kWide, &kAdvance, &kFp64};
     for (int k = 0; k < 5; ++k) {
       by[k] = far_spheres(*arith[k], row.far, row.r, 5, 210, &w);
-      std::snprintf(what, sizeof what, "5 sphere r=%g at %g, eye 5r, %s", row.r, row.far, arith[k]->name);
+      std::snprintf(what, sizeof what, "5 sphere r=%g at %g, eye 5r, %s", row.r, row.far,
+                    arith[k]->name);
       report(what, by[k]);
       std::printf("[numerics]     worst |t - t_exact| / r = %.3g\n", w);
       if (arith[k] == &kWide || arith[k] == &kAdvance) {
@@ -220,7 +229,8 @@ TEST(StiffScene, HugeAndTinyInOneScene) {
   // cylinder beside them; rays from near the tiny sphere at each primitive.
   const double big = 1e3, tiny = 1e-3;
   const Vec3 small_c{0, big + tiny, 0};
-  Shapes sh({make_sphere({0, 0, 0}, big), make_sphere(small_c, tiny), make_cone({2 * tiny, big, 0}, tiny, {2 * tiny, big, big}, tiny)});
+  Shapes sh({make_sphere({0, 0, 0}, big), make_sphere(small_c, tiny),
+             make_cone({2 * tiny, big, 0}, tiny, {2 * tiny, big, big}, tiny)});
   std::mt19937 rng(230);
   for (const Arith* a : {&kPaper, &kMachineLatch, &kWide, &kFp64}) {
     Tally t;
@@ -231,7 +241,8 @@ TEST(StiffScene, HugeAndTinyInOneScene) {
       LD te = 0, close = 0;
       const bool exact = sphere_exact(small_c, tiny, ray.origin, ray.dir, te, close);
       if (close < 1e-4) continue;
-      const PrimitiveHit h = with_arith(*a, sh.s, sh.g, [&](const auto& mem) { return machine_hit(mem, 1, ray); });
+      const PrimitiveHit h =
+          with_arith(*a, sh.s, sh.g, [&](const auto& mem) { return machine_hit(mem, 1, ray); });
       t.add(h.hit == exact);
     }
     report(std::string("5 tiny sphere (1e-3) on a huge one (1e3), ") + a->name, t);
@@ -257,8 +268,8 @@ std::vector<std::pair<std::string, Primitive>> every_kind(const Vec3& at, double
           {"cylinder", make_cone(at, 0.5 * size, at + 2 * size * ax, 0.5 * size)},
           {"cone", make_cone(at, 0.7 * size, at + 2 * size * ax, 0)},
           {"plane", make_plane(ax, -dot(ax, at), box)},
-          {"polygon", make_polygon({at - size * e1 - size * e2, at + size * e1 - size * e2, at + size * e1 + size * e2,
-                                    at - size * e1 + size * e2})},
+          {"polygon", make_polygon({at - size * e1 - size * e2, at + size * e1 - size * e2,
+                                    at + size * e1 + size * e2, at - size * e1 + size * e2})},
           {"paraboloid", make_paraboloid(f, size, size)},
           {"hyperboloid1", make_hyperboloid1(f, 0.5 * size, 0.5 * size, size)},
           {"hyperboloid2", make_hyperboloid2(f, 0.5 * size, 0.5 * size, 2 * size)}};
@@ -270,12 +281,15 @@ bool primitive_exact(const Primitive& p, const Vec3& o, const Vec3& d, LD& t) {
   const Quadric& q = p.has_local ? p.local : p.q;
   const Vec3 base = p.has_local ? p.origin : Vec3{0, 0, 0};
   const auto& c = q.c;
-  const LD ux = d.x, uy = d.y, uz = d.z, vx = LD(o.x) - base.x, vy = LD(o.y) - base.y, vz = LD(o.z) - base.z;
-  const LD A = c[kA], B = c[kB], C = c[kC], D = c[kD], E = c[kE], F = c[kF], G = c[kG], H = c[kH], I = c[kI], J = c[kJ];
+  const LD ux = d.x, uy = d.y, uz = d.z, vx = LD(o.x) - base.x, vy = LD(o.y) - base.y,
+           vz = LD(o.z) - base.z;
+  const LD A = c[kA], B = c[kB], C = c[kC], D = c[kD], E = c[kE], F = c[kF], G = c[kG], H = c[kH],
+           I = c[kI], J = c[kJ];
   const LD a = A * ux * ux + B * uy * uy + C * uz * uz + D * ux * uy + E * uy * uz + F * uz * ux;
-  const LD b = 2 * A * ux * vx + 2 * B * uy * vy + 2 * C * uz * vz + D * (ux * vy + uy * vx) + E * (uy * vz + uz * vy) +
-               F * (uz * vx + ux * vz) + G * ux + H * uy + I * uz;
-  const LD g = A * vx * vx + B * vy * vy + C * vz * vz + D * vx * vy + E * vy * vz + F * vz * vx + G * vx + H * vy + I * vz + J;
+  const LD b = 2 * A * ux * vx + 2 * B * uy * vy + 2 * C * uz * vz + D * (ux * vy + uy * vx) +
+               E * (uy * vz + uz * vy) + F * (uz * vx + ux * vz) + G * ux + H * uy + I * uz;
+  const LD g = A * vx * vx + B * vy * vy + C * vz * vz + D * vx * vy + E * vy * vz + F * vz * vx +
+               G * vx + H * vy + I * vz + J;
   LD ts[2];
   int n = 0;
   if (a == 0) {
@@ -307,8 +321,8 @@ struct SpawnTally {
 /// reflected and transmitted rays, and each is tested against its own primitive again. A self
 /// hit: the machine finds the surface the ray left (a hit nearer than half the exact next hit
 /// of the spawned ray, or a hit where there is none).
-SpawnTally spawn_self_hits(const Arith& a, const Primitive& prim, double size, SpawnPolicy policy, double offset,
-                           int rays, int seed) {
+SpawnTally spawn_self_hits(const Arith& a, const Primitive& prim, double size, SpawnPolicy policy,
+                           double offset, int rays, int seed) {
   Material m;
   m.diffuse = 0.5;
   m.specular = 0.5;
@@ -329,7 +343,9 @@ SpawnTally spawn_self_hits(const Arith& a, const Primitive& prim, double size, S
     for (int i = 0; i < rays; ++i) {
       Ray r;
       r.origin = mid + 2 * ext * random_unit(rng);
-      r.dir = normalize(mid + 0.4 * ext * Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} - r.origin);
+      r.dir = normalize(
+          mid + 0.4 * ext * Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} -
+          r.origin);
       const PrimitiveHit h = machine_hit(mem, 0, r);
       if (!h.hit) continue;
       shade_hit(sh.s, r, h.t, prim, out);
@@ -352,7 +368,8 @@ TEST(StiffSpawn, NoSelfHitsForAnyKindInTheDefaultMachine) {
   struct Place {
     double at, size;
   };
-  for (const Place pl : {Place{0, 1}, Place{0, 1e-2}, Place{0, 1e2}, Place{1e3, 1}, Place{1e3, 1e-2}}) {
+  for (const Place pl :
+       {Place{0, 1}, Place{0, 1e-2}, Place{0, 1e2}, Place{1e3, 1}, Place{1e3, 1e-2}}) {
     const Vec3 at = pl.at * Vec3{0.6, 0.8, 0} + Vec3{0.1, 0.2, 0.3} * pl.size;
     for (const Arith* a : {&kMachineLatch, &kWide, &kFp64}) {
       for (SpawnPolicy pol : {SpawnPolicy::Relative, SpawnPolicy::Bound}) {
@@ -366,14 +383,14 @@ TEST(StiffSpawn, NoSelfHitsForAnyKindInTheDefaultMachine) {
           // default machine's float origin latch then misplaces rays near a cone's apex now and
           // then (1 in ~1000 there); the wide latch and fp64 never.
           if (a != &kMachineLatch || pl.size / std::max(1.0, pl.at) >= 1e-3) {
-            EXPECT_EQ(st.self_hits, 0) << kind << " at " << pl.at << " size " << pl.size << ", " << a->name << ", "
-                                       << to_string(pol);
+            EXPECT_EQ(st.self_hits, 0) << kind << " at " << pl.at << " size " << pl.size << ", "
+                                       << a->name << ", " << to_string(pol);
           } else {
             EXPECT_LE(st.self_hits, st.spawned / 200) << kind;
           }
         }
-        std::printf("[numerics] 7 spawns at %g size %g, %s, %s: %ld of %ld self-hit\n", pl.at, pl.size, a->name,
-                    to_string(pol), total.self_hits, total.spawned);
+        std::printf("[numerics] 7 spawns at %g size %g, %s, %s: %ld of %ld self-hit\n", pl.at,
+                    pl.size, a->name, to_string(pol), total.self_hits, total.spawned);
       }
     }
   }
@@ -385,12 +402,14 @@ TEST(StiffSpawn, PaperMachineSelfHitsFarFromTheOrigin) {
   for (const double at : {0.0, 1e3}) {
     SpawnTally total;
     for (const auto& [kind, prim] : every_kind(at * Vec3{0.6, 0.8, 0} + Vec3{0.1, 0.2, 0.3}, 1)) {
-      const SpawnTally st = spawn_self_hits(kPaper, prim, 1, SpawnPolicy::Relative, 1e-5, 1500, 301);
+      const SpawnTally st =
+          spawn_self_hits(kPaper, prim, 1, SpawnPolicy::Relative, 1e-5, 1500, 301);
       total.spawned += st.spawned;
       total.self_hits += st.self_hits;
     }
-    std::printf("[numerics] 7 spawned rays at %g, %s: %ld of %ld self-hit (%.2f%%)\n", at, kPaper.name, total.self_hits,
-                total.spawned, 100.0 * total.self_hits / total.spawned);
+    std::printf("[numerics] 7 spawned rays at %g, %s: %ld of %ld self-hit (%.2f%%)\n", at,
+                kPaper.name, total.self_hits, total.spawned,
+                100.0 * total.self_hits / total.spawned);
     if (at == 0) {
       EXPECT_EQ(total.self_hits, 0);
     } else {
@@ -410,8 +429,8 @@ TEST(StiffSpawn, WideOriginLatchAllowsAnOffsetOfAFewUlpsOfTheObject) {
       total.spawned += st.spawned;
       total.self_hits += st.self_hits;
     }
-    std::printf("[numerics] 7 spawns at 1e3, spawn_offset 1e-8, %s: %ld of %ld self-hit\n", a->name, total.self_hits,
-                total.spawned);
+    std::printf("[numerics] 7 spawns at 1e3, spawn_offset 1e-8, %s: %ld of %ld self-hit\n", a->name,
+                total.self_hits, total.spawned);
     if (a == &kWide) {
       EXPECT_EQ(total.self_hits, 0);
     } else {
@@ -422,7 +441,8 @@ TEST(StiffSpawn, WideOriginLatchAllowsAnOffsetOfAFewUlpsOfTheObject) {
 
 /// Two concentric spheres `gap` apart (outer radius r, centre `at`): rays hit the outer one and
 /// its transmitted ray must next hit the inner one. Returns the share that does not (lost).
-double thin_shell_lost(const Arith& a, const Vec3& at, double r, double gap, SpawnPolicy pol, double offset, int seed) {
+double thin_shell_lost(const Arith& a, const Vec3& at, double r, double gap, SpawnPolicy pol,
+                       double offset, int seed) {
   Material glass;
   glass.diffuse = 0;
   glass.transmission = 0.9;
@@ -468,9 +488,30 @@ TEST(StiffSpawn, ThinShellsFourE5Apart) {
   };
   const Vec3 far = 1e3 * Vec3{0.6, 0.8, 0};
   const Case cases[] = {
-      {"r=1 at the origin, relative 1e-5", &kMachineLatch, {0, 0, 0}, 1, SpawnPolicy::Relative, 1e-5, 0, 0},
-      {"r=1 at the origin, bound 1e-5", &kMachineLatch, {0, 0, 0}, 1, SpawnPolicy::Bound, 1e-5, 0, 0},
-      {"r=1 at the origin, relative 1e-5", &kPaper, {0, 0, 0}, 1, SpawnPolicy::Relative, 1e-5, 0, 0},
+      {"r=1 at the origin, relative 1e-5",
+       &kMachineLatch,
+       {0, 0, 0},
+       1,
+       SpawnPolicy::Relative,
+       1e-5,
+       0,
+       0},
+      {"r=1 at the origin, bound 1e-5",
+       &kMachineLatch,
+       {0, 0, 0},
+       1,
+       SpawnPolicy::Bound,
+       1e-5,
+       0,
+       0},
+      {"r=1 at the origin, relative 1e-5",
+       &kPaper,
+       {0, 0, 0},
+       1,
+       SpawnPolicy::Relative,
+       1e-5,
+       0,
+       0},
       {"r=1 at the origin, relative 1e-5", &kFp64, {0, 0, 0}, 1, SpawnPolicy::Relative, 1e-5, 0, 0},
       // 1e3 away the relative offset is 1e-2, far past the inner shell: every ray is lost, in any
       // precision. fp64 with an offset for fp64 (1e-12) keeps them; float32 cannot go that low.
@@ -483,21 +524,44 @@ TEST(StiffSpawn, ThinShellsFourE5Apart) {
       {"r=1 at 1e3, relative 1e-8", &kMachineLatch, far, 1, SpawnPolicy::Relative, 1e-8, 0.1, 1},
       // Small shells at the origin (r = 1e-3, gap 4e-8): the relative offset has a floor of 1e-5,
       // the bound scales with the shell.
-      {"r=1e-3 gap 4e-8 at the origin, relative 1e-5", &kMachineLatch, {0, 0, 0}, 1e-3, SpawnPolicy::Relative, 1e-5, 1, 1},
-      {"r=1e-3 gap 4e-8 at the origin, bound 1e-5", &kMachineLatch, {0, 0, 0}, 1e-3, SpawnPolicy::Bound, 1e-5, 0, 0},
-      {"r=1e-3 gap 4e-8 at the origin, bound 1e-5", &kFp64, {0, 0, 0}, 1e-3, SpawnPolicy::Bound, 1e-5, 0, 0},
+      {"r=1e-3 gap 4e-8 at the origin, relative 1e-5",
+       &kMachineLatch,
+       {0, 0, 0},
+       1e-3,
+       SpawnPolicy::Relative,
+       1e-5,
+       1,
+       1},
+      {"r=1e-3 gap 4e-8 at the origin, bound 1e-5",
+       &kMachineLatch,
+       {0, 0, 0},
+       1e-3,
+       SpawnPolicy::Bound,
+       1e-5,
+       0,
+       0},
+      {"r=1e-3 gap 4e-8 at the origin, bound 1e-5",
+       &kFp64,
+       {0, 0, 0},
+       1e-3,
+       SpawnPolicy::Bound,
+       1e-5,
+       0,
+       0},
   };
   for (const Case& c : cases) {
-    const double lost = thin_shell_lost(*c.a, c.at, c.r, c.r < 1 ? gap * c.r : gap, c.pol, c.offset, 310);
-    std::printf("[numerics] 7 thin shell %s, %s: %.2f%% of transmitted rays miss the inner shell\n", c.what, c.a->name,
-                100 * lost);
+    const double lost =
+        thin_shell_lost(*c.a, c.at, c.r, c.r < 1 ? gap * c.r : gap, c.pol, c.offset, 310);
+    std::printf("[numerics] 7 thin shell %s, %s: %.2f%% of transmitted rays miss the inner shell\n",
+                c.what, c.a->name, 100 * lost);
     EXPECT_GE(lost, c.lo) << c.what << ", " << c.a->name;
     EXPECT_LE(lost, c.hi) << c.what << ", " << c.a->name;
   }
 }
 
 TEST(StiffSpawn, BoundOffsetScalesWithThePrimitive) {
-  const Primitive tiny = make_sphere({0, 0, 0}, 1e-6), unit = make_sphere({0, 0, 0}, 1), far = make_sphere({1e4, 0, 0}, 1);
+  const Primitive tiny = make_sphere({0, 0, 0}, 1e-6), unit = make_sphere({0, 0, 0}, 1),
+                  far = make_sphere({1e4, 0, 0}, 1);
   Scene s;
   s.spawn_offset = 1e-5;
   s.spawn_policy = SpawnPolicy::Bound;
@@ -595,11 +659,14 @@ TEST(StiffRefraction, RaysStartingInsideAClosedQuadricFindTheWayOut) {
   const Frame f = Frame::along({0.3, -0.2, 0.5}, normalize(Vec3{1, 2, 3}));
   for (const Arith* a : {&kPaper, &kMachineLatch, &kWide, &kFp64}) {
     Tally t;
-    for (const Primitive& p : {make_sphere({0.3, -0.2, 0.5}, 1.5), make_ellipsoid(f, Vec3{2, 1, 0.5})}) {
+    for (const Primitive& p :
+         {make_sphere({0.3, -0.2, 0.5}, 1.5), make_ellipsoid(f, Vec3{2, 1, 0.5})}) {
       Shapes sh({p});
       for (int i = 0; i < 3000; ++i) {
         // Inside: a point of the box pulled in until Q < 0, some of them a hair from the surface.
-        Vec3 o = p.origin + 0.9 * Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} * 0.5 * p.bounds.extent();
+        Vec3 o =
+            p.origin + 0.9 * Vec3{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)} *
+                           0.5 * p.bounds.extent();
         while (p.value_at(o) >= 0) o = p.origin + 0.5 * (o - p.origin);
         if (i % 3 == 0) {  // near the surface: along a ray out of the centre, 1e-6 short of it
           const Vec3 d = normalize(o - p.origin);
@@ -612,14 +679,16 @@ TEST(StiffRefraction, RaysStartingInsideAClosedQuadricFindTheWayOut) {
         ray.dir = random_unit(rng);
         LD te = 0;
         ASSERT_TRUE(primitive_exact(p, o, ray.dir, te));
-        const PrimitiveHit h = with_arith(*a, sh.s, sh.g, [&](const auto& mem) { return machine_hit(mem, 0, ray); });
+        const PrimitiveHit h =
+            with_arith(*a, sh.s, sh.g, [&](const auto& mem) { return machine_hit(mem, 0, ray); });
         const bool ok = h.hit && std::abs(LD(h.t) - te) <= 1e-3 * (1 + te);
         t.add(ok, h.hit ? double(std::abs(LD(h.t) - te)) : 0);
       }
     }
     report(std::string("8 rays starting inside a sphere/ellipsoid, ") + a->name, t);
     if (a == &kPaper) {
-      EXPECT_LT(t.rate(), 0.01);  // world coefficients: origins 1e-6 from the surface, misread now and then
+      EXPECT_LT(t.rate(),
+                0.01);  // world coefficients: origins 1e-6 from the surface, misread now and then
     } else {
       EXPECT_EQ(t.wrong, 0) << a->name;
     }
@@ -630,7 +699,8 @@ TEST(StiffRefraction, RaysStartingInsideAClosedQuadricFindTheWayOut) {
 // 9) Singular normals
 
 TEST(StiffNormals, ConeApexAndCylinderAxisFallBackToFiniteUnitNormals) {
-  const Primitive cone = make_cone({0, 0, 0}, 1, {0, 0, 2}, 0), cyl = make_cone({0, 0, 0}, 1, {0, 0, 2}, 1);
+  const Primitive cone = make_cone({0, 0, 0}, 1, {0, 0, 2}, 0),
+                  cyl = make_cone({0, 0, 0}, 1, {0, 0, 2}, 1);
   std::mt19937 rng(330);
   Scene s;
   Material m;

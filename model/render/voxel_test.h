@@ -35,7 +35,8 @@ constexpr double kAdvancedWindowReach = 1e-4;
 inline double entry_reach(OriginLatch latch, const DdaState& s, double t_hi) {
   if (latch == OriginLatch::Machine) return 0.0;
   double reach = s.t_enter_slack;
-  if (latch == OriginLatch::Advance) reach = std::max(reach, kAdvancedWindowReach * (t_hi - s.t_enter));
+  if (latch == OriginLatch::Advance)
+    reach = std::max(reach, kAdvancedWindowReach * (t_hi - s.t_enter));
   return std::min(reach, s.t_enter);
 }
 
@@ -45,22 +46,24 @@ inline double window_end(const Ray& r, const DdaState& s) { return std::min(s.t_
 /// The MAC's job for one voxel: α, β, γ for every primitive the voxel lists, in list order.
 /// t_enter: where the ray enters the voxel (DdaState::t_enter; used by OriginLatch::Advance).
 template <class Real>
-void form_voxel_abg(const SceneMemory<Real>& mem, const Ray& ray, int64_t voxel, std::vector<Abg<Real>>& out,
-                    double t_enter = 0) {
+void form_voxel_abg(const SceneMemory<Real>& mem, const Ray& ray, int64_t voxel,
+                    std::vector<Abg<Real>>& out, double t_enter = 0) {
   const Grid& g = *mem.grid;
   out.clear();
   for (const uint32_t *it = g.begin(voxel), *end = it + g.count(voxel); it != end; ++it)
-    out.push_back(
-        form_abg(mem.latches(ray, *it, t_enter), mem.rams[*it], mem.masks.empty() ? kAllProducts : mem.masks[*it]));
+    out.push_back(form_abg(mem.latches(ray, *it, t_enter), mem.rams[*it],
+                           mem.masks.empty() ? kAllProducts : mem.masks[*it]));
 }
 
 /// The root unit and the sort for one voxel: roots of each primitive's α t² + β t + γ, clip
 /// tests, and the nearest hit inside the voxel (ties go to the lower primitive number, the order
 /// the voxel lists them in). Every listed primitive is tested, as the paper's §5.1 says.
-/// `clips_per_prim`, if given, receives each primitive's clip-test count (for the machine's timing).
+/// `clips_per_prim`, if given, receives each primitive's clip-test count (for the machine's
+/// timing).
 template <class Real>
-VoxelHit resolve_voxel(const SceneMemory<Real>& mem, const Ray& ray, const DdaState& s, int64_t voxel,
-                       const Abg<Real>* abg, std::vector<uint32_t>* clips_per_prim = nullptr) {
+VoxelHit resolve_voxel(const SceneMemory<Real>& mem, const Ray& ray, const DdaState& s,
+                       int64_t voxel, const Abg<Real>* abg,
+                       std::vector<uint32_t>* clips_per_prim = nullptr) {
   VoxelHit best;
   const Grid& g = *mem.grid;
   const double t_hi = window_end(ray, s);
@@ -70,9 +73,9 @@ VoxelHit resolve_voxel(const SceneMemory<Real>& mem, const Ray& ray, const DdaSt
   if (clips_per_prim) clips_per_prim->clear();
   for (uint32_t i = 0, n = g.count(voxel); i < n; ++i) {
     const Abg<Real>& c = abg[i];
-    PrimitiveHit h = first_hit_in_window(mem.clips[ids[i]], solve_quadratic(c.a, c.b, c.g, mem.numerics.discriminant),
-                                         mem.latches(ray, ids[i], s.t_enter), -shift, s.t_enter - shift - reach_back,
-                                         t_hi - shift);
+    PrimitiveHit h = first_hit_in_window(
+        mem.clips[ids[i]], solve_quadratic(c.a, c.b, c.g, mem.numerics.discriminant),
+        mem.latches(ray, ids[i], s.t_enter), -shift, s.t_enter - shift - reach_back, t_hi - shift);
     if (h.hit) h.t += shift;
     ++best.tests;
     best.clip_tests += uint32_t(h.clip_tests);

@@ -27,7 +27,9 @@ void expect_rejected(const Bad& b, bool nff) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.line(), b.line) << e.what();
     EXPECT_NE(std::string(e.what()).find(b.says), std::string::npos) << e.what();
-    EXPECT_EQ(std::string(e.what()).rfind(std::string(nff ? "x.nff:" : "x.yaml:") + std::to_string(b.line) + ":", 0), 0u)
+    EXPECT_EQ(std::string(e.what()).rfind(
+                  std::string(nff ? "x.nff:" : "x.yaml:") + std::to_string(b.line) + ":", 0),
+              0u)
         << e.what();
   }
 }
@@ -40,25 +42,42 @@ TEST(ExtremeInput, NativeNonFiniteAndOverflowingNumbers) {
       {"camera: {eye: [.nan, 0, 10], look_at: [0, 0, 0]}\nprimitives: []\n", 1, "not finite"},
       {"camera: {eye: [0, 0, 10], look_at: [0, -.inf, 0]}\nprimitives: []\n", 1, "not finite"},
       {"camera: {eye: [0, 0, 1e400], look_at: [0, 0, 0]}\nprimitives: []\n", 1, "out of range"},
-      {"camera: {eye: [0, 0, 10], look_at: [0, 0, 0], up: [0, nan, 0]}\nprimitives: []\n", 1, "not finite"},
+      {"camera: {eye: [0, 0, 10], look_at: [0, 0, 0], up: [0, nan, 0]}\nprimitives: []\n", 1,
+       "not finite"},
       // Finite, but squared distances would overflow a double.
       {"camera: {eye: [0, 0, 1e200], look_at: [0, 0, 0]}\nprimitives: []\n", 1, "within +-1e150"},
       {kCam + "lights:\n  - {position: [1, .inf, 1]}\nprimitives: []\n", 3, "not finite"},
       {kCam + "lights:\n  - {position: [1e200, 0, 0]}\nprimitives: []\n", 3, "within +-1e150"},
-      {kCam + "lights:\n  - {position: [1, 1, 1], color: [1, .nan, 1]}\nprimitives: []\n", 3, "not finite"},
-      {kCam + kMat + "primitives:\n  - {sphere: {center: [0, .nan, 0], radius: 1}, material: m}\n", 4, "not finite"},
-      {kCam + kMat + "primitives:\n  - {sphere: {center: [0, 0, 0], radius: .inf}, material: m}\n", 4, "not finite"},
-      {kCam + kMat + "primitives:\n  - {sphere: {center: [1e200, 0, 0], radius: 1}, material: m}\n", 4, "too far"},
-      {kCam + kMat + "primitives:\n  - {sphere: {center: [0, 0, 0], radius: 1e-200}, material: m}\n", 4, "too small"},
-      {kCam + kMat + "primitives:\n  - {quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, .nan, -1], box: {min: [-1, -1, -1], max: [1, 1, 1]}}, material: m}\n",
-       4, "not finite"},
-      {kCam + kMat + "primitives:\n  - {quadric: {coefficients: [1e400, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: {min: [-1, -1, -1], max: [1, 1, 1]}}, material: m}\n",
-       4, "out of range"},
-      {kCam + kMat + "primitives:\n  - {plane: {normal: [0, 1, 0], box: {min: [-1e200, -1, -1], max: [1, 1, 1]}}, material: m}\n", 4,
-       "too far"},
-      {kCam + kMat + "primitives:\n  - {ellipsoid: {center: [0, 0, 0], radii: [1e300, 1, 1]}, material: m}\n", 4, "finite"},
-      {kCam + kMat + "primitives:\n  - {cone: {base: [0, 0, 0], base_radius: .nan, apex: [0, 0, 1], apex_radius: 0}, material: m}\n", 4,
+      {kCam + "lights:\n  - {position: [1, 1, 1], color: [1, .nan, 1]}\nprimitives: []\n", 3,
        "not finite"},
+      {kCam + kMat + "primitives:\n  - {sphere: {center: [0, .nan, 0], radius: 1}, material: m}\n",
+       4, "not finite"},
+      {kCam + kMat + "primitives:\n  - {sphere: {center: [0, 0, 0], radius: .inf}, material: m}\n",
+       4, "not finite"},
+      {kCam + kMat + "primitives:\n  - {sphere: {center: [1e200, 0, 0], radius: 1}, material: m}\n",
+       4, "too far"},
+      {kCam + kMat +
+           "primitives:\n  - {sphere: {center: [0, 0, 0], radius: 1e-200}, material: m}\n",
+       4, "too small"},
+      {kCam + kMat +
+           "primitives:\n  - {quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, .nan, -1], box: "
+           "{min: [-1, -1, -1], max: [1, 1, 1]}}, material: m}\n",
+       4, "not finite"},
+      {kCam + kMat +
+           "primitives:\n  - {quadric: {coefficients: [1e400, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: "
+           "{min: [-1, -1, -1], max: [1, 1, 1]}}, material: m}\n",
+       4, "out of range"},
+      {kCam + kMat +
+           "primitives:\n  - {plane: {normal: [0, 1, 0], box: {min: [-1e200, -1, -1], max: [1, 1, "
+           "1]}}, material: m}\n",
+       4, "too far"},
+      {kCam + kMat +
+           "primitives:\n  - {ellipsoid: {center: [0, 0, 0], radii: [1e300, 1, 1]}, material: m}\n",
+       4, "finite"},
+      {kCam + kMat +
+           "primitives:\n  - {cone: {base: [0, 0, 0], base_radius: .nan, apex: [0, 0, 1], "
+           "apex_radius: 0}, material: m}\n",
+       4, "not finite"},
       {kCam + "render: {spawn_offset: .nan}\nprimitives: []\n", 2, "not finite"},
       {kCam + "render: {spawn_policy: exact}\nprimitives: []\n", 2, "relative or bound"},
   };
@@ -66,7 +85,8 @@ TEST(ExtremeInput, NativeNonFiniteAndOverflowingNumbers) {
 }
 
 TEST(ExtremeInput, NffNonFiniteAndOverflowingNumbers) {
-  const std::string view = "v\nfrom 0 0 10\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n";
+  const std::string view =
+      "v\nfrom 0 0 10\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n";
   const std::string f = "f 1 1 1 0.5 0.5 0 0 1\n";
   const std::vector<Bad> cases = {
       {"v\nfrom nan 0 10\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n", 2, "not"},
@@ -80,7 +100,8 @@ TEST(ExtremeInput, NffNonFiniteAndOverflowingNumbers) {
 }
 
 TEST(ExtremeInput, ScenesBuiltInCodeAreCheckedToo) {
-  Scene s = parse_native(kCam + kMat + "lights: [{position: [1, 2, 3]}]\nprimitives: []\n", "x.yaml");
+  Scene s =
+      parse_native(kCam + kMat + "lights: [{position: [1, 2, 3]}]\nprimitives: []\n", "x.yaml");
   ASSERT_NO_THROW(validate(s));
   s.lights[0].position = {0, 1e160, 0};
   EXPECT_THROW(validate(s), std::invalid_argument);

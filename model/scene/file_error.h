@@ -11,7 +11,9 @@ namespace rtm {
 class FileError : public std::runtime_error {
  public:
   FileError(const std::string& file, int line, const std::string& what)
-      : std::runtime_error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
+      : std::runtime_error(file + ":" + std::to_string(line) + ": " + what),
+        file_(file),
+        line_(line) {}
   const std::string& file() const { return file_; }
   int line() const { return line_; }
 

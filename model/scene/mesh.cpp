@@ -71,14 +71,17 @@ class Reader {
   std::vector<T> array() {
     const uint64_t n = count(sizeof(T));
     std::vector<T> v(n);
-    if (n) std::memcpy(v.data(), b_.data() + at_, n * sizeof(T));  // an empty vector's data() may be null
+    if (n)
+      std::memcpy(v.data(), b_.data() + at_,
+                  n * sizeof(T));  // an empty vector's data() may be null
     at_ += n * sizeof(T);
     return v;
   }
   /// A count of items of `size` bytes each that the rest of the bytes can hold.
   uint64_t count(size_t size) {
     const uint64_t n = raw<uint64_t>();
-    if (n > (b_.size() - at_) / size) throw std::invalid_argument("mesh encoding: a count exceeds the bytes left");
+    if (n > (b_.size() - at_) / size)
+      throw std::invalid_argument("mesh encoding: a count exceeds the bytes left");
     return n;
   }
   bool done() const { return at_ == b_.size(); }
@@ -229,11 +232,13 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
   if (!placement.material) {
     for (const MeshMaterial& x : m.materials) {
       Material mat = machine_material(x);
-      mat.name = std::filesystem::path(file).filename().string() + ":" + (x.name.empty() ? "material" : x.name);
+      mat.name = std::filesystem::path(file).filename().string() + ":" +
+                 (x.name.empty() ? "material" : x.name);
       try {
         scene_checks::check_material(mat);
       } catch (const std::invalid_argument& e) {
-        fail("material '" + x.name + "': " + e.what());  // unreachable: machine_material cleans every value
+        fail("material '" + x.name +
+             "': " + e.what());  // unreachable: machine_material cleans every value
       }
       s.materials.push_back(std::move(mat));
     }
@@ -243,15 +248,18 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
       s.materials.push_back(std::move(mat));
     }
   }
-  if (m.triangle_material.size() != m.triangles.size()) fail("the mesh has not one material per triangle");
-  if (!m.normals.empty() && m.normals.size() != m.positions.size()) fail("the mesh has not one normal per vertex");
+  if (m.triangle_material.size() != m.triangles.size())
+    fail("the mesh has not one material per triangle");
+  if (!m.normals.empty() && m.normals.size() != m.positions.size())
+    fail("the mesh has not one normal per vertex");
   const size_t kept_materials = placement.material ? 0 : std::max<size_t>(1, m.materials.size());
   SkippedRecords degenerate{"degenerate triangle", "", 0, {}};
   // Reserved: growing a million primitives by doubling would hold half again as many for a moment.
   s.primitives.reserve(s.primitives.size() + m.triangles.size());
   s.origins.reserve(s.origins.size() + m.triangles.size());
   for (size_t i = 0; i < m.triangles.size(); ++i) {
-    if (options.progress && i % 4096 == 0) options.progress("mesh load", "triangle", i, m.triangles.size());
+    if (options.progress && i % 4096 == 0)
+      options.progress("mesh load", "triangle", i, m.triangles.size());
     const std::string name = "triangle " + std::to_string(i);
     std::vector<Vec3> v;
     for (const uint32_t k : m.triangles[i]) {
@@ -260,7 +268,8 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
              std::to_string(m.positions.size()) + " vertices)");
       const Vec3 p = placement.scale * m.positions[k] + placement.translate;
       if (!all_finite(p)) fail(name + ": vertex " + std::to_string(k) + " is not finite");
-      if (max_abs(p) > kMaxCoordinate) fail(name + ": vertex " + std::to_string(k) + " is beyond +-1e150");
+      if (max_abs(p) > kMaxCoordinate)
+        fail(name + ": vertex " + std::to_string(k) + " is beyond +-1e150");
       v.push_back(p);
     }
     Primitive prim;
@@ -268,14 +277,16 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
       prim = make_polygon(v);
     } catch (const DegenerateShape& e) {
       if (options.strict) fail(name + ": " + e.what() + " (--strict)");
-      if (degenerate.count++ == 0) degenerate.reason = std::string(e.what()) + "; the first is " + name + " of " + file;
+      if (degenerate.count++ == 0)
+        degenerate.reason = std::string(e.what()) + "; the first is " + name + " of " + file;
       continue;
     } catch (const std::invalid_argument& e) {
       fail(name + ": " + e.what());
     }
     // A uniform scale and a translation keep the normals' directions.
     if (!m.normals.empty())
-      prim.normals = unit_normals({m.normals[m.triangles[i][0]], m.normals[m.triangles[i][1]], m.normals[m.triangles[i][2]]});
+      prim.normals = unit_normals({m.normals[m.triangles[i][0]], m.normals[m.triangles[i][1]],
+                                   m.normals[m.triangles[i][2]]});
     if (placement.material) {
       prim.material = *placement.material;
     } else {
@@ -290,7 +301,10 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
   }
   if (degenerate.count) s.skipped.push_back(std::move(degenerate));
   if (m.points_and_lines)
-    s.skipped.push_back({"point or line face", "it has no area to render", int(std::min<uint64_t>(m.points_and_lines, INT32_MAX)), {}});
+    s.skipped.push_back({"point or line face",
+                         "it has no area to render",
+                         int(std::min<uint64_t>(m.points_and_lines, INT32_MAX)),
+                         {}});
 }
 
 Camera framing_camera(const Aabb& box) {
@@ -348,8 +362,10 @@ Scene mesh_scene(const MeshData& m, const std::string& file, const SceneReadOpti
     s.lights.push_back({centre + distance * Vec3(-0.5, 1, 1), Vec3(1)});
   }
   if (m.other_lights)
-    s.skipped.push_back({"light that is not a point", "the machine's lights are points",
-                         int(std::min<uint64_t>(m.other_lights, INT32_MAX)), {}});
+    s.skipped.push_back({"light that is not a point",
+                         "the machine's lights are points",
+                         int(std::min<uint64_t>(m.other_lights, INT32_MAX)),
+                         {}});
   try {
     validate(s);
   } catch (const std::invalid_argument& e) {

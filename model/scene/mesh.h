@@ -17,8 +17,8 @@ namespace rtm {
 /// A material as the file states it; each field is there only if the file sets it.
 struct MeshMaterial {
   std::string name;
-  std::optional<Vec3> kd, ks;      ///< OBJ/MTL Kd, Ks (and what other formats call diffuse, specular)
-  std::optional<double> ns, ni;    ///< Ns (shininess), Ni (index of refraction)
+  std::optional<Vec3> kd, ks;    ///< OBJ/MTL Kd, Ks (and what other formats call diffuse, specular)
+  std::optional<double> ns, ni;  ///< Ns (shininess), Ni (index of refraction)
   std::optional<double> opacity;   ///< d; OBJ's Tr is 1 - d
   std::optional<int> illum;        ///< OBJ's illumination model
   std::optional<Vec3> base_color;  ///< glTF metallic-roughness
@@ -33,12 +33,13 @@ struct MeshCamera {
 /// A mesh file's contents, every node's transform applied: world-space triangles.
 struct MeshData {
   std::vector<Vec3> positions;
-  std::vector<Vec3> normals;  ///< one per position (zero where the file has none), or empty: none at all
+  std::vector<Vec3>
+      normals;  ///< one per position (zero where the file has none), or empty: none at all
   std::vector<std::array<uint32_t, 3>> triangles;  ///< indices into positions
   std::vector<uint32_t> triangle_material;         ///< one per triangle, an index into materials
   std::vector<MeshMaterial> materials;
   std::optional<MeshCamera> camera;
-  std::vector<Light> lights;  ///< the file's point lights, colours as the file gives them
+  std::vector<Light> lights;      ///< the file's point lights, colours as the file gives them
   uint64_t points_and_lines = 0;  ///< faces of 1 or 2 corners, which have no area to render
   uint64_t other_lights = 0;      ///< lights that are not points (directional, spot, area)
 };

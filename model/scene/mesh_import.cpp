@@ -29,7 +29,8 @@
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define RTM_IMPORT_MEMORY_LIMIT 0
 #elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
 #define RTM_IMPORT_MEMORY_LIMIT 0
 #endif
 #endif
@@ -105,7 +106,8 @@ void add_node(const aiScene* sc, const aiNode* n, const aiMatrix4x4& parent, Mes
         continue;
       }
       // aiProcess_Triangulate has split every larger face.
-      out.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+      out.triangles.push_back(
+          {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
       out.triangle_material.push_back(mesh->mMaterialIndex);
     }
   }
@@ -114,7 +116,8 @@ void add_node(const aiScene* sc, const aiNode* n, const aiMatrix4x4& parent, Mes
 
 MeshData read_with_assimp(const std::string& path) {
   Assimp::Importer importer;
-  const aiScene* sc = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
+  const aiScene* sc =
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
   if (!sc) {
     const std::string why = importer.GetErrorString();
     // Assimp catches its own allocation failures and reports them by the exception's name.
@@ -123,10 +126,12 @@ MeshData read_with_assimp(const std::string& path) {
   }
   if (!sc->mRootNode) throw std::runtime_error("the file has no scene graph");
   MeshData out;
-  for (unsigned i = 0; i < sc->mNumMaterials; ++i) out.materials.push_back(material(sc->mMaterials[i]));
+  for (unsigned i = 0; i < sc->mNumMaterials; ++i)
+    out.materials.push_back(material(sc->mMaterials[i]));
   add_node(sc, sc->mRootNode, aiMatrix4x4(), out);
   bool any_normal = false;
-  for (unsigned i = 0; i < sc->mNumMeshes; ++i) any_normal = any_normal || sc->mMeshes[i]->HasNormals();
+  for (unsigned i = 0; i < sc->mNumMeshes; ++i)
+    any_normal = any_normal || sc->mMeshes[i]->HasNormals();
   if (!any_normal) out.normals.clear();
   if (sc->mNumCameras > 0) {
     const aiCamera* c = sc->mCameras[0];
@@ -157,8 +162,9 @@ MeshData read_with_assimp(const std::string& path) {
     out.lights.push_back({vec(t * l->mPosition), vec(l->mColorDiffuse)});
   }
   if (out.triangles.empty())
-    throw std::runtime_error(out.points_and_lines ? "the file has only points and lines, no triangles"
-                                                  : "the file has no triangles");
+    throw std::runtime_error(out.points_and_lines
+                                 ? "the file has only points and lines, no triangles"
+                                 : "the file has no triangles");
   return out;
 }
 
@@ -229,10 +235,12 @@ MeshData import_mesh(const std::string& path, const SceneReadOptions& options) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail("cannot read mesh file: " + std::string(std::strerror(ENOENT)));
   if (!fs::is_regular_file(path, ec)) fail("cannot read mesh file: it is not a regular file");
-  if (access(path.c_str(), R_OK) != 0) fail("cannot read mesh file: " + std::string(std::strerror(errno)));
+  if (access(path.c_str(), R_OK) != 0)
+    fail("cannot read mesh file: " + std::string(std::strerror(errno)));
 
   int fds[2];
-  if (pipe2(fds, O_CLOEXEC) != 0) fail("cannot start the mesh import: " + std::string(std::strerror(errno)));
+  if (pipe2(fds, O_CLOEXEC) != 0)
+    fail("cannot start the mesh import: " + std::string(std::strerror(errno)));
   const pid_t pid = fork();
   if (pid < 0) {
     ::close(fds[0]);
@@ -273,18 +281,20 @@ MeshData import_mesh(const std::string& path, const SceneReadOptions& options) {
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   if (timed_out)
-    fail("the mesh import (Assimp) took longer than its limit of " + std::to_string(int(options.import_seconds)) +
-         " s; stopped");
+    fail("the mesh import (Assimp) took longer than its limit of " +
+         std::to_string(int(options.import_seconds)) + " s; stopped");
   if (WIFSIGNALED(status))
-    fail("the mesh import (Assimp) crashed on this file (signal " + std::to_string(WTERMSIG(status)) + ", " +
-         strsignal(WTERMSIG(status)) + ")");
-  if (reply.empty()) fail("the mesh import (Assimp) ended without an answer (exit status " +
-                          std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+    fail("the mesh import (Assimp) crashed on this file (signal " +
+         std::to_string(WTERMSIG(status)) + ", " + strsignal(WTERMSIG(status)) + ")");
+  if (reply.empty())
+    fail("the mesh import (Assimp) ended without an answer (exit status " +
+         std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
   if (reply[0] == 'E') fail(printable(reply.substr(1)));
   try {
     return decode_mesh(reply.substr(1));
   } catch (const std::invalid_argument& e) {
-    fail(std::string("the mesh import sent a bad answer: ") + e.what());  // unreachable but for a bug
+    fail(std::string("the mesh import sent a bad answer: ") +
+         e.what());  // unreachable but for a bug
   }
   return {};
 }

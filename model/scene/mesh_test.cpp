@@ -21,7 +21,8 @@ class MeshFiles : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("rtm-mesh-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "-" +
+           ("rtm-mesh-" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "-" +
             std::to_string(::getpid()));
     fs::create_directories(dir_);
   }
@@ -55,10 +56,13 @@ TEST_F(MeshFiles, ObjQuadIsTriangulated) {
 
 TEST_F(MeshFiles, EachFormatReadsTheSameTriangle) {
   const std::string ply =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float "
+      "z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 "
+      "0 1 2\n";
   const std::string stl =
-      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
+      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 "
+      "0\nendloop\nendfacet\n"
       "endsolid t\n";
   const std::string off = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   // Three float32 corners, base64 in a data URI (12 bytes each: 0 0 0, 1 0 0, 0 1 0).
@@ -68,7 +72,11 @@ TEST_F(MeshFiles, EachFormatReadsTheSameTriangle) {
     "bufferViews": [{"buffer": 0, "byteLength": 36}],
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}]})";
   for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
-           {"t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}, {"t.ply", ply}, {"t.stl", stl}, {"t.off", off}, {"t.gltf", gltf}}) {
+           {"t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+           {"t.ply", ply},
+           {"t.stl", stl},
+           {"t.off", off},
+           {"t.gltf", gltf}}) {
     SCOPED_TRACE(name);
     const Scene s = load_scene(write(name, text));
     ASSERT_EQ(s.primitives.size(), 1u);
@@ -82,15 +90,17 @@ TEST_F(MeshFiles, EachFormatReadsTheSameTriangle) {
 
 TEST_F(MeshFiles, GlbBinaryReads) {
   // A GLB: 12-byte header, a JSON chunk, a BIN chunk with the three corners.
-  std::string json = R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"scene":0,"nodes":[{"mesh":0}],)"
-                     R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"byteLength":36}],)"
-                     R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
-                     R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
+  std::string json =
+      R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"scene":0,"nodes":[{"mesh":0}],)"
+      R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"byteLength":36}],)"
+      R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
   while (json.size() % 4) json += ' ';
   const float corners[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   std::string bin(reinterpret_cast<const char*>(corners), sizeof corners);
   auto u32 = [](uint32_t x) { return std::string(reinterpret_cast<const char*>(&x), 4); };
-  const std::string body = u32(uint32_t(json.size())) + "JSON" + json + u32(uint32_t(bin.size())) + "BIN" + '\0' + bin;
+  const std::string body =
+      u32(uint32_t(json.size())) + "JSON" + json + u32(uint32_t(bin.size())) + "BIN" + '\0' + bin;
   const std::string glb = "glTF" + u32(2) + u32(uint32_t(12 + body.size())) + body;
   const Scene s = load_scene(write("t.glb", glb));
   ASSERT_EQ(s.primitives.size(), 1u);
@@ -102,9 +112,10 @@ TEST_F(MeshFiles, ObjMaterialsMapToTheMachinesCoefficients) {
         "newmtl mirror\nKd 0.2 0.4 0.6\nKs 0.5 0.5 0.8\nNs 50\nNi 1.0\nd 1\nillum 3\n"
         "newmtl glass\nKd 1 1 1\nKs 0.3 0.3 0.3\nNi 1.5\nd 0.25\nillum 4\n"
         "newmtl plastic\nKd 0.8 0.1 0.1\nKs 1 1 1\nNs 10\nillum 2\n");
-  const Scene s = load_scene(write("m.obj",
-                                   "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-                                   "usemtl mirror\nf 1 2 3\nusemtl glass\nf 1 2 4\nusemtl plastic\nf 1 3 4\n"));
+  const Scene s =
+      load_scene(write("m.obj",
+                       "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                       "usemtl mirror\nf 1 2 3\nusemtl glass\nf 1 2 4\nusemtl plastic\nf 1 3 4\n"));
   ASSERT_EQ(s.primitives.size(), 3u);
   const Material& mirror = s.materials[size_t(s.primitives[0].material)];
   EXPECT_NEAR(mirror.color.y, 0.4, 1e-6);
@@ -156,7 +167,8 @@ TEST(MeshMaterial, MetallicRoughnessMapping) {
 }
 
 TEST_F(MeshFiles, GltfCameraAndPointLightAreTheFiles) {
-  const std::string gltf = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0, 1, 2]}], "scene": 0,
+  const std::string gltf =
+      R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0, 1, 2]}], "scene": 0,
     "extensionsUsed": ["KHR_lights_punctual"],
     "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "color": [1, 0.5, 0.5], "intensity": 4}]}},
     "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 1, "znear": 0.1}}],
@@ -168,12 +180,13 @@ TEST_F(MeshFiles, GltfCameraAndPointLightAreTheFiles) {
   const Scene s = load_scene(write("cam.gltf", gltf));
   EXPECT_NEAR(s.camera.eye.z, 5, 1e-6);
   EXPECT_NEAR(s.camera.eye.x, 0, 1e-6);
-  EXPECT_LT(s.camera.look_at.z, 5);  // a glTF camera looks along its -z
+  EXPECT_LT(s.camera.look_at.z, 5);                       // a glTF camera looks along its -z
   EXPECT_NEAR(s.camera.fov_deg, 0.8 * 180 / M_PI, 1e-4);  // yfov 0.8 rad at aspect 1
   ASSERT_EQ(s.lights.size(), 1u);
   EXPECT_NEAR(s.lights[0].position.x, 2, 1e-6);
   EXPECT_NEAR(s.lights[0].position.z, 4, 1e-6);
-  EXPECT_NEAR(std::max({s.lights[0].color.x, s.lights[0].color.y, s.lights[0].color.z}), 1, 1e-6);  // scaled to 1
+  EXPECT_NEAR(std::max({s.lights[0].color.x, s.lights[0].color.y, s.lights[0].color.z}), 1,
+              1e-6);  // scaled to 1
   EXPECT_NEAR(s.lights[0].color.y / s.lights[0].color.x, 0.5, 1e-6);
 }
 
@@ -191,15 +204,17 @@ TEST_F(MeshFiles, NoCameraFramesTheBox) {
 }
 
 TEST_F(MeshFiles, DegenerateTrianglesAreSkippedOrWithStrictAnError) {
-  const std::string path = write("deg.obj",
-                                 "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\n"
-                                 "f 1 2 4\nf 1 2 3\nf 1 1 4\nf 2 3 4\n");  // 2: on one line; 3: a repeated corner
+  const std::string path =
+      write("deg.obj",
+            "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\n"
+            "f 1 2 4\nf 1 2 3\nf 1 1 4\nf 2 3 4\n");  // 2: on one line; 3: a repeated corner
   const Scene s = load_scene(path);
   EXPECT_EQ(s.primitives.size(), 2u);
   ASSERT_EQ(s.skipped.size(), 1u);
   EXPECT_EQ(s.skipped[0].kind, "degenerate triangle");
   EXPECT_EQ(s.skipped[0].count, 2);
-  EXPECT_NE(s.skipped[0].reason.find("triangle 1 of " + path), std::string::npos) << s.skipped[0].reason;
+  EXPECT_NE(s.skipped[0].reason.find("triangle 1 of " + path), std::string::npos)
+      << s.skipped[0].reason;
   const std::vector<std::string> w = skipped_warnings(s, path);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_EQ(w[0].rfind(path + ":0: skipped 2 degenerate triangle records (", 0), 0u) << w[0];
@@ -222,17 +237,24 @@ TEST_F(MeshFiles, BadFilesNameTheFileAndTheProblem) {
     ADD_FAILURE() << path << " was read";
     return std::string();
   };
-  EXPECT_EQ(message((dir_ / "missing.obj").string()), (dir_ / "missing.obj").string() + ":0: cannot read mesh file: No such file or directory");
-  EXPECT_NE(message(write("garbage.ply", "ply\nthis is not a ply file\n")).find("Assimp cannot read it: "), std::string::npos);
+  EXPECT_EQ(
+      message((dir_ / "missing.obj").string()),
+      (dir_ / "missing.obj").string() + ":0: cannot read mesh file: No such file or directory");
+  EXPECT_NE(message(write("garbage.ply", "ply\nthis is not a ply file\n"))
+                .find("Assimp cannot read it: "),
+            std::string::npos);
   EXPECT_NE(message(write("empty.obj", "")).find(":0: "), std::string::npos);
-  EXPECT_NE(message(write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n")).find("no triangles"), std::string::npos);
+  EXPECT_NE(message(write("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n")).find("no triangles"),
+            std::string::npos);
   fs::create_directories(dir_ / "folder.obj");
   EXPECT_NE(message((dir_ / "folder.obj").string()).find("not a regular file"), std::string::npos);
-  EXPECT_NE(message(write("x.unknownext", "v 0 0 0\n")).find("unknown scene file extension"), std::string::npos);
+  EXPECT_NE(message(write("x.unknownext", "v 0 0 0\n")).find("unknown scene file extension"),
+            std::string::npos);
 }
 
 TEST_F(MeshFiles, AnImportOverItsMemoryLimitIsAnError) {
-  if (!import_memory_is_limited()) GTEST_SKIP() << "sanitizer builds import without an address-space limit";
+  if (!import_memory_is_limited())
+    GTEST_SKIP() << "sanitizer builds import without an address-space limit";
   // An OFF header that promises a billion vertices: Assimp reserves them before reading any.
   const std::string path = write("huge.off", "OFF\n1000000000 1000000000 0\n0 0 0\n");
   SceneReadOptions o;
@@ -241,7 +263,10 @@ TEST_F(MeshFiles, AnImportOverItsMemoryLimitIsAnError) {
     load_scene(path, o);
     FAIL() << "read";
   } catch (const SceneError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(path + ":0: out of memory: Assimp needed more than the import's limit of 256 MiB", 0), 0u)
+    EXPECT_EQ(
+        std::string(e.what()).rfind(
+            path + ":0: out of memory: Assimp needed more than the import's limit of 256 MiB", 0),
+        0u)
         << e.what();
   }
 }
@@ -274,8 +299,9 @@ TEST_F(MeshFiles, YamlSceneMixesQuadricsAndPlacedMeshes) {
     load_scene(bad);
     FAIL() << "read";
   } catch (const SceneError& e) {
-    EXPECT_EQ(std::string(e.what()), bad + ":3: primitives[0].mesh.file: " + (dir_ / "nowhere.obj").string() +
-                                         ":0: cannot read mesh file: No such file or directory");
+    EXPECT_EQ(std::string(e.what()),
+              bad + ":3: primitives[0].mesh.file: " + (dir_ / "nowhere.obj").string() +
+                  ":0: cannot read mesh file: No such file or directory");
   }
   const std::string unknown = write("unknown.yaml",
                                     "camera: {eye: [0, 0, 10], look_at: [0, 0, 0]}\n"
@@ -294,7 +320,8 @@ TEST(MeshData, BadIndicesAndCornersAreErrors) {
     add_mesh(s, m, "f.obj", {}, {});
     FAIL();
   } catch (const SceneError& e) {
-    EXPECT_EQ(std::string(e.what()), "f.obj:0: triangle 0: vertex index 3 is out of range (the mesh has 3 vertices)");
+    EXPECT_EQ(std::string(e.what()),
+              "f.obj:0: triangle 0: vertex index 3 is out of range (the mesh has 3 vertices)");
   }
   m.triangles = {{0, 1, 2}};
   m.positions[1].x = std::nan("");

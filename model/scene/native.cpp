@@ -21,7 +21,9 @@ namespace rtm {
 
 namespace {
 
-int line_of(const YAML::Node& n) { return n.IsDefined() && !n.Mark().is_null() ? n.Mark().line + 1 : 0; }
+int line_of(const YAML::Node& n) {
+  return n.IsDefined() && !n.Mark().is_null() ? n.Mark().line + 1 : 0;
+}
 
 std::string str(double x) {
   std::ostringstream o;
@@ -36,25 +38,31 @@ class NoAliases : public YAML::EventHandler {
  public:
   explicit NoAliases(const std::string& file) : file_(file) {}
   void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override {
-    throw SceneError(file_, mark.line + 1, "YAML aliases (*name) are not supported: write the value out");
+    throw SceneError(file_, mark.line + 1,
+                     "YAML aliases (*name) are not supported: write the value out");
   }
   void OnDocumentStart(const YAML::Mark&) override {}
   void OnDocumentEnd() override {}
   void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
-  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
   void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
   void OnMapEnd() override {}
 
  private:
   const std::string& file_;
 };
 
-/// Every parse step knows its node, and where it is in the document ("primitives[2].sphere.radius").
+/// Every parse step knows its node, and where it is in the document
+/// ("primitives[2].sphere.radius").
 class NativeParser {
  public:
-  NativeParser(const std::string& file, const SceneReadOptions& options) : file_(file), options_(options) {}
+  NativeParser(const std::string& file, const SceneReadOptions& options)
+      : file_(file), options_(options) {}
 
   /// `text`, a YAML mapping of camera keys, applied to `base`.
   Camera camera_override(const std::string& text, const Camera& base) {
@@ -62,7 +70,8 @@ class NativeParser {
     try {
       doc = YAML::Load(text);
     } catch (const YAML::Exception& e) {
-      throw SceneError(file_, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax error: " + e.msg);
+      throw SceneError(file_, e.mark.is_null() ? 0 : e.mark.line + 1,
+                       "YAML syntax error: " + e.msg);
     }
     scene_.camera = base;
     camera(doc, false);
@@ -77,11 +86,14 @@ class NativeParser {
       YAML::Parser(in).HandleNextDocument(no_aliases);  // the document Load reads
       doc = YAML::Load(yaml);
     } catch (const YAML::Exception& e) {
-      throw SceneError(file_, e.mark.is_null() ? 0 : e.mark.line + 1, "YAML syntax error: " + e.msg);
+      throw SceneError(file_, e.mark.is_null() ? 0 : e.mark.line + 1,
+                       "YAML syntax error: " + e.msg);
     }
-    if (!doc.IsMap()) fail(doc, "scene", "expected a mapping with at least 'camera' and 'primitives'");
-    Map top(*this, doc, "scene",
-            {"name", "camera", "background", "ambient", "lights", "materials", "render", "primitives"});
+    if (!doc.IsMap())
+      fail(doc, "scene", "expected a mapping with at least 'camera' and 'primitives'");
+    Map top(
+        *this, doc, "scene",
+        {"name", "camera", "background", "ambient", "lights", "materials", "render", "primitives"});
     scene_.name = std::filesystem::path(file_).stem().string();
     if (auto n = top.get("name")) scene_.name = name(*n);
     camera(top.required("camera"));
@@ -100,14 +112,16 @@ class NativeParser {
   }
 
  private:
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& path, const std::string& what) const {
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& path,
+                         const std::string& what) const {
     throw SceneError(file_, std::max(1, line_of(n)), path + ": " + what);
   }
 
   /// A mapping whose keys are checked against the allowed set: a typo must not pass silently.
   class Map {
    public:
-    Map(const NativeParser& p, const YAML::Node& n, std::string path, std::initializer_list<const char*> allowed)
+    Map(const NativeParser& p, const YAML::Node& n, std::string path,
+        std::initializer_list<const char*> allowed)
         : p_(p), node_(n), path_(std::move(path)) {
       if (!n.IsMap()) p.fail(n, path_, "expected a mapping {key: value, ...}");
       for (auto it = n.begin(); it != n.end(); ++it) {
@@ -157,9 +171,12 @@ class NativeParser {
   std::string name(const YAML::Node& n) const {
     const std::string s = text(n, "name");
     bool ok = !s.empty() && s[0] != '.' && s.size() <= 100;
-    for (const char c : s) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
+    for (const char c : s)
+      ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
     if (!ok)
-      fail(n, "name", "must be 1 to 100 letters, digits, '_', '-' or '.', not starting with '.', got '" + s + "'");
+      fail(n, "name",
+           "must be 1 to 100 letters, digits, '_', '-' or '.', not starting with '.', got '" + s +
+               "'");
     return s;
   }
 
@@ -170,11 +187,13 @@ class NativeParser {
     if (!t.empty() && t[0] == '+') t.remove_prefix(1);
     double x = 0;
     const auto r = std::from_chars(t.data(), t.data() + t.size(), x);
-    if (r.ec == std::errc::result_out_of_range) fail(n, path, "number '" + n.Scalar() + "' is out of range");
+    if (r.ec == std::errc::result_out_of_range)
+      fail(n, path, "number '" + n.Scalar() + "' is out of range");
     const bool parsed = r.ec == std::errc() && r.ptr == t.data() + t.size();
     std::string lower(t);
     for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-    const bool yaml_non_finite = lower == ".nan" || lower == ".inf" || lower == "-.inf";  // YAML's spellings
+    const bool yaml_non_finite =
+        lower == ".nan" || lower == ".inf" || lower == "-.inf";  // YAML's spellings
     if (!parsed && !yaml_non_finite) fail(n, path, "expected a number, got '" + n.Scalar() + "'");
     if (!parsed || !std::isfinite(x)) fail(n, path, "number '" + n.Scalar() + "' is not finite");
     return x;
@@ -194,16 +213,19 @@ class NativeParser {
 
   int integer(const YAML::Node& n, const std::string& path, int lo) const {
     const double x = number(n, path);
-    if (x != std::floor(x) || x > INT_MAX) fail(n, path, "expected a whole number, got '" + n.Scalar() + "'");
+    if (x != std::floor(x) || x > INT_MAX)
+      fail(n, path, "expected a whole number, got '" + n.Scalar() + "'");
     if (x < lo) fail(n, path, "must be >= " + std::to_string(lo) + ", got " + str(x));
     return int(x);
   }
 
-  std::vector<double> numbers(const YAML::Node& n, const std::string& path, size_t count, const char* layout) const {
+  std::vector<double> numbers(const YAML::Node& n, const std::string& path, size_t count,
+                              const char* layout) const {
     if (!n.IsSequence() || n.size() != count)
       fail(n, path, "expected " + std::string(layout) + " (" + std::to_string(count) + " numbers)");
     std::vector<double> out;
-    for (size_t i = 0; i < count; ++i) out.push_back(number(n[i], path + "[" + std::to_string(i) + "]"));
+    for (size_t i = 0; i < count; ++i)
+      out.push_back(number(n[i], path + "[" + std::to_string(i) + "]"));
     return out;
   }
 
@@ -221,7 +243,8 @@ class NativeParser {
 
   Vec3 direction(const YAML::Node& n, const std::string& path) const {
     const Vec3 v = vec3(n, path);
-    if (!(length(v) > 0) || !std::isfinite(length(v))) fail(n, path, "must be a non-zero finite vector");
+    if (!(length(v) > 0) || !std::isfinite(length(v)))
+      fail(n, path, "must be a non-zero finite vector");
     return v;
   }
 
@@ -240,7 +263,8 @@ class NativeParser {
         fail(*v, m.path("fov"), "must be in (0, 180) degrees, got " + str(c.fov_deg));
     }
     if (auto v = m.get("resolution")) {
-      if (!v->IsSequence() || v->size() != 2) fail(*v, m.path("resolution"), "expected [width, height]");
+      if (!v->IsSequence() || v->size() != 2)
+        fail(*v, m.path("resolution"), "expected [width, height]");
       c.width = integer((*v)[0], m.path("resolution[0]"), 1);
       c.height = integer((*v)[1], m.path("resolution[1]"), 1);
       check(*v, m.path("resolution"), [&] { scene_checks::check_resolution(c.width, c.height); });
@@ -272,17 +296,21 @@ class NativeParser {
   void materials(const YAML::Node& n) {
     if (!n.IsMap()) fail(n, "materials", "expected a mapping from material names to materials");
     for (auto it = n.begin(); it != n.end(); ++it) {
-      if (!it->first.IsScalar()) fail(it->first, "materials", "material names must be plain strings");
+      if (!it->first.IsScalar())
+        fail(it->first, "materials", "material names must be plain strings");
       const std::string name = it->first.Scalar();
-      if (material_index_.count(name)) fail(it->first, "materials", "duplicate material '" + name + "'");
-      Map m(*this, it->second, "materials." + name, {"color", "ambient", "diffuse", "specular", "transmission", "ior"});
+      if (material_index_.count(name))
+        fail(it->first, "materials", "duplicate material '" + name + "'");
+      Map m(*this, it->second, "materials." + name,
+            {"color", "ambient", "diffuse", "specular", "transmission", "ior"});
       Material mat;
       mat.name = name;
       if (auto v = m.get("color")) mat.color = colour(*v, m.path("color"));
       if (auto v = m.get("ambient")) mat.ambient = at_least(*v, m.path("ambient"), 0);
       if (auto v = m.get("diffuse")) mat.diffuse = at_least(*v, m.path("diffuse"), 0);
       if (auto v = m.get("specular")) mat.specular = at_least(*v, m.path("specular"), 0);
-      if (auto v = m.get("transmission")) mat.transmission = at_least(*v, m.path("transmission"), 0);
+      if (auto v = m.get("transmission"))
+        mat.transmission = at_least(*v, m.path("transmission"), 0);
       if (auto v = m.get("ior")) mat.ior = positive(*v, m.path("ior"));
       material_index_[name] = int(scene_.materials.size());
       scene_.materials.push_back(mat);
@@ -290,31 +318,39 @@ class NativeParser {
   }
 
   void render(const YAML::Node& n) {
-    // Refining hits is the machine's remedy for its own rounding (docs/numerics.md), not the scene's.
+    // Refining hits is the machine's remedy for its own rounding (docs/numerics.md), not the
+    // scene's.
     if (n.IsMap() && n["refine_hits"])
       fail(n["refine_hits"], "render.refine_hits",
-           "not a scene setting: the machine key hit_refine (none or newton) chooses it, e.g. --set hit_refine=none");
+           "not a scene setting: the machine key hit_refine (none or newton) chooses it, e.g. "
+           "--set hit_refine=none");
     Map m(*this, n, "render", {"threshold", "max_depth", "grid", "spawn_offset", "spawn_policy"});
     if (auto v = m.get("threshold")) {
       scene_.threshold = number(*v, m.path("threshold"));
       if (!scene_checks::kThresholdRange.contains(scene_.threshold))
-        fail(*v, m.path("threshold"), "must be in " + scene_checks::kThresholdRange.text() + ", got " + str(scene_.threshold));
+        fail(*v, m.path("threshold"),
+             "must be in " + scene_checks::kThresholdRange.text() + ", got " +
+                 str(scene_.threshold));
     }
     if (auto v = m.get("max_depth")) {
       scene_.max_depth = integer(*v, m.path("max_depth"), 1);
       check(*v, m.path("max_depth"), [&] { scene_checks::check_max_depth(scene_.max_depth); });
     }
     if (auto v = m.get("spawn_offset"))
-      scene_.spawn_offset = at_least(*v, m.path("spawn_offset"), scene_checks::kSpawnOffsetRange.lo);
+      scene_.spawn_offset =
+          at_least(*v, m.path("spawn_offset"), scene_checks::kSpawnOffsetRange.lo);
     if (auto v = m.get("spawn_policy"))
-      check(*v, m.path("spawn_policy"), [&] { scene_.spawn_policy = parse_spawn_policy(text(*v, m.path("spawn_policy"))); });
+      check(*v, m.path("spawn_policy"),
+            [&] { scene_.spawn_policy = parse_spawn_policy(text(*v, m.path("spawn_policy"))); });
     if (auto v = m.get("grid")) {
       if (v->IsScalar() && v->Scalar() == "auto") {
         scene_.grid.resolution = {0, 0, 0};
       } else {
-        if (!v->IsSequence() || v->size() != 3) fail(*v, m.path("grid"), "expected 'auto' or [nx, ny, nz]");
+        if (!v->IsSequence() || v->size() != 3)
+          fail(*v, m.path("grid"), "expected 'auto' or [nx, ny, nz]");
         for (int i = 0; i < 3; ++i)
-          scene_.grid.resolution[i] = integer((*v)[i], m.path("grid[" + std::to_string(i) + "]"), 1);
+          scene_.grid.resolution[i] =
+              integer((*v)[i], m.path("grid[" + std::to_string(i) + "]"), 1);
         check(*v, m.path("grid"), [&] { scene_checks::check_grid(scene_.grid); });
       }
     }
@@ -325,16 +361,19 @@ class NativeParser {
     for (size_t i = 0; i < n.size(); ++i) {
       const std::string path = "primitives[" + std::to_string(i) + "]";
       Map m(*this, n[i], path,
-            {"sphere", "ellipsoid", "cylinder", "cone", "paraboloid", "hyperboloid", "plane", "polygon", "quadric",
-             "mesh", "material"});
+            {"sphere", "ellipsoid", "cylinder", "cone", "paraboloid", "hyperboloid", "plane",
+             "polygon", "quadric", "mesh", "material"});
       if (auto mesh_node = m.get("mesh")) {
         if (m.size() != 1)
-          fail(n[i], path, "a mesh names its material inside: {mesh: {file: ..., material: ...}}, with no other key");
+          fail(n[i], path,
+               "a mesh names its material inside: {mesh: {file: ..., material: ...}}, with no "
+               "other key");
         mesh(*mesh_node, path + ".mesh");
         continue;
       }
       const YAML::Node mat = m.required("material");
-      if (m.size() != 2) fail(n[i], path, "expected exactly one shape (sphere, ellipsoid, ...) and a material");
+      if (m.size() != 2)
+        fail(n[i], path, "expected exactly one shape (sphere, ellipsoid, ...) and a material");
       std::string kind;
       YAML::Node shape;
       for (auto it = n[i].begin(); it != n[i].end(); ++it) {
@@ -342,10 +381,12 @@ class NativeParser {
         kind = it->first.Scalar();
         shape = it->second;
       }
-      std::vector<Primitive> ps = make(kind, shape, path + "." + kind);  // a concave polygon: its pieces
+      std::vector<Primitive> ps =
+          make(kind, shape, path + "." + kind);  // a concave polygon: its pieces
       const std::string name = text(mat, path + ".material");
       auto found = material_index_.find(name);
-      if (found == material_index_.end()) fail(mat, path + ".material", "unknown material '" + name + "'");
+      if (found == material_index_.end())
+        fail(mat, path + ".material", "unknown material '" + name + "'");
       for (Primitive& p : ps) {
         p.material = found->second;
         scene_.primitives.push_back(std::move(p));
@@ -362,20 +403,24 @@ class NativeParser {
     const std::string name = text(file_node, m.path("file"));
     if (name.empty()) fail(file_node, m.path("file"), "must name a mesh file");
     namespace fs = std::filesystem;
-    const fs::path file = fs::path(name).is_absolute() ? fs::path(name) : fs::path(file_).parent_path() / name;
+    const fs::path file =
+        fs::path(name).is_absolute() ? fs::path(name) : fs::path(file_).parent_path() / name;
     MeshPlacement place;
     if (auto v = m.get("scale")) place.scale = positive(*v, m.path("scale"));
     if (auto v = m.get("translate")) place.translate = vec3(*v, m.path("translate"));
     if (auto v = m.get("material")) {
       const std::string mat = text(*v, m.path("material"));
       auto found = material_index_.find(mat);
-      if (found == material_index_.end()) fail(*v, m.path("material"), "unknown material '" + mat + "'");
+      if (found == material_index_.end())
+        fail(*v, m.path("material"), "unknown material '" + mat + "'");
       place.material = found->second;
     }
     std::string ext = file.extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (!is_mesh_extension(ext))
-      fail(file_node, m.path("file"), "'" + name + "' is not a mesh file Assimp reads (.obj, .ply, .gltf, .glb, .stl, .off, ...)");
+      fail(file_node, m.path("file"),
+           "'" + name +
+               "' is not a mesh file Assimp reads (.obj, .ply, .gltf, .glb, .stl, .off, ...)");
     try {
       add_mesh(scene_, import_mesh(file.string(), options_), file.string(), place, options_);
     } catch (const SceneError& e) {
@@ -417,7 +462,8 @@ class NativeParser {
 
   /// The shape's primitives: one, or a concave polygon's convex pieces (geom/polygon.h). The
   /// native format is written by hand, so a degenerate shape is an error here, not skipped.
-  std::vector<Primitive> make(const std::string& kind, const YAML::Node& n, const std::string& path) const {
+  std::vector<Primitive> make(const std::string& kind, const YAML::Node& n,
+                              const std::string& path) const {
     try {
       if (kind == "polygon") return make_polygon_pieces(polygon_vertices(n, path));
       return {make_shape(kind, n, path)};
@@ -432,11 +478,13 @@ class NativeParser {
     if (!vs.IsSequence() || vs.size() < 3)
       fail(vs, m.path("vertices"), "expected a list of at least 3 [x, y, z] vertices");
     std::vector<Vec3> v;
-    for (size_t i = 0; i < vs.size(); ++i) v.push_back(vec3(vs[i], m.path("vertices[" + std::to_string(i) + "]")));
+    for (size_t i = 0; i < vs.size(); ++i)
+      v.push_back(vec3(vs[i], m.path("vertices[" + std::to_string(i) + "]")));
     return v;
   }
 
-  Primitive make_shape(const std::string& kind, const YAML::Node& n, const std::string& path) const {
+  Primitive make_shape(const std::string& kind, const YAML::Node& n,
+                       const std::string& path) const {
     if (kind == "sphere") {
       Map m(*this, n, path, {"center", "radius"});
       return make_sphere(vec3(m.required("center"), m.path("center")),
@@ -453,13 +501,15 @@ class NativeParser {
     if (kind == "cylinder") {
       Map m(*this, n, path, {"base", "apex", "radius"});
       const double r = positive(m.required("radius"), m.path("radius"));
-      return make_cone(vec3(m.required("base"), m.path("base")), r, vec3(m.required("apex"), m.path("apex")), r);
+      return make_cone(vec3(m.required("base"), m.path("base")), r,
+                       vec3(m.required("apex"), m.path("apex")), r);
     }
     if (kind == "cone") {
       Map m(*this, n, path, {"base", "base_radius", "apex", "apex_radius"});
       const double r0 = at_least(m.required("base_radius"), m.path("base_radius"), 0);
       const double r1 = at_least(m.required("apex_radius"), m.path("apex_radius"), 0);
-      return make_cone(vec3(m.required("base"), m.path("base")), r0, vec3(m.required("apex"), m.path("apex")), r1);
+      return make_cone(vec3(m.required("base"), m.path("base")), r0,
+                       vec3(m.required("apex"), m.path("apex")), r1);
     }
     if (kind == "paraboloid") {
       Map m(*this, n, path, {"vertex", "axis", "k", "height"});
@@ -490,16 +540,19 @@ class NativeParser {
     }
     // Only "quadric" is left: Map has rejected every other key.
     Map m(*this, n, path, {"coefficients", "box", "clip"});
-    const auto c = numbers(m.required("coefficients"), m.path("coefficients"), 10, "[A, B, C, D, E, F, G, H, I, J]");
+    const auto c = numbers(m.required("coefficients"), m.path("coefficients"), 10,
+                           "[A, B, C, D, E, F, G, H, I, J]");
     std::array<double, 10> coef;
     std::copy(c.begin(), c.end(), coef.begin());
     std::vector<HalfSpace> clips;
     if (auto cl = m.get("clip")) {
-      if (!cl->IsSequence()) fail(*cl, m.path("clip"), "expected a list of [nx, ny, nz, d] half-spaces");
+      if (!cl->IsSequence())
+        fail(*cl, m.path("clip"), "expected a list of [nx, ny, nz, d] half-spaces");
       for (size_t i = 0; i < cl->size(); ++i) {
         const std::string p = m.path("clip[" + std::to_string(i) + "]");
         const auto h = numbers((*cl)[i], p, 4, "[nx, ny, nz, d]");
-        if (h[0] == 0 && h[1] == 0 && h[2] == 0) fail((*cl)[i], p, "half-space normal must not be zero");
+        if (h[0] == 0 && h[1] == 0 && h[2] == 0)
+          fail((*cl)[i], p, "half-space normal must not be zero");
         clips.push_back({{h[0], h[1], h[2]}, h[3]});
       }
     }
@@ -519,12 +572,14 @@ void override_camera(Camera& camera, const std::string& text) {
   camera = p.camera_override(text, camera);
 }
 
-Scene parse_native(const std::string& text, const std::string& file_name, const SceneReadOptions& options) {
+Scene parse_native(const std::string& text, const std::string& file_name,
+                   const SceneReadOptions& options) {
   try {
     return NativeParser(file_name, options).parse(text);
   } catch (const YAML::Exception& e) {
     // Every access is type-checked first, so this is only a safety net.
-    throw SceneError(file_name, e.mark.is_null() ? 0 : e.mark.line + 1, std::string("YAML error: ") + e.msg);
+    throw SceneError(file_name, e.mark.is_null() ? 0 : e.mark.line + 1,
+                     std::string("YAML error: ") + e.msg);
   }
 }
 

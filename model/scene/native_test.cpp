@@ -38,7 +38,8 @@ Primitive parse_one(const std::string& prim) {
 
 void expect_same(const Primitive& a, const Primitive& b) {
   EXPECT_EQ(a.kind, b.kind);
-  for (int i = 0; i < 10; ++i) EXPECT_NEAR(a.q.c[size_t(i)], b.q.c[size_t(i)], 1e-12) << "coefficient " << i;
+  for (int i = 0; i < 10; ++i)
+    EXPECT_NEAR(a.q.c[size_t(i)], b.q.c[size_t(i)], 1e-12) << "coefficient " << i;
   ASSERT_EQ(a.clips.size(), b.clips.size());
   for (size_t i = 0; i < a.clips.size(); ++i) {
     EXPECT_NEAR(length(a.clips[i].n - b.clips[i].n), 0, 1e-12);
@@ -51,14 +52,16 @@ void expect_same(const Primitive& a, const Primitive& b) {
 TEST(NativeFormat, WholeSceneWithDefaultsAndValues) {
   const Scene s = parse_native(
       "name: demo\n"
-      "camera: {eye: [0, 2, 10], look_at: [0, 0, 0], up: [0, 0, 1], fov: 30, resolution: [320, 240]}\n"
+      "camera: {eye: [0, 2, 10], look_at: [0, 0, 0], up: [0, 0, 1], fov: 30, resolution: [320, "
+      "240]}\n"
       "background: [0.1, 0.2, 0.4]\n"
       "ambient: [0.2, 0.3, 0.4]\n"
       "lights:\n"
       "  - {position: [5, 10, 5], color: [0.6, 0.5, 0.4]}\n"
       "  - {position: [-5, 10, 5]}\n"
       "materials:\n"
-      "  red: {color: [1, 0, 0], ambient: 0.15, diffuse: 0.8, specular: 0.2, transmission: 0.3, ior: 1.4}\n"
+      "  red: {color: [1, 0, 0], ambient: 0.15, diffuse: 0.8, specular: 0.2, transmission: 0.3, "
+      "ior: 1.4}\n"
       "  plain: {}\n"
       "render: {threshold: 0.004, max_depth: 7, grid: [4, 5, 6], spawn_offset: 1e-6}\n"
       "primitives:\n"
@@ -105,7 +108,8 @@ TEST(NativeFormat, WholeSceneWithDefaultsAndValues) {
 }
 
 TEST(NativeFormat, MinimalSceneDefaults) {
-  const Scene s = parse_native("camera: {eye: [0, 0, 5], look_at: [0, 0, 0]}\nprimitives: []\n", "dir/minimal.yml");
+  const Scene s = parse_native("camera: {eye: [0, 0, 5], look_at: [0, 0, 0]}\nprimitives: []\n",
+                               "dir/minimal.yml");
   const Scene d;
   EXPECT_EQ(s.name, "minimal");
   EXPECT_EQ(s.camera.up, d.camera.up);
@@ -119,7 +123,9 @@ TEST(NativeFormat, MinimalSceneDefaults) {
   EXPECT_EQ(s.grid.resolution, (std::array<int, 3>{0, 0, 0}));
   EXPECT_TRUE(s.primitives.empty());
   EXPECT_EQ(
-      parse_native("camera: {eye: [0, 0, 5], look_at: [0, 0, 0]}\nrender: {grid: auto}\nprimitives: []\n", "a.yaml")
+      parse_native(
+          "camera: {eye: [0, 0, 5], look_at: [0, 0, 0]}\nrender: {grid: auto}\nprimitives: []\n",
+          "a.yaml")
           .grid.resolution,
       (std::array<int, 3>{0, 0, 0}));
 }
@@ -139,8 +145,9 @@ TEST(NativeShapes, EllipsoidDefaultFrameIsTheWorldFrame) {
 
 TEST(NativeShapes, EllipsoidAxisAndXAxis) {
   // x_axis is orthogonalised against axis: [1, 1, 0] becomes world x.
-  const Primitive p =
-      parse_one("{ellipsoid: {center: [0, 0, 0], radii: [3, 2, 1], axis: [0, 2, 0], x_axis: [1, 1, 0]}, material: m}");
+  const Primitive p = parse_one(
+      "{ellipsoid: {center: [0, 0, 0], radii: [3, 2, 1], axis: [0, 2, 0], x_axis: [1, 1, 0]}, "
+      "material: m}");
   expect_same(p, make_ellipsoid(Frame{{0, 0, 0}, {1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {3, 2, 1}));
   EXPECT_NEAR(p.q.value({3, 0, 0}), 0, 1e-12);
   EXPECT_NEAR(p.q.value({0, 0, 2}), 0, 1e-12);
@@ -150,14 +157,15 @@ TEST(NativeShapes, EllipsoidAxisAndXAxis) {
 TEST(NativeShapes, CylinderAndCone) {
   expect_same(parse_one("{cylinder: {base: [0, 0, 0], apex: [0, 3, 0], radius: 0.5}, material: m}"),
               make_cone({0, 0, 0}, 0.5, {0, 3, 0}, 0.5));
-  const Primitive c =
-      parse_one("{cone: {base: [1, 0, 0], base_radius: 1, apex: [1, 0, 2], apex_radius: 0}, material: m}");
+  const Primitive c = parse_one(
+      "{cone: {base: [1, 0, 0], base_radius: 1, apex: [1, 0, 2], apex_radius: 0}, material: m}");
   expect_same(c, make_cone({1, 0, 0}, 1, {1, 0, 2}, 0));
   EXPECT_EQ(c.kind, ShapeKind::Cone);
 }
 
 TEST(NativeShapes, Paraboloid) {
-  const Primitive p = parse_one("{paraboloid: {vertex: [0, 1, 0], axis: [0, 1, 0], k: 2, height: 3}, material: m}");
+  const Primitive p =
+      parse_one("{paraboloid: {vertex: [0, 1, 0], axis: [0, 1, 0], k: 2, height: 3}, material: m}");
   EXPECT_EQ(p.kind, ShapeKind::Paraboloid);
   EXPECT_NEAR(p.q.value({0, 1, 0}), 0, 1e-12);               // the vertex
   EXPECT_NEAR(p.q.value({std::sqrt(6.0), 4, 0}), 0, 1e-12);  // the rim: r² = k h
@@ -169,30 +177,35 @@ TEST(NativeShapes, Paraboloid) {
 }
 
 TEST(NativeShapes, Hyperboloids) {
-  const Primitive one =
-      parse_one("{hyperboloid: {center: [0, 0, 0], axis: [0, 0, 1], a: 1, c: 2, half_height: 3}, material: m}");
+  const Primitive one = parse_one(
+      "{hyperboloid: {center: [0, 0, 0], axis: [0, 0, 1], a: 1, c: 2, half_height: 3}, material: "
+      "m}");
   expect_same(one, make_hyperboloid1(Frame{}, 1, 2, 3));
-  const Primitive two =
-      parse_one("{hyperboloid: {center: [0, 0, 0], a: 1, c: 2, half_height: 3, sheets: 2}, material: m}");
+  const Primitive two = parse_one(
+      "{hyperboloid: {center: [0, 0, 0], a: 1, c: 2, half_height: 3, sheets: 2}, material: m}");
   expect_same(two, make_hyperboloid2(Frame{}, 1, 2, 3));
   EXPECT_EQ(two.kind, ShapeKind::Hyperboloid2);
   const Primitive y = parse_one(
-      "{hyperboloid: {center: [0, 1, 0], axis: [0, 1, 0], a: 1, c: 1, half_height: 2, sheets: 1}, material: m}");
+      "{hyperboloid: {center: [0, 1, 0], axis: [0, 1, 0], a: 1, c: 1, half_height: 2, sheets: 1}, "
+      "material: m}");
   EXPECT_NEAR(y.q.value({1, 1, 0}), 0, 1e-12);  // the waist, around the y axis
   EXPECT_NEAR(y.q.value({0, 1, 1}), 0, 1e-12);
 }
 
 TEST(NativeShapes, PlanePolygonQuadric) {
-  const Primitive pl =
-      parse_one("{plane: {normal: [0, 2, 0], d: -1, box: {min: [-1, 0, -1], max: [1, 1, 1]}}, material: m}");
+  const Primitive pl = parse_one(
+      "{plane: {normal: [0, 2, 0], d: -1, box: {min: [-1, 0, -1], max: [1, 1, 1]}}, material: m}");
   expect_same(pl, make_plane({0, 2, 0}, -1, Aabb{{-1, 0, -1}, {1, 1, 1}}));
-  const Primitive pd = parse_one("{plane: {normal: [0, 1, 0], box: {min: [-1, -1, -1], max: [1, 1, 1]}}, material: m}");
+  const Primitive pd = parse_one(
+      "{plane: {normal: [0, 1, 0], box: {min: [-1, -1, -1], max: [1, 1, 1]}}, material: m}");
   EXPECT_EQ(pd.q.c[kJ], 0);  // d defaults to 0
-  const Primitive po = parse_one("{polygon: {vertices: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]}, material: m}");
+  const Primitive po =
+      parse_one("{polygon: {vertices: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]}, material: m}");
   expect_same(po, make_polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}));
   EXPECT_EQ(po.vertices.size(), 4u);
   const Primitive q = parse_one(
-      "{quadric: {coefficients: [1, 0, -1, 0, 0, 0, 0, -2, 0, 0], box: {min: [-1, -1, -1], max: [1, 1, 1]},"
+      "{quadric: {coefficients: [1, 0, -1, 0, 0, 0, 0, -2, 0, 0], box: {min: [-1, -1, -1], max: "
+      "[1, 1, 1]},"
       " clip: [[1, 0, 0, -0.5], [0, 0, 1, 0]]}, material: m}");
   expect_same(q, make_raw_quadric({1, 0, -1, 0, 0, 0, 0, -2, 0, 0}, Aabb{{-1, -1, -1}, {1, 1, 1}},
                                   {{{1, 0, 0}, -0.5}, {{0, 0, 1}, 0}}));
@@ -202,7 +215,8 @@ TEST(NativeShapes, PlanePolygonQuadric) {
 TEST(NativeShapes, ConcavePolygonBecomesConvexPieces) {
   const Scene s = parse_native(
       "camera: {eye: [0, 0, 10], look_at: [0, 0, 0]}\nmaterials: {m: {}}\nprimitives:\n"
-      "  - {polygon: {vertices: [[0, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [1, 2, 0], [0, 2, 0]]}, material: m}\n"
+      "  - {polygon: {vertices: [[0, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [1, 2, 0], [0, 2, "
+      "0]]}, material: m}\n"
       "  - {sphere: {center: [5, 0, 0], radius: 1}, material: m}\n",
       "l.yaml");
   ASSERT_EQ(s.primitives.size(), 3u);  // the L shape's two pieces, then the sphere
@@ -281,14 +295,19 @@ TEST(NativeErrors, CameraAndNumbers) {
       {cam("{eye: [0x10, 0, 1], look_at: [0, 0, 0]}"), 2, "expected a number, got '0x10'"},
       {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], fov: 180}"), 2, "camera.fov: must be in (0, 180)"},
       {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], fov: -5}"), 2, "must be in (0, 180)"},
-      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], resolution: [0, 10]}"), 2, "resolution[0]: must be >= 1"},
-      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], resolution: [10, 2.5]}"), 2, "expected a whole number"},
+      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], resolution: [0, 10]}"), 2,
+       "resolution[0]: must be >= 1"},
+      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], resolution: [10, 2.5]}"), 2,
+       "expected a whole number"},
       {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], resolution: [20000, 10]}"), 2, "at most 16384"},
       {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], resolution: 10}"), 2, "expected [width, height]"},
       {cam("{eye: [0, 0, 1], look_at: [0, 0, 1]}"), 2, "eye and look_at coincide"},
-      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], up: [0, 0, 3]}"), 2, "parallel to the view direction"},
-      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], fovv: 30}"), 2, "unknown key 'fovv' (allowed: eye, look_at"},
-      {cam("\n  eye: [0, 0, 1]\n  look_at: [0, 0, 0]\n  fov: abc"), 5, "camera.fov: expected a number"},
+      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], up: [0, 0, 3]}"), 2,
+       "parallel to the view direction"},
+      {cam("{eye: [0, 0, 1], look_at: [0, 0, 0], fovv: 30}"), 2,
+       "unknown key 'fovv' (allowed: eye, look_at"},
+      {cam("\n  eye: [0, 0, 1]\n  look_at: [0, 0, 0]\n  fov: abc"), 5,
+       "camera.fov: expected a number"},
   };
   for (const BadCase& c : cases) expect_error(c);
 }
@@ -298,13 +317,17 @@ TEST(NativeErrors, LightsMaterialsRender) {
       {kCam + kPrims + "background: [0, -1, 0]\n", 3, "background: colour components must be >= 0"},
       {kCam + kPrims + "ambient: [0, 0]\n", 3, "ambient: expected [r, g, b]"},
       {kCam + kPrims + "lights: {position: [0, 0, 0]}\n", 3, "lights: expected a list"},
-      {kCam + kPrims + "lights:\n  - {color: [1, 1, 1]}\n", 4, "lights[0]: missing required key 'position'"},
-      {kCam + kPrims + "lights:\n  - {position: [0, 0, 0], colour: [1, 1, 1]}\n", 4, "unknown key 'colour'"},
-      {kCam + kPrims + "lights:\n  - {position: [0, 0, 0], color: [1, -1, 1]}\n", 4, "must be >= 0"},
+      {kCam + kPrims + "lights:\n  - {color: [1, 1, 1]}\n", 4,
+       "lights[0]: missing required key 'position'"},
+      {kCam + kPrims + "lights:\n  - {position: [0, 0, 0], colour: [1, 1, 1]}\n", 4,
+       "unknown key 'colour'"},
+      {kCam + kPrims + "lights:\n  - {position: [0, 0, 0], color: [1, -1, 1]}\n", 4,
+       "must be >= 0"},
       {kCam + kPrims + "materials: [a, b]\n", 3, "materials: expected a mapping"},
       {kCam + kPrims + "materials:\n  a: 5\n", 4, "materials.a: expected a mapping"},
       {kCam + kPrims + "materials:\n  a: {ior: 0}\n", 4, "materials.a.ior: must be > 0"},
-      {kCam + kPrims + "materials:\n  a: {diffuse: -0.1}\n", 4, "materials.a.diffuse: must be >= 0"},
+      {kCam + kPrims + "materials:\n  a: {diffuse: -0.1}\n", 4,
+       "materials.a.diffuse: must be >= 0"},
       {kCam + kPrims + "materials:\n  a: {ambient: -1}\n", 4, "must be >= 0"},
       {kCam + kPrims + "materials:\n  a: {specular: -1}\n", 4, "must be >= 0"},
       {kCam + kPrims + "materials:\n  a: {transmission: -1}\n", 4, "must be >= 0"},
@@ -323,7 +346,8 @@ TEST(NativeErrors, LightsMaterialsRender) {
       {kCam + kPrims + "render: {depth: 3}\n", 3, "unknown key 'depth'"},
       // The hit refinement is a machine key now.
       {kCam + kPrims + "render: {refine_hits: false}\n", 3,
-       "render.refine_hits: not a scene setting: the machine key hit_refine (none or newton) chooses it"},
+       "render.refine_hits: not a scene setting: the machine key hit_refine (none or newton) "
+       "chooses it"},
   };
   for (const BadCase& c : cases) expect_error(c);
 }
@@ -334,54 +358,74 @@ TEST(NativeErrors, Primitives) {
       {"5", "primitives[0]: expected a mapping"},
       {"{sphere: {center: [0, 0, 0], radius: 1}}", "missing required key 'material'"},
       {"{material: m}", "expected exactly one shape"},
-      {"{sphere: {center: [0, 0, 0], radius: 1}, cone: {}, material: m}", "expected exactly one shape"},
+      {"{sphere: {center: [0, 0, 0], radius: 1}, cone: {}, material: m}",
+       "expected exactly one shape"},
       {"{sphear: {center: [0, 0, 0], radius: 1}, material: m}", "unknown key 'sphear'"},
       {"{sphere: {center: [0, 0, 0], radius: 1}, material: n}", "unknown material 'n'"},
       {"{sphere: {center: [0, 0, 0], radius: 1}, material: [m]}", "material: expected a string"},
-      {"{sphere: {center: [0, 0, 0], radius: 0}, material: m}", "primitives[0].sphere.radius: must be > 0"},
-      {"{sphere: {center: [0, 0, 0]}, material: m}", "primitives[0].sphere: missing required key 'radius'"},
+      {"{sphere: {center: [0, 0, 0], radius: 0}, material: m}",
+       "primitives[0].sphere.radius: must be > 0"},
+      {"{sphere: {center: [0, 0, 0]}, material: m}",
+       "primitives[0].sphere: missing required key 'radius'"},
       {"{sphere: {centre: [0, 0, 0], radius: 1}, material: m}", "unknown key 'centre'"},
       {"{sphere: [0, 0, 0, 1], material: m}", "primitives[0].sphere: expected a mapping"},
       {"{ellipsoid: {center: [0, 0, 0], radii: [1, -1, 1]}, material: m}", "radii must all be > 0"},
       {"{ellipsoid: {center: [0, 0, 0], radii: [1, 1, 1], axis: [0, 0, 0]}, material: m}",
        "ellipsoid.axis: must be a non-zero finite vector"},
-      {"{ellipsoid: {center: [0, 0, 0], radii: [1, 1, 1], axis: [0, 1, 0], x_axis: [0, -2, 0]}, material: m}",
+      {"{ellipsoid: {center: [0, 0, 0], radii: [1, 1, 1], axis: [0, 1, 0], x_axis: [0, -2, 0]}, "
+       "material: m}",
        "x_axis: must not be parallel to axis"},
-      {"{cylinder: {base: [0, 0, 0], apex: [0, 1, 0], radius: -1}, material: m}", "cylinder.radius: must be > 0"},
-      {"{cylinder: {base: [0, 0, 0], apex: [0, 0, 0], radius: 1}, material: m}", "cone base and apex coincide"},
+      {"{cylinder: {base: [0, 0, 0], apex: [0, 1, 0], radius: -1}, material: m}",
+       "cylinder.radius: must be > 0"},
+      {"{cylinder: {base: [0, 0, 0], apex: [0, 0, 0], radius: 1}, material: m}",
+       "cone base and apex coincide"},
       {"{cone: {base: [0, 0, 0], base_radius: 0, apex: [0, 1, 0], apex_radius: 0}, material: m}",
        "cone radii are both zero"},
       {"{cone: {base: [0, 0, 0], base_radius: -1, apex: [0, 1, 0], apex_radius: 0}, material: m}",
        "cone.base_radius: must be >= 0"},
-      {"{paraboloid: {vertex: [0, 0, 0], k: 0, height: 1}, material: m}", "paraboloid.k: must be > 0"},
+      {"{paraboloid: {vertex: [0, 0, 0], k: 0, height: 1}, material: m}",
+       "paraboloid.k: must be > 0"},
       {"{paraboloid: {vertex: [0, 0, 0], k: 1}, material: m}", "missing required key 'height'"},
-      {"{hyperboloid: {center: [0, 0, 0], a: 1, c: 1, half_height: 1, sheets: 3}, material: m}", "must be 1 or 2"},
-      {"{hyperboloid: {center: [0, 0, 0], a: 1, c: 1, half_height: 1, sheets: 0}, material: m}", "must be >= 1"},
+      {"{hyperboloid: {center: [0, 0, 0], a: 1, c: 1, half_height: 1, sheets: 3}, material: m}",
+       "must be 1 or 2"},
+      {"{hyperboloid: {center: [0, 0, 0], a: 1, c: 1, half_height: 1, sheets: 0}, material: m}",
+       "must be >= 1"},
       {"{hyperboloid: {center: [0, 0, 0], a: 1, c: 2, half_height: 1, sheets: 2}, material: m}",
        "half height must exceed c"},
-      {"{hyperboloid: {center: [0, 0, 0], a: 1, c: 1, height: 1}, material: m}", "unknown key 'height'"},
+      {"{hyperboloid: {center: [0, 0, 0], a: 1, c: 1, height: 1}, material: m}",
+       "unknown key 'height'"},
       {"{plane: {normal: [0, 0, 0], box: {min: [0, 0, 0], max: [1, 1, 1]}}, material: m}",
        "plane.normal: must be a non-zero finite vector"},
       {"{plane: {normal: [0, 1, 0], box: {min: [0, 2, 0], max: [1, 1, 1]}}, material: m}",
        "plane.box: min must not exceed max"},
-      {"{plane: {normal: [0, 1, 0], box: {min: [0, 0, 0]}}, material: m}", "plane.box: missing required key 'max'"},
+      {"{plane: {normal: [0, 1, 0], box: {min: [0, 0, 0]}}, material: m}",
+       "plane.box: missing required key 'max'"},
       {"{plane: {normal: [0, 1, 0]}, material: m}", "missing required key 'box'"},
-      {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0]]}, material: m}", "at least 3 [x, y, z] vertices"},
-      {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0], [0, 1]]}, material: m}", "polygon.vertices[2]: expected [x, y, z]"},
-      {"{polygon: {vertices: [[0, 0, 0], [2, 2, 0], [2, 0, 0], [0, 1, 0]]}, material: m}", "not simple"},
+      {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0]]}, material: m}",
+       "at least 3 [x, y, z] vertices"},
+      {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0], [0, 1]]}, material: m}",
+       "polygon.vertices[2]: expected [x, y, z]"},
+      {"{polygon: {vertices: [[0, 0, 0], [2, 2, 0], [2, 0, 0], [0, 1, 0]]}, material: m}",
+       "not simple"},
       {"{polygon: {vertices: [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}, material: m}", "zero area"},
-      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0], box: {min: [0, 0, 0], max: [1, 1, 1]}}, material: m}",
+      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0], box: {min: [0, 0, 0], max: [1, 1, "
+       "1]}}, material: m}",
        "quadric.coefficients: expected [A, B, C, D, E, F, G, H, I, J] (10 numbers)"},
-      {"{quadric: {coefficients: [0, 0, 0, 0, 0, 0, 0, 0, 0, 1], box: {min: [0, 0, 0], max: [1, 1, 1]}}, material: m}",
+      {"{quadric: {coefficients: [0, 0, 0, 0, 0, 0, 0, 0, 0, 1], box: {min: [0, 0, 0], max: [1, 1, "
+       "1]}}, material: m}",
        "quadric is degenerate"},
-      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1]}, material: m}", "missing required key 'box'"},
-      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: {min: [0, 0, 0], max: [1, 1, 1]},"
+      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1]}, material: m}",
+       "missing required key 'box'"},
+      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: {min: [0, 0, 0], max: [1, "
+       "1, 1]},"
        " clip: [[1, 0, 0]]}, material: m}",
        "quadric.clip[0]: expected [nx, ny, nz, d] (4 numbers)"},
-      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: {min: [0, 0, 0], max: [1, 1, 1]},"
+      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: {min: [0, 0, 0], max: [1, "
+       "1, 1]},"
        " clip: [[0, 0, 0, 1]]}, material: m}",
        "half-space normal must not be zero"},
-      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: {min: [0, 0, 0], max: [1, 1, 1]},"
+      {"{quadric: {coefficients: [1, 1, 1, 0, 0, 0, 0, 0, 0, -1], box: {min: [0, 0, 0], max: [1, "
+       "1, 1]},"
        " clip: 3}, material: m}",
        "quadric.clip: expected a list"},
   };
@@ -392,12 +436,14 @@ TEST(NativeErrors, Primitives) {
   }
   std::string circle;  // 1025 corners: one past the most a polygon may have
   for (int i = 0; i < 1025; ++i)
-    circle += (i ? ", [" : "[") + std::to_string(std::cos(6.283 * i / 1025)) + ", " + std::to_string(std::sin(6.283 * i / 1025)) + ", 0]";
+    circle += (i ? ", [" : "[") + std::to_string(std::cos(6.283 * i / 1025)) + ", " +
+              std::to_string(std::sin(6.283 * i / 1025)) + ", 0]";
   expect_error({with_primitive("{polygon: {vertices: [" + circle + "]}, material: m}"), 6,
                 "primitives[0].polygon: polygon has 1025 vertices, at most 1024"});
   // A block-style primitive reports the line of the offending value.
-  expect_error({with_primitive("material: m\n    sphere:\n      center: [0, 0, 0]\n      radius: -2"), 9,
-                "sphere.radius: must be > 0"});
+  expect_error(
+      {with_primitive("material: m\n    sphere:\n      center: [0, 0, 0]\n      radius: -2"), 9,
+       "sphere.radius: must be > 0"});
 }
 
 /// Whatever the input, the parser returns a scene or throws SceneError: nothing else.
@@ -442,7 +488,8 @@ TEST(NativeFuzz, TruncationsMutationsAndGarbage) {
   }
   expect_scene_or_error(std::string(20000, '[') + std::string(20000, ']'));  // deep nesting
   expect_scene_or_error("a: &x [*x]\n");
-  expect_scene_or_error(kCam + "primitives:\n  - &p {sphere: {center: [0, 0, 0], radius: 1}, material: m}\n  - *p\n");
+  expect_scene_or_error(
+      kCam + "primitives:\n  - &p {sphere: {center: [0, 0, 0], radius: 1}, material: m}\n  - *p\n");
 }
 
 // ---- load_scene, default_scene, set_resolution, validate ----
@@ -466,9 +513,10 @@ TEST_F(SceneFiles, LoadsByExtension) {
   const std::string yaml = with_primitive("{sphere: {center: [0, 0, 0], radius: 1}, material: m}");
   EXPECT_EQ(load_scene(write("a.yaml", yaml)).primitives.size(), 1u);
   EXPECT_EQ(load_scene(write("b.YML", yaml)).name, "t");
-  const Scene n = load_scene(write("c.nff",
-                                   "v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\n"
-                                   "f 1 1 1 1 0 0 0 0\ns 0 0 0 1\n"));
+  const Scene n =
+      load_scene(write("c.nff",
+                       "v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\n"
+                       "f 1 1 1 1 0 0 0 0\ns 0 0 0 1\n"));
   EXPECT_EQ(n.name, "c");
   EXPECT_EQ(n.origins[0].file, dir_ + "/c.nff");
 }
@@ -501,9 +549,9 @@ TEST(SceneDefault, HasEveryKindAndLooksAfterItself) {
   EXPECT_NO_THROW(validate(s));
   std::set<ShapeKind> kinds;
   for (const Primitive& p : s.primitives) kinds.insert(p.kind);
-  for (ShapeKind k :
-       {ShapeKind::Sphere, ShapeKind::Ellipsoid, ShapeKind::Cylinder, ShapeKind::Cone, ShapeKind::Paraboloid,
-        ShapeKind::Hyperboloid1, ShapeKind::Hyperboloid2, ShapeKind::Plane, ShapeKind::Polygon, ShapeKind::Raw})
+  for (ShapeKind k : {ShapeKind::Sphere, ShapeKind::Ellipsoid, ShapeKind::Cylinder, ShapeKind::Cone,
+                      ShapeKind::Paraboloid, ShapeKind::Hyperboloid1, ShapeKind::Hyperboloid2,
+                      ShapeKind::Plane, ShapeKind::Polygon, ShapeKind::Raw})
     EXPECT_TRUE(kinds.count(k)) << "missing " << shape_name(k);
   EXPECT_LT(s.primitives.size(), 100u);
   ASSERT_GE(s.lights.size(), 2u);
@@ -521,7 +569,8 @@ TEST(SceneDefault, HasEveryKindAndLooksAfterItself) {
   // The embedded copy is the file in the tree (CMake re-embeds it when the file changes).
   const Scene f = load_scene(RTM_SOURCE_DIR "/scenes/default.yaml");
   ASSERT_EQ(f.primitives.size(), s.primitives.size());
-  for (size_t i = 0; i < f.primitives.size(); ++i) EXPECT_EQ(f.primitives[i].q.c, s.primitives[i].q.c);
+  for (size_t i = 0; i < f.primitives.size(); ++i)
+    EXPECT_EQ(f.primitives[i].q.c, s.primitives[i].q.c);
 }
 
 TEST(SceneResolution, KeepsTheHorizontalFieldOfView) {
@@ -560,7 +609,8 @@ TEST(SceneValidate, RejectsEveryBrokenPart) {
   expect([](Scene& s) { s.lights[0].color.z = -1; }, "light 0: light colour");
   expect([](Scene& s) { s.materials[2].ior = 0; }, "material 'mirror': index of refraction");
   expect([](Scene& s) { s.materials[0].specular = -1; }, "specular coefficient");
-  expect([](Scene& s) { s.primitives[3].material = 99; }, "primitive 3: material index 99 is out of range");
+  expect([](Scene& s) { s.primitives[3].material = 99; },
+         "primitive 3: material index 99 is out of range");
   expect([](Scene& s) { s.primitives[4].q.c = {}; }, "primitive 4: quadric is degenerate");
   expect([](Scene& s) { s.origins.pop_back(); }, "source locations");
   expect([](Scene& s) { s.threshold = 1; }, "threshold");

@@ -27,7 +27,9 @@ std::vector<Token> tokenize(const std::string& text, int* last_line) {
   int line = 1;
   size_t i = 0;
   const size_t n = text.size();
-  auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
+  auto space = [](char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+  };
   while (i < n) {
     const char c = text[i];
     if (c == '\n') {
@@ -103,7 +105,8 @@ class NffParser {
     scene_.max_depth = 5;
     while (pos_ < tokens_.size()) record(tokens_[pos_++]);
     if (view_line_ == 0)
-      fail(last_line_, "no view block: an NFF file needs 'v' followed by from/at/up/angle/hither/resolution");
+      fail(last_line_,
+           "no view block: an NFF file needs 'v' followed by from/at/up/angle/hither/resolution");
     finish_lights();
     try {
       validate(scene_);
@@ -114,7 +117,9 @@ class NffParser {
   }
 
  private:
-  [[noreturn]] void fail(int line, const std::string& what) const { throw SceneError(file_, line, what); }
+  [[noreturn]] void fail(int line, const std::string& what) const {
+    throw SceneError(file_, line, what);
+  }
 
   void record(const Token& kw) {
     const std::string_view k = kw.text;
@@ -132,16 +137,20 @@ class NffParser {
     for (std::string_view v : kViewKeys)
       if (k == v) fail(kw.line, quote(k) + " outside the view block (it must follow 'v')");
     if (is_number(k))
-      fail(kw.line, "unexpected number " + quote(k) + " (expected a keyword; too many numbers in the record above?)");
+      fail(kw.line, "unexpected number " + quote(k) +
+                        " (expected a keyword; too many numbers in the record above?)");
     if (options_.skip_unknown) return skip_unknown(kw);
-    fail(kw.line, "unknown keyword " + quote(k) + " (--skip-unknown skips records rtm does not know)");
+    fail(kw.line,
+         "unknown keyword " + quote(k) + " (--skip-unknown skips records rtm does not know)");
   }
 
   /// An unknown record: its keyword, the rest of its line up to a known keyword (file names and
   /// words included), then every number that follows (continuation lines such as the vertex
   /// lines of a polygon-like record). The first word on a later line starts the next record.
   void skip_unknown(const Token& kw) {
-    while (pos_ < tokens_.size() && tokens_[pos_].line == kw.line && !is_keyword(tokens_[pos_].text)) ++pos_;
+    while (pos_ < tokens_.size() && tokens_[pos_].line == kw.line &&
+           !is_keyword(tokens_[pos_].text))
+      ++pos_;
     while (pos_ < tokens_.size() && is_number(tokens_[pos_].text)) ++pos_;
     note_skipped("unknown " + quote(kw.text), "not an NFF record", kw.line);
   }
@@ -168,20 +177,27 @@ class NffParser {
   /// The next token as a number for record `kw`, whose numbers are laid out as `layout`;
   /// `index` numbers of it have been read.
   double number(const Token& kw, const std::string& layout, int index) {
-    if (pos_ >= tokens_.size()) fail(kw.line, "'" + std::string(kw.text) + "' record ends early: expected " + layout);
+    if (pos_ >= tokens_.size())
+      fail(kw.line, "'" + std::string(kw.text) + "' record ends early: expected " + layout);
     const Token& t = tokens_[pos_];
     double x;
     switch (to_number(t.text, &x)) {
-      case Num::Ok: ++pos_; return x;
-      case Num::OutOfRange: fail(t.line, "number " + quote(t.text) + " is out of range");
-      case Num::NotFinite: fail(t.line, "number " + quote(t.text) + " is not finite");
-      case Num::NotNumber: break;
+      case Num::Ok:
+        ++pos_;
+        return x;
+      case Num::OutOfRange:
+        fail(t.line, "number " + quote(t.text) + " is out of range");
+      case Num::NotFinite:
+        fail(t.line, "number " + quote(t.text) + " is not finite");
+      case Num::NotNumber:
+        break;
     }
     // A record cut short runs into the next keyword: report it against the record.
     if (is_keyword(t.text))
-      fail(kw.line, "'" + std::string(kw.text) + "' record has too few numbers: expected " + layout + ", found " +
-                        std::to_string(index) + " before " + quote(t.text));
-    fail(t.line, quote(t.text) + " is not a number (expected " + layout + " after '" + std::string(kw.text) + "')");
+      fail(kw.line, "'" + std::string(kw.text) + "' record has too few numbers: expected " +
+                        layout + ", found " + std::to_string(index) + " before " + quote(t.text));
+    fail(t.line, quote(t.text) + " is not a number (expected " + layout + " after '" +
+                     std::string(kw.text) + "')");
   }
 
   Vec3 vec3(const Token& kw, const std::string& layout, int first = 0) {
@@ -201,7 +217,8 @@ class NffParser {
   }
 
   void view(const Token& v) {
-    if (view_line_ != 0) fail(v.line, "second view block ('v'); the first is on line " + std::to_string(view_line_));
+    if (view_line_ != 0)
+      fail(v.line, "second view block ('v'); the first is on line " + std::to_string(view_line_));
     view_line_ = v.line;
     Camera& cam = scene_.camera;
     bool seen[6] = {};
@@ -212,21 +229,30 @@ class NffParser {
       int which = -1;
       for (int j = 0; j < 6; ++j)
         if (kw.text == kViewKeys[j]) which = j;
-      if (which < 0) fail(kw.line, "view block: expected " + missing(seen) + ", got " + quote(kw.text));
+      if (which < 0)
+        fail(kw.line, "view block: expected " + missing(seen) + ", got " + quote(kw.text));
       if (seen[which]) fail(kw.line, "view block: " + quote(kw.text) + " given twice");
       seen[which] = true;
       lines[which] = kw.line;
       ++pos_;
       switch (which) {
-        case 0: cam.eye = vec3(kw, "x y z"); break;
-        case 1: cam.look_at = vec3(kw, "x y z"); break;
-        case 2: cam.up = vec3(kw, "x y z"); break;
+        case 0:
+          cam.eye = vec3(kw, "x y z");
+          break;
+        case 1:
+          cam.look_at = vec3(kw, "x y z");
+          break;
+        case 2:
+          cam.up = vec3(kw, "x y z");
+          break;
         case 3:
           cam.fov_deg = number(kw, "an angle in degrees", 0);
           if (!(cam.fov_deg > 0 && cam.fov_deg < 180))
             fail(kw.line, "angle must be in (0, 180) degrees, got " + str(cam.fov_deg));
           break;
-        case 4: number(kw, "a distance", 0); break;  // near clipping: meaningless for a ray tracer
+        case 4:
+          number(kw, "a distance", 0);
+          break;  // near clipping: meaningless for a ray tracer
         case 5:
           cam.width = integer(kw, "xres yres", 0, 1);
           cam.height = integer(kw, "xres yres", 1, 1);
@@ -242,17 +268,21 @@ class NffParser {
   /// check_camera's at the `v` line).
   void camera_lines(const Camera& cam, const int* lines) const {
     const int from = lines[0], at = lines[1], up = lines[2];
-    if (max_abs(cam.eye) > kMaxCoordinate) fail(from, "'from' must be within +-1e150 of the origin");
-    if (max_abs(cam.look_at) > kMaxCoordinate) fail(at, "'at' must be within +-1e150 of the origin");
+    if (max_abs(cam.eye) > kMaxCoordinate)
+      fail(from, "'from' must be within +-1e150 of the origin");
+    if (max_abs(cam.look_at) > kMaxCoordinate)
+      fail(at, "'at' must be within +-1e150 of the origin");
     const Vec3 dir = cam.look_at - cam.eye;
     if (length(dir) == 0)
-      fail(at, "'at' is the same point as 'from' (line " + std::to_string(from) + "): the camera has no view direction");
-    if (!std::isfinite(length(dir))) fail(at, "'at' is too far from 'from' (line " + std::to_string(from) + ")");
+      fail(at, "'at' is the same point as 'from' (line " + std::to_string(from) +
+                   "): the camera has no view direction");
+    if (!std::isfinite(length(dir)))
+      fail(at, "'at' is too far from 'from' (line " + std::to_string(from) + ")");
     if (length(cam.up) == 0) fail(up, "camera up vector is zero");
     if (!std::isfinite(length(cam.up))) fail(up, "camera up vector is too long");
     if (!(length(cross(normalize(dir), normalize(cam.up))) > 1e-9))
-      fail(up, "camera up vector is parallel to the view direction (from line " + std::to_string(from) + " to at line " +
-                   std::to_string(at) + ")");
+      fail(up, "camera up vector is parallel to the view direction (from line " +
+                   std::to_string(from) + " to at line " + std::to_string(at) + ")");
   }
 
   static std::string missing(const bool* seen) {
@@ -266,7 +296,8 @@ class NffParser {
     Light l;
     l.position = vec3(kw, "X Y Z [R G B]");
     // The colour is optional: it is there exactly when numbers follow.
-    if (pos_ < tokens_.size() && is_number(tokens_[pos_].text)) l.color = vec3(kw, "X Y Z [R G B]", 3);
+    if (pos_ < tokens_.size() && is_number(tokens_[pos_].text))
+      l.color = vec3(kw, "X Y Z [R G B]", 3);
     check(kw, [&] { scene_checks::check_light(l); });
     scene_.lights.push_back(l);
   }
@@ -288,7 +319,8 @@ class NffParser {
   }
 
   void need_material(const Token& kw) const {
-    if (scene_.materials.empty()) fail(kw.line, "'" + std::string(kw.text) + "' before any 'f' material record");
+    if (scene_.materials.empty())
+      fail(kw.line, "'" + std::string(kw.text) + "' before any 'f' material record");
   }
 
   /// Adds the primitives `make` returns (one, or a polygon's convex pieces). A degenerate shape
@@ -316,7 +348,9 @@ class NffParser {
     need_material(kw);
     const Vec3 c = vec3(kw, "x y z radius");
     const double r = number(kw, "x y z radius", 3);
-    add(kw, [&] { return std::vector<Primitive>{make_sphere(c, std::abs(r))}; });  // negative: inside visible only; same surface
+    add(kw, [&] {
+      return std::vector<Primitive>{make_sphere(c, std::abs(r))};
+    });  // negative: inside visible only; same surface
   }
 
   void cone(const Token& kw) {
@@ -332,8 +366,8 @@ class NffParser {
   void polygon(const Token& kw, bool patch) {
     need_material(kw);
     const int n = integer(kw, "a vertex count (at least 3)", 0, 3);
-    const std::string layout =
-        std::string(patch ? "x y z nx ny nz" : "x y z") + " for each of " + std::to_string(n) + " vertices";
+    const std::string layout = std::string(patch ? "x y z nx ny nz" : "x y z") + " for each of " +
+                               std::to_string(n) + " vertices";
     const int per = patch ? 6 : 3;
     std::vector<Vec3> v, normals;
     for (int i = 0; i < n; ++i) {
@@ -368,7 +402,8 @@ class NffParser {
 
 }  // namespace
 
-Scene parse_nff(const std::string& text, const std::string& file_name, const SceneReadOptions& options) {
+Scene parse_nff(const std::string& text, const std::string& file_name,
+                const SceneReadOptions& options) {
   return NffParser(text, file_name, options).parse();
 }
 

@@ -50,20 +50,34 @@ struct SpdRow {
 
 // The table in scenes/spd-corpus/README.md (materials -1: not listed for benchmark sizes).
 const SpdRow kSpd[] = {
-    {"balls-1.nff", 10, 0, 0, 1, 4, 3, 2, 512, 45},       {"balls-2.nff", 91, 0, 0, 1, 4, 3, 2, 512, 45},
-    {"balls-3.nff", 820, 0, 0, 1, 4, 3, 2, 512, 45},      {"rings-1.nff", 30, 30, 0, 1, 4, 3, 7, 512, 45},
-    {"rings-2.nff", 150, 150, 0, 1, 4, 3, 7, 512, 45},    {"rings-3.nff", 420, 420, 0, 1, 4, 3, 7, 512, 45},
-    {"tree-1.nff", 3, 0, 3, 1, 4, 7, 2, 512, 45},         {"tree-2.nff", 7, 0, 7, 1, 4, 7, 2, 512, 45},
-    {"tree-3.nff", 15, 0, 15, 1, 4, 7, 2, 512, 45},       {"jacks-1.nff", 6, 3, 0, 0, 0, 1, 1, 256, 25},
-    {"jacks-2.nff", 54, 27, 0, 0, 0, 1, 1, 256, 25},      {"jacks-3.nff", 438, 219, 0, 0, 0, 1, 1, 256, 25},
-    {"lattice-1.nff", 8, 12, 0, 0, 0, 6, 4, 512, 60},     {"lattice-2.nff", 27, 54, 0, 0, 0, 6, 4, 512, 60},
-    {"lattice-3.nff", 64, 144, 0, 0, 0, 6, 4, 512, 60},   {"shells-1.nff", 361, 0, 0, 0, 0, 1, 1, 512, 45},
-    {"shells-2.nff", 721, 0, 0, 0, 0, 1, 1, 512, 45},     {"shells-3.nff", 1441, 0, 0, 0, 0, 1, 1, 512, 45},
-    {"mount-1.nff", 4, 0, 0, 8, 3, 1, 2, 512, 45},        {"mount-2.nff", 4, 0, 0, 32, 3, 1, 2, 512, 45},
-    {"mount-3.nff", 4, 0, 0, 128, 3, 1, 2, 512, 45},      {"balls-4.nff", 7381, 0, 0, 1, 4, 3, -1, 512, 45},
-    {"rings-7.nff", 4200, 4200, 0, 1, 4, 3, -1, 512, 45}, {"tree-11.nff", 4095, 0, 4095, 1, 4, 7, -1, 512, 45},
-    {"jacks-4.nff", 3510, 1755, 0, 0, 0, 1, -1, 256, 25}, {"lattice-6.nff", 343, 882, 0, 0, 0, 6, -1, 512, 60},
-    {"shells-4.nff", 2881, 0, 0, 0, 0, 1, -1, 512, 45},   {"mount-6.nff", 4, 0, 0, 8192, 3, 1, -1, 512, 45},
+    {"balls-1.nff", 10, 0, 0, 1, 4, 3, 2, 512, 45},
+    {"balls-2.nff", 91, 0, 0, 1, 4, 3, 2, 512, 45},
+    {"balls-3.nff", 820, 0, 0, 1, 4, 3, 2, 512, 45},
+    {"rings-1.nff", 30, 30, 0, 1, 4, 3, 7, 512, 45},
+    {"rings-2.nff", 150, 150, 0, 1, 4, 3, 7, 512, 45},
+    {"rings-3.nff", 420, 420, 0, 1, 4, 3, 7, 512, 45},
+    {"tree-1.nff", 3, 0, 3, 1, 4, 7, 2, 512, 45},
+    {"tree-2.nff", 7, 0, 7, 1, 4, 7, 2, 512, 45},
+    {"tree-3.nff", 15, 0, 15, 1, 4, 7, 2, 512, 45},
+    {"jacks-1.nff", 6, 3, 0, 0, 0, 1, 1, 256, 25},
+    {"jacks-2.nff", 54, 27, 0, 0, 0, 1, 1, 256, 25},
+    {"jacks-3.nff", 438, 219, 0, 0, 0, 1, 1, 256, 25},
+    {"lattice-1.nff", 8, 12, 0, 0, 0, 6, 4, 512, 60},
+    {"lattice-2.nff", 27, 54, 0, 0, 0, 6, 4, 512, 60},
+    {"lattice-3.nff", 64, 144, 0, 0, 0, 6, 4, 512, 60},
+    {"shells-1.nff", 361, 0, 0, 0, 0, 1, 1, 512, 45},
+    {"shells-2.nff", 721, 0, 0, 0, 0, 1, 1, 512, 45},
+    {"shells-3.nff", 1441, 0, 0, 0, 0, 1, 1, 512, 45},
+    {"mount-1.nff", 4, 0, 0, 8, 3, 1, 2, 512, 45},
+    {"mount-2.nff", 4, 0, 0, 32, 3, 1, 2, 512, 45},
+    {"mount-3.nff", 4, 0, 0, 128, 3, 1, 2, 512, 45},
+    {"balls-4.nff", 7381, 0, 0, 1, 4, 3, -1, 512, 45},
+    {"rings-7.nff", 4200, 4200, 0, 1, 4, 3, -1, 512, 45},
+    {"tree-11.nff", 4095, 0, 4095, 1, 4, 7, -1, 512, 45},
+    {"jacks-4.nff", 3510, 1755, 0, 0, 0, 1, -1, 256, 25},
+    {"lattice-6.nff", 343, 882, 0, 0, 0, 6, -1, 512, 60},
+    {"shells-4.nff", 2881, 0, 0, 0, 0, 1, -1, 512, 45},
+    {"mount-6.nff", 4, 0, 0, 8192, 3, 1, -1, 512, 45},
 };
 
 TEST(NffSpd, EveryFileMatchesTheReadmeTable) {
@@ -133,7 +147,9 @@ TEST(NffSemantics, ViewBlock) {
 
 TEST(NffSemantics, ViewKeywordsInAnyOrder) {
   const Scene s = parse_nff(
-      "v resolution 8 8 angle 30 hither 0 up 0 0 1 at 1 0 0 from 0 0 0\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1", "x.nff");
+      "v resolution 8 8 angle 30 hither 0 up 0 0 1 at 1 0 0 from 0 0 0\nf 1 1 1 1 0 0 0 0\ns 0 0 0 "
+      "1",
+      "x.nff");
   EXPECT_EQ(s.camera.look_at, Vec3(1, 0, 0));
   EXPECT_EQ(s.camera.fov_deg, 30);
 }
@@ -160,14 +176,17 @@ TEST(NffSemantics, OneLightAndNoLights) {
   Scene s = parse_nff(kHeader + "s 0 0 0 1\n", "l.nff");
   EXPECT_DOUBLE_EQ(s.lights[0].color.x, 0.5);  // sqrt(1)/2
   EXPECT_DOUBLE_EQ(s.ambient_light.y, 0.5);
-  s = parse_nff("v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1",
-                "none.nff");
+  s = parse_nff(
+      "v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\nf 1 1 1 1 0 0 0 0\ns 0 0 0 "
+      "1",
+      "none.nff");
   EXPECT_TRUE(s.lights.empty());
   EXPECT_EQ(s.ambient_light, Vec3(1, 1, 1));  // documented: full ambient when there is no light
 }
 
 TEST(NffSemantics, MaterialMapping) {
-  const Scene s = parse_nff(kHeader + "s 0 0 0 1\nf 0.1 0.2 0.3 0.4 0.5 100000 0.9 -2\ns 3 0 0 1\n", "m.nff");
+  const Scene s =
+      parse_nff(kHeader + "s 0 0 0 1\nf 0.1 0.2 0.3 0.4 0.5 100000 0.9 -2\ns 3 0 0 1\n", "m.nff");
   ASSERT_EQ(s.materials.size(), 2u);
   const Material& a = s.materials[0];
   EXPECT_EQ(a.name, "f@9");
@@ -194,8 +213,9 @@ TEST(NffSemantics, ConeOnOneLineAndOnThreeLines) {
   EXPECT_EQ(one.primitives[0].q.c, three.primitives[0].q.c);
   EXPECT_EQ(one.primitives[0].p1, Vec3(0, 2, 0));
   EXPECT_EQ(three.primitives[0].r1, 0.5);
-  EXPECT_EQ(three.origins[0].line, kHeaderLines + 1);                       // the keyword's line
-  const Scene cyl = parse_nff(kHeader + "c 0 0 0 -1 0 2 0 -1\n", "c.nff");  // inside only: same surface
+  EXPECT_EQ(three.origins[0].line, kHeaderLines + 1);  // the keyword's line
+  const Scene cyl =
+      parse_nff(kHeader + "c 0 0 0 -1 0 2 0 -1\n", "c.nff");  // inside only: same surface
   EXPECT_EQ(cyl.primitives[0].kind, ShapeKind::Cylinder);
   EXPECT_EQ(cyl.primitives[0].r0, 1);
 }
@@ -231,11 +251,12 @@ TEST(NffSemantics, CommentsAndLayout) {
 
 TEST(NffPolygons, ConcavePolygonsAndPatchesBecomeConvexPieces) {
   // An L shape as `p` and as `pp` (normals ignored), then a convex quad: primitives in order.
-  const Scene s = parse_nff(kHeader +
-                                "p 6\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n"
-                                "pp 6\n0 0 1 0 0 1\n2 0 1 0 0 1\n2 1 1 0 0 1\n1 1 1 0 0 1\n1 2 1 0 0 1\n0 2 1 0 0 1\n"
-                                "p 4\n0 0 2\n1 0 2\n1 1 2\n0 1 2\n",
-                            "l.nff");
+  const Scene s = parse_nff(
+      kHeader +
+          "p 6\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n"
+          "pp 6\n0 0 1 0 0 1\n2 0 1 0 0 1\n2 1 1 0 0 1\n1 1 1 0 0 1\n1 2 1 0 0 1\n0 2 1 0 0 1\n"
+          "p 4\n0 0 2\n1 0 2\n1 1 2\n0 1 2\n",
+      "l.nff");
   ASSERT_EQ(s.primitives.size(), 5u);
   EXPECT_EQ(s.primitives[0].pieces, 2);
   EXPECT_EQ(s.primitives[0].outline.size(), 6u);
@@ -265,16 +286,17 @@ TEST(NffSpd, GearsAndTeapotLoad) {
     ADD_FAILURE() << "strict reading accepted a degenerate patch";
   } catch (const SceneError& e) {
     EXPECT_EQ(e.line(), 163);
-    EXPECT_NE(std::string(e.what()).find("pp: polygon has zero area (--strict)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("pp: polygon has zero area (--strict)"), std::string::npos)
+        << e.what();
   }
 }
 
 TEST(NffSkipped, DegenerateShapesAreSkippedAndCounted) {
   const int n = kHeaderLines + 1;
   const std::string text = kHeader +
-                           "s 0 0 0 0\n"              // zero radius
-                           "c 0 0 0 1 0 0 0 1\n"      // zero length
-                           "c 0 0 0 0 0 1 0 0\n"      // both radii zero
+                           "s 0 0 0 0\n"                 // zero radius
+                           "c 0 0 0 1 0 0 0 1\n"         // zero length
+                           "c 0 0 0 0 0 1 0 0\n"         // both radii zero
                            "p 3\n0 0 0\n1 0 0\n2 0 0\n"  // collinear
                            "p 3\n0 0 0\n1 0 0\n2 0 0\n"
                            "p 4\n1 1 1\n1 1 1\n1 1 1\n1 1 1\n"  // one point
@@ -296,7 +318,8 @@ TEST(NffSkipped, DegenerateShapesAreSkippedAndCounted) {
   EXPECT_EQ(s.skipped[2].lines, (std::vector<int>{n + 3, n + 7, n + 11}));
   const std::vector<std::string> w = skipped_warnings(s, "d.nff");
   ASSERT_EQ(w.size(), 3u);
-  EXPECT_EQ(w[1], "d.nff:" + std::to_string(n + 1) + ": skipped 2 degenerate 'c' records (cone base and apex coincide; lines " +
+  EXPECT_EQ(w[1], "d.nff:" + std::to_string(n + 1) +
+                      ": skipped 2 degenerate 'c' records (cone base and apex coincide; lines " +
                       std::to_string(n + 1) + ", " + std::to_string(n + 2) + ")");
   // Strict: the first one is an error at its line.
   for (const auto& [record, reason] : std::vector<std::pair<std::string, std::string>>{
@@ -321,7 +344,8 @@ TEST(NffSkipped, FirstFewLinesAndTheCount) {
   ASSERT_EQ(s.skipped.size(), 1u);
   EXPECT_EQ(s.skipped[0].count, 12);
   EXPECT_EQ(s.skipped[0].lines.size(), kSkippedLinesKept);
-  EXPECT_NE(skipped_warnings(s, "d.nff")[0].find("skipped 12 degenerate 's' records"), std::string::npos);
+  EXPECT_NE(skipped_warnings(s, "d.nff")[0].find("skipped 12 degenerate 's' records"),
+            std::string::npos);
   EXPECT_NE(skipped_warnings(s, "d.nff")[0].find(", ...)"), std::string::npos);
 }
 
@@ -329,20 +353,20 @@ TEST(NffSkipped, FirstFewLinesAndTheCount) {
 /// wild): a count header, area and spot lights, textures, an environment map, and a textured
 /// polygon-like record whose vertex lines follow it.
 const std::string kExtensions =
-    "number 3\n"                                // line 1: an object-count header, before the view
+    "number 3\n"  // line 1: an object-count header, before the view
     "v\nfrom 0 0 10\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 64 48\n"
-    "la 0 5 0 1 0 0 0 0 1 1 1 1\n"              // line 9: an area light
-    "ls 0 5 5 0 -1 -1 30 1 1 1\n"               // line 10: a spotlight
+    "la 0 5 0 1 0 0 0 0 1 1 1 1\n"  // line 9: an area light
+    "ls 0 5 5 0 -1 -1 30 1 1 1\n"   // line 10: a spotlight
     "l 5 5 5\n"
-    "tex brick.ppm 4 4\n"                       // line 12: a texture with a file name
+    "tex brick.ppm 4 4\n"  // line 12: a texture with a file name
     "f 1 0.5 0.25 0.6 0.3 20 0 1\n"
-    "env sky.hdr\n"                             // line 14: an environment map
+    "env sky.hdr\n"  // line 14: an environment map
     "s 0 0 0 1\n"
-    "tpp 3 brick.ppm\n"                         // line 16: a textured patch: 3 vertex lines follow
+    "tpp 3 brick.ppm\n"  // line 16: a textured patch: 3 vertex lines follow
     "0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n0 1 0 0 0 1 0 1\n"
-    "la 1 5 0 1 0 0 0 0 1 1 1 1\n"              // line 20: a second area light
+    "la 1 5 0 1 0 0 0 0 1 1 1 1\n"  // line 20: a second area light
     "p 3\n0 0 1\n1 0 1\n0 1 1\n"
-    "tex marble.ppm 1 1 s 2 0 0 1\n";           // line 25: a record shares the texture's line
+    "tex marble.ppm 1 1 s 2 0 0 1\n";  // line 25: a record shares the texture's line
 
 TEST(NffSkipped, UnknownRecordsAreErrorsWithAHint) {
   try {
@@ -350,7 +374,9 @@ TEST(NffSkipped, UnknownRecordsAreErrorsWithAHint) {
     ADD_FAILURE();
   } catch (const SceneError& e) {
     EXPECT_EQ(e.line(), 1);
-    EXPECT_NE(std::string(e.what()).find("unknown keyword 'number' (--skip-unknown"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("unknown keyword 'number' (--skip-unknown"),
+              std::string::npos)
+        << e.what();
   }
 }
 
@@ -365,8 +391,8 @@ TEST(NffSkipped, SkipUnknownSkipsEveryKindWithItsContinuationLines) {
   EXPECT_EQ(s.lights.size(), 1u);
   ASSERT_EQ(s.skipped.size(), 6u);
   const std::vector<std::tuple<std::string, int, std::vector<int>>> want = {
-      {"unknown 'number'", 1, {1}}, {"unknown 'la'", 2, {9, 20}}, {"unknown 'ls'", 1, {10}},
-      {"unknown 'tex'", 2, {12, 25}}, {"unknown 'env'", 1, {14}}, {"unknown 'tpp'", 1, {16}}};
+      {"unknown 'number'", 1, {1}},   {"unknown 'la'", 2, {9, 20}}, {"unknown 'ls'", 1, {10}},
+      {"unknown 'tex'", 2, {12, 25}}, {"unknown 'env'", 1, {14}},   {"unknown 'tpp'", 1, {16}}};
   for (size_t i = 0; i < want.size(); ++i) {
     EXPECT_EQ(s.skipped[i].kind, std::get<0>(want[i]));
     EXPECT_EQ(s.skipped[i].count, std::get<1>(want[i]));
@@ -391,14 +417,17 @@ void expect_error(const BadCase& c) {
     EXPECT_EQ(e.line(), c.line) << e.what();
     EXPECT_EQ(e.file(), "bad.nff");
     EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
-    EXPECT_EQ(std::string(e.what()).rfind("bad.nff:" + std::to_string(c.line) + ": ", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("bad.nff:" + std::to_string(c.line) + ": ", 0), 0u)
+        << e.what();
   }
 }
 
 /// n points round a circle, one a line: a convex polygon.
 std::string many_corners(int n) {
   std::string s;
-  for (int i = 0; i < n; ++i) s += std::to_string(std::cos(6.283 * i / n)) + " " + std::to_string(std::sin(6.283 * i / n)) + " 0\n";
+  for (int i = 0; i < n; ++i)
+    s += std::to_string(std::cos(6.283 * i / n)) + " " + std::to_string(std::sin(6.283 * i / n)) +
+         " 0\n";
   return s;
 }
 
@@ -423,7 +452,8 @@ TEST(NffErrors, EveryErrorHasALineAndAMessage) {
       {h + "p 4\n0 0 0\n2 2 0\n2 0 0\n0 1 0\n", n, "not simple: edges 1-2 and 3-4"},
       {h + "p 5\n0 0 0\n2 0 0\n2 2 0\n1 0 0\n0 2 0\n", n, "not simple"},
       {h + "\np 1025\n" + many_corners(1025), n + 1, "p: polygon has 1025 vertices, at most 1024"},
-      {h + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0\ns 0 0 0 1\n", n, "'pp' record has too few numbers"},
+      {h + "pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0\ns 0 0 0 1\n", n,
+       "'pp' record has too few numbers"},
       {h + "l 1 2 3 1\ns 0 0 0 1\n", n, "too few numbers"},
       {h + "l 1 2 3 1\n", n, "'l' record ends early"},
       {h + "l 1 2 3 1 1 -1\n", n, "light colour must be finite and non-negative"},
@@ -431,28 +461,41 @@ TEST(NffErrors, EveryErrorHasALineAndAMessage) {
       {h + "f 1 1 1 -0.5 0 0 0 1\n", n, "diffuse coefficient must be a finite number >= 0"},
       {h + "f 1 1 1 0.5 0 0 -1 1\n", n, "transmission coefficient"},
       {h + "f 1 1 1 0.5 0 0 0\n", n, "'f' record ends early"},
-      {"v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\ns 0 0 0 1\n", 2, "before any 'f'"},
-      {"v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\n\np 3", 3, "before any 'f'"},
+      {"v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\ns 0 0 0 1\n", 2,
+       "before any 'f'"},
+      {"v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 hither 0 resolution 4 4\n\np 3", 3,
+       "before any 'f'"},
       {"f 1 1 1 1 0 0 0 0\ns 0 0 0 1\n", 3, "no view block"},
       {"", 1, "no view block"},
       {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\n", 1, "missing 'resolution'"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nl 1 1 1\n", 6, "expected 'hither', 'resolution', got 'l'"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nl 1 1 1\n", 6,
+       "expected 'hither', 'resolution', got 'l'"},
       {"v\nfrom 0 0 1\nfrom 0 0 1\n", 3, "'from' given twice"},
       {h + "v\n", n, "second view block"},
       {h + "at 0 0 0\n", n, "'at' outside the view block"},
       {"v\nfrom 0 0 1\nat 0 0 1\nup 0 1 0\nangle 45\nhither 1\nresolution 4 4\n", 3,
        "'at' is the same point as 'from' (line 2)"},
-      {"v\nresolution 4 4\nat 0 0 1\nhither 1\nup 0 1 0\nangle 45\nfrom 0 0 1\n", 3, "same point as 'from' (line 7)"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 2\nangle 45\nhither 1\nresolution 4 4\n", 4, "parallel to the view"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 4 4\n", 4, "up vector is zero"},
-      {"v\nfrom 0 0 1e200\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 4 4\n", 2, "'from' must be within"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 180\nhither 1\nresolution 4 4\n", 5, "angle must be in (0, 180)"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 0\nhither 1\nresolution 4 4\n", 5, "angle must be in (0, 180)"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 0 4\n", 7, "whole number >= 1"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 4\n\n2.5\n", 9, "whole number >= 1"},
-      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 100000 4\n", 7, "at most 16384"},
+      {"v\nresolution 4 4\nat 0 0 1\nhither 1\nup 0 1 0\nangle 45\nfrom 0 0 1\n", 3,
+       "same point as 'from' (line 7)"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 2\nangle 45\nhither 1\nresolution 4 4\n", 4,
+       "parallel to the view"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 4 4\n", 4,
+       "up vector is zero"},
+      {"v\nfrom 0 0 1e200\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 4 4\n", 2,
+       "'from' must be within"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 180\nhither 1\nresolution 4 4\n", 5,
+       "angle must be in (0, 180)"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 0\nhither 1\nresolution 4 4\n", 5,
+       "angle must be in (0, 180)"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 0 4\n", 7,
+       "whole number >= 1"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 4\n\n2.5\n", 9,
+       "whole number >= 1"},
+      {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 100000 4\n", 7,
+       "at most 16384"},
       {"v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nhither x\n", 6, "'x' is not a number"},
-      {h + std::string("s 0 0 0 1\n\x01\xff\x00garbage", 20), n + 1, "unknown keyword '???garbage'"},
+      {h + std::string("s 0 0 0 1\n\x01\xff\x00garbage", 20), n + 1,
+       "unknown keyword '???garbage'"},
   };
   for (const BadCase& c : cases) expect_error(c);
 }
@@ -492,9 +535,15 @@ TEST(NffFuzz, TruncationsMutationsAndGarbage) {
     for (int e = 0; e < edits; ++e) {
       const size_t at = rng() % t.size();
       switch (rng() % 3) {
-        case 0: t[at] = alphabet[rng() % alphabet.size()]; break;
-        case 1: t.erase(at, 1 + rng() % 5); break;
-        default: t.insert(at, 1, char(rng() % 256)); break;
+        case 0:
+          t[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          t.erase(at, 1 + rng() % 5);
+          break;
+        default:
+          t.insert(at, 1, char(rng() % 256));
+          break;
       }
     }
     expect_scene_or_error(t);

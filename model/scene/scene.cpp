@@ -35,7 +35,8 @@ std::string str(double x) {
 std::string str(const Vec3& v) { return "[" + str(v.x) + ", " + str(v.y) + ", " + str(v.z) + "]"; }
 
 void check_coefficient(double x, const char* what) {
-  require(std::isfinite(x) && x >= 0, std::string(what) + " must be a finite number >= 0, got " + str(x));
+  require(std::isfinite(x) && x >= 0,
+          std::string(what) + " must be a finite number >= 0, got " + str(x));
 }
 
 }  // namespace
@@ -49,35 +50,39 @@ void check_camera(const Camera& c) {
   require(all_finite(c.look_at), "camera look_at is not finite");
   require(all_finite(c.up), "camera up is not finite");
   require(max_abs(c.eye) <= kMaxCoordinate && max_abs(c.look_at) <= kMaxCoordinate,
-          "camera eye and look_at must be within +-1e150 of the origin (squared distances must stay finite)");
+          "camera eye and look_at must be within +-1e150 of the origin (squared distances must "
+          "stay finite)");
   const Vec3 dir = c.look_at - c.eye;
   require(length(dir) > 0, "camera eye and look_at coincide");
   require(std::isfinite(length(dir)), "camera eye and look_at are too far apart");
   require(length(c.up) > 0, "camera up vector is zero");
   require(std::isfinite(length(c.up)), "camera up vector is too long");
   // The true up is the part of `up` perpendicular to the view; it must not vanish.
-  require(length(cross(normalize(dir), normalize(c.up))) > 1e-9, "camera up vector is parallel to the view direction");
+  require(length(cross(normalize(dir), normalize(c.up))) > 1e-9,
+          "camera up vector is parallel to the view direction");
   require(std::isfinite(c.fov_deg) && c.fov_deg > 0 && c.fov_deg < 180,
           "field of view must be in (0, 180) degrees, got " + str(c.fov_deg));
   check_resolution(c.width, c.height);
 }
 
 void check_resolution(int width, int height) {
-  require(width >= 1 && height >= 1,
-          "resolution must be at least 1x1, got " + std::to_string(width) + "x" + std::to_string(height));
+  require(width >= 1 && height >= 1, "resolution must be at least 1x1, got " +
+                                         std::to_string(width) + "x" + std::to_string(height));
   require(width <= kMaxResolution && height <= kMaxResolution,
           "resolution must be at most " + std::to_string(kMaxResolution) + " on each axis, got " +
               std::to_string(width) + "x" + std::to_string(height));
 }
 
 void check_colour(const Vec3& c, const std::string& what) {
-  require(all_finite(c) && c.x >= 0 && c.y >= 0 && c.z >= 0, what + " must be finite and non-negative, got " + str(c));
+  require(all_finite(c) && c.x >= 0 && c.y >= 0 && c.z >= 0,
+          what + " must be finite and non-negative, got " + str(c));
 }
 
 void check_light(const Light& l) {
   require(all_finite(l.position), "light position is not finite");
   require(max_abs(l.position) <= kMaxCoordinate,
-          "light position must be within +-1e150 of the origin (squared distances must stay finite), got " +
+          "light position must be within +-1e150 of the origin (squared distances must stay "
+          "finite), got " +
               str(l.position));
   check_colour(l.color, "light colour");
 }
@@ -88,10 +93,13 @@ void check_material(const Material& m) {
   check_coefficient(m.specular, "specular coefficient");
   check_coefficient(m.transmission, "transmission coefficient");
   check_coefficient(m.ambient, "ambient coefficient");
-  require(std::isfinite(m.ior) && m.ior > 0, "index of refraction must be a finite number > 0, got " + str(m.ior));
+  require(std::isfinite(m.ior) && m.ior > 0,
+          "index of refraction must be a finite number > 0, got " + str(m.ior));
 }
 
-std::string NumberRange::text() const { return "[" + str(lo) + ", " + str(hi) + (hi_open ? ")" : "]"); }
+std::string NumberRange::text() const {
+  return "[" + str(lo) + ", " + str(hi) + (hi_open ? ")" : "]");
+}
 
 void check_render(const Scene& s) {
   require(kThresholdRange.contains(s.threshold),
@@ -104,21 +112,23 @@ void check_render(const Scene& s) {
 
 void check_max_depth(int max_depth) {
   require(max_depth >= 1 && max_depth <= kMaxRayDepth,
-          "max_depth must be in 1.." + std::to_string(kMaxRayDepth) + " (what a ray's depth field holds), got " +
-              std::to_string(max_depth));
+          "max_depth must be in 1.." + std::to_string(kMaxRayDepth) +
+              " (what a ray's depth field holds), got " + std::to_string(max_depth));
 }
 
 void check_grid(const GridOptions& g) {
   const auto& r = g.resolution;
   const bool automatic = r[0] == 0 && r[1] == 0 && r[2] == 0;
   if (!automatic) {
-    require(r[0] >= 1 && r[1] >= 1 && r[2] >= 1, "grid resolution must be at least 1 voxel on each axis");
+    require(r[0] >= 1 && r[1] >= 1 && r[2] >= 1,
+            "grid resolution must be at least 1 voxel on each axis");
     // Two steps, so that three axes of up to 2^31 cannot overflow the product.
     require(int64_t(r[0]) * r[1] <= kMaxGridVoxels && int64_t(r[0]) * r[1] * r[2] <= kMaxGridVoxels,
             "grid has too many voxels (at most " + std::to_string(kMaxGridVoxels) + "), got " +
                 std::to_string(r[0]) + "x" + std::to_string(r[1]) + "x" + std::to_string(r[2]));
   }
-  require(std::isfinite(g.voxels_per_primitive) && g.voxels_per_primitive > 0, "voxels_per_primitive must be > 0");
+  require(std::isfinite(g.voxels_per_primitive) && g.voxels_per_primitive > 0,
+          "voxels_per_primitive must be > 0");
   require(g.max_auto_axis >= 1, "max_auto_axis must be at least 1");
 }
 
@@ -148,7 +158,8 @@ void validate(const Scene& s) {
     const Primitive& p = s.primitives[i];
     try {
       if (p.material < 0 || size_t(p.material) >= s.materials.size())
-        throw std::invalid_argument("material index " + std::to_string(p.material) + " is out of range");
+        throw std::invalid_argument("material index " + std::to_string(p.material) +
+                                    " is out of range");
       validate(p);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("primitive " + std::to_string(i) + ": " + e.what());
@@ -178,19 +189,24 @@ void set_resolution(Scene& s, int width, int height) {
 Scene load_scene(const std::string& path, const SceneReadOptions& options) {
   namespace fs = std::filesystem;
   std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   const bool nff = ext == ".nff";
   const bool native = ext == ".yaml" || ext == ".yml";
   if (!nff && !native) {
     if (is_mesh_extension(ext)) return mesh_scene(import_mesh(path, options), path, options);
-    throw SceneError(path, 0, "unknown scene file extension '" + ext +
-                                  "' (expected .nff, .yaml, .yml or a mesh file Assimp reads: .obj, .ply, .gltf, .glb, .stl, .off, ...)");
+    throw SceneError(path, 0,
+                     "unknown scene file extension '" + ext +
+                         "' (expected .nff, .yaml, .yml or a mesh file Assimp reads: .obj, .ply, "
+                         ".gltf, .glb, .stl, .off, ...)");
   }
 
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw SceneError(path, 0, "cannot read scene file: it is a directory");
+  if (fs::is_directory(path, ec))
+    throw SceneError(path, 0, "cannot read scene file: it is a directory");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path, 0, "cannot read scene file: " + std::string(std::strerror(errno)));
+  if (!in)
+    throw SceneError(path, 0, "cannot read scene file: " + std::string(std::strerror(errno)));
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, 0, "cannot read scene file: read error");
@@ -204,10 +220,11 @@ std::vector<std::string> skipped_warnings(const Scene& s, const std::string& fil
     for (int l : k.lines) lines += (lines.empty() ? "" : ", ") + std::to_string(l);
     if (size_t(k.count) > k.lines.size()) lines += ", ...";
     // A mesh's faces have no lines: the reason names the first of them.
-    const std::string where = k.lines.empty() ? "" : std::string("; line") + (k.lines.size() == 1 ? " " : "s ") + lines;
-    out.push_back(file + ":" + std::to_string(k.lines.empty() ? 0 : k.lines.front()) + ": skipped " +
-                  std::to_string(k.count) + " " + k.kind + (k.count == 1 ? " record" : " records") + " (" + k.reason +
-                  where + ")");
+    const std::string where =
+        k.lines.empty() ? "" : std::string("; line") + (k.lines.size() == 1 ? " " : "s ") + lines;
+    out.push_back(file + ":" + std::to_string(k.lines.empty() ? 0 : k.lines.front()) +
+                  ": skipped " + std::to_string(k.count) + " " + k.kind +
+                  (k.count == 1 ? " record" : " records") + " (" + k.reason + where + ")");
   }
   return out;
 }

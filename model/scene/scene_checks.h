@@ -15,7 +15,9 @@ struct NumberRange {
   double lo;
   double hi;     ///< infinity: no upper bound
   bool hi_open;  ///< hi itself is outside
-  bool contains(double x) const { return x >= lo && (hi_open ? x < hi : x <= hi); }  // false for NaN
+  bool contains(double x) const {
+    return x >= lo && (hi_open ? x < hi : x <= hi);
+  }  // false for NaN
   /// "[0, 1)"; "[0, inf)" without an upper bound.
   std::string text() const;
 };

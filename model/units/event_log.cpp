@@ -6,7 +6,8 @@
 namespace rtm {
 
 bool UnitEvent::operator<(const UnitEvent& o) const {
-  return std::tie(time, unit, index, ray, what, fifo) < std::tie(o.time, o.unit, o.index, o.ray, o.what, o.fifo);
+  return std::tie(time, unit, index, ray, what, fifo) <
+         std::tie(o.time, o.unit, o.index, o.ray, o.what, o.fifo);
 }
 
 void write_event_log(std::ostream& out, std::vector<EventLog>& pes, uint64_t cycle) {
@@ -18,12 +19,14 @@ void write_event_log(std::ostream& out, std::vector<EventLog>& pes, uint64_t cyc
     int pe = -1;  // the PE whose next event comes first: lowest time, then lowest PE
     for (size_t p = 0; p < pes.size(); ++p)
       if (next[p] < pes[p].events().size() &&
-          (pe < 0 || pes[p].events()[next[p]].time < pes[size_t(pe)].events()[next[size_t(pe)]].time))
+          (pe < 0 ||
+           pes[p].events()[next[p]].time < pes[size_t(pe)].events()[next[size_t(pe)]].time))
         pe = int(p);
     if (pe < 0) return;
     const UnitEvent& e = pes[size_t(pe)].events()[next[size_t(pe)]++];
     out << e.time / cycle;
-    if (const uint64_t frac = e.time % cycle) out << "+" << frac << "t";  // off the PE clock (host arrivals)
+    if (const uint64_t frac = e.time % cycle)
+      out << "+" << frac << "t";  // off the PE clock (host arrivals)
     out << " pe" << pe << " " << unit_name(e.unit);
     if (unit_spec(e.unit).logged_by_number) out << e.index;
     out << " ray" << e.ray;

@@ -29,9 +29,9 @@ struct UnitEvent {
   uint16_t index;  ///< the unit's number among its kind
   uint32_t ray;
   enum class What : uint8_t { Take, Put } what;
-  uint8_t from = 0;      ///< take at the front buffer: 0 queued, 1 spilled, 2 primary
-  FifoId fifo{};         ///< put
-  uint64_t cycles = 0;   ///< take: the work's cycles
+  uint8_t from = 0;     ///< take at the front buffer: 0 queued, 1 spilled, 2 primary
+  FifoId fifo{};        ///< put
+  uint64_t cycles = 0;  ///< take: the work's cycles
 
   bool operator<(const UnitEvent& o) const;
 };
@@ -40,13 +40,16 @@ struct UnitEvent {
 class EventLog {
  public:
   void take(uint64_t time, UnitKind u, int index, uint32_t ray, uint64_t cycles, uint8_t from = 0) {
-    events_.push_back({time, u, logged(u, index), ray, UnitEvent::What::Take, from, FifoId::Search, cycles});
+    events_.push_back(
+        {time, u, logged(u, index), ray, UnitEvent::What::Take, from, FifoId::Search, cycles});
   }
   void put(uint64_t time, UnitKind u, int index, uint32_t ray, FifoId fifo) {
     events_.push_back({time, u, logged(u, index), ray, UnitEvent::What::Put, 0, fifo, 0});
   }
   /// The number the log gives a unit (UnitSpec::logged_by_number).
-  static uint16_t logged(UnitKind u, int index) { return unit_spec(u).logged_by_number ? uint16_t(index) : 0; }
+  static uint16_t logged(UnitKind u, int index) {
+    return unit_spec(u).logged_by_number ? uint16_t(index) : 0;
+  }
   std::vector<UnitEvent>& events() { return events_; }
 
  private:

@@ -9,7 +9,7 @@
 namespace rtm {
 
 struct FifoStats {
-  std::string kind;        ///< e.g. "search", for grouping across PEs
+  std::string kind;  ///< e.g. "search", for grouping across PEs
   int depth = 0;
   int peak = 0;
   double occupancy_time = 0;  ///< ∫ occupancy dt, in seconds

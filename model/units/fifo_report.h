@@ -26,7 +26,8 @@ using FifoStatsList = std::vector<std::pair<std::string, const FifoStats*>>;
 
 /// Every FIFO's statistics, closed at `now`, named and ordered as for_each_fifo goes.
 template <class MeterOf>
-FifoStatsList fifo_stats(const PeState& pe, uint64_t now, double seconds_per_tick, MeterOf&& meter_of) {
+FifoStatsList fifo_stats(const PeState& pe, uint64_t now, double seconds_per_tick,
+                         MeterOf&& meter_of) {
   FifoStatsList out;
   for_each_fifo(pe, [&](const FifoSpec& f, int lane) {
     out.emplace_back(f.name, &meter_of(f, lane).close(now, seconds_per_tick));

@@ -14,7 +14,16 @@
 
 namespace rtm {
 
-enum class FifoId : uint8_t { Search, Intersect, Shade, FeedbackSearch, FeedbackIntersect, Spawn, Root, Ends };
+enum class FifoId : uint8_t {
+  Search,
+  Intersect,
+  Shade,
+  FeedbackSearch,
+  FeedbackIntersect,
+  Spawn,
+  Root,
+  Ends
+};
 constexpr size_t kFifoCount = 8;
 
 /// What travels in a FIFO: a ray (MachineRay), a MAC result (MacResult), or a ray's end (RayEnd).
@@ -22,14 +31,15 @@ enum class Payload : uint8_t { Ray, MacResult, End };
 
 struct FifoSpec {
   FifoId id;
-  const char* name;       ///< the channel's name in the hierarchy, statistics and waveforms
-  const char* kind;       ///< statistics group FIFOs of one kind over all PEs (both feedback paths are "feedback")
+  const char* name;  ///< the channel's name in the hierarchy, statistics and waveforms
+  const char* kind;  ///< statistics group FIFOs of one kind over all PEs (both feedback paths are
+                     ///< "feedback")
   Payload payload;
   const char* depth_key;  ///< the configuration key of its depth
   int MachineConfig::*depth;
   std::vector<UnitKind> writers, readers;
-  bool per_lane;          ///< one per intersection unit (inside it), else one per PE
-  bool spawn_path;        ///< left out when the scene spawns no rays (PeUnits::spawn_path)
+  bool per_lane;    ///< one per intersection unit (inside it), else one per PE
+  bool spawn_path;  ///< left out when the scene spawns no rays (PeUnits::spawn_path)
   /// Into the front buffer: whether what arrives returns a credit (a ray fed back, a ray's end)
   /// or is new (a spawned ray: its parent's credit came back with the parent's end).
   bool returns_credit;

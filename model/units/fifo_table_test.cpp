@@ -9,7 +9,9 @@
 namespace rtm {
 namespace {
 
-bool has(const std::vector<UnitKind>& v, UnitKind k) { return std::find(v.begin(), v.end(), k) != v.end(); }
+bool has(const std::vector<UnitKind>& v, UnitKind k) {
+  return std::find(v.begin(), v.end(), k) != v.end();
+}
 
 TEST(FifoTable, EachEntryIsItsIdAndNamedOneWay) {
   for (size_t i = 0; i < kFifoCount; ++i) {
@@ -25,10 +27,12 @@ TEST(FifoTable, EachEntryIsItsIdAndNamedOneWay) {
 TEST(FifoTable, DepthKeysAreConfigurationKeysOfTheSameValue) {
   MachineConfig c;
   int n = 0;
-  for (const FifoSpec& f : fifo_table()) c.*f.depth = 100 + n++;  // distinct values, so a wrong member shows
+  for (const FifoSpec& f : fifo_table())
+    c.*f.depth = 100 + n++;  // distinct values, so a wrong member shows
   for (const FifoSpec& f : fifo_table()) {
     const auto& keys = config_keys();
-    const auto k = std::find_if(keys.begin(), keys.end(), [&](const ConfigKey& k) { return k.name == f.depth_key; });
+    const auto k = std::find_if(keys.begin(), keys.end(),
+                                [&](const ConfigKey& k) { return k.name == f.depth_key; });
     ASSERT_NE(k, keys.end()) << f.name << ": no key " << f.depth_key;
     EXPECT_EQ(k->get(c), std::to_string(c.*f.depth)) << f.name;
   }

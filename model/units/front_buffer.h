@@ -9,7 +9,8 @@
 // front buffer itself never refuses a ray (beyond its on-chip capacity rays spill to local
 // memory), so the feedback paths always drain. Hence no cycle of waits can form: no deadlock.
 //
-// `Item` is how the scheduler holds a ray: a MachineRay (the modules) or a slot number (the engine).
+// `Item` is how the scheduler holds a ray: a MachineRay (the modules) or a slot number (the
+// engine).
 #pragma once
 
 #include <algorithm>
@@ -28,8 +29,8 @@ template <class Item>
 class FrontBufferPolicy {
  public:
   enum class Next {
-    Queued,    ///< hand out pop_queued()'s ray
-    Primary,   ///< hand out the next primary ray (on a PE clock edge: host rays arrive between them)
+    Queued,   ///< hand out pop_queued()'s ray
+    Primary,  ///< hand out the next primary ray (on a PE clock edge: host rays arrive between them)
     Finished,  ///< every ray of the PE's part of the frame has ended
     Wait,      ///< nothing to hand out until an input arrives
   };
@@ -37,7 +38,8 @@ class FrontBufferPolicy {
   FrontBufferPolicy(PeState& pe, size_t rays_expected)
       : pe_(pe), credits_(pe.config.loop_credits_in_force()), rays_expected_(rays_expected) {
     for (FifoId id : inputs(UnitKind::FrontBuffer))
-      if (const FifoSpec& f = fifo_spec(id); f.payload == Payload::Ray && pe.units.has(f)) ray_inputs_.push_back(&f);
+      if (const FifoSpec& f = fifo_spec(id); f.payload == Payload::Ray && pe.units.has(f))
+        ray_inputs_.push_back(&f);
   }
 
   // What arrived on the inputs.
@@ -70,8 +72,8 @@ class FrontBufferPolicy {
       if (PeMemory* m = pe_.memory.get()) {
         cycles += m->unloaded(kSpillRecordBytes);
         wait.latency = cycles;
-        m->request(m->front(), m->addresses().spilled_ray(spill_place(spill_reads_++)), kSpillRecordBytes,
-                   now / pe_.cycle, cycles, wait);
+        m->request(m->front(), m->addresses().spilled_ray(spill_place(spill_reads_++)),
+                   kSpillRecordBytes, now / pe_.cycle, cycles, wait);
       }
     }
     wait.latency = cycles;
@@ -87,8 +89,8 @@ class FrontBufferPolicy {
     wait.latency = cycles;
     PeMemory* m = pe_.memory.get();
     if (m && pe_.config.ray_generation == MachineConfig::RayGeneration::Host)
-      m->request(m->front(), m->addresses().primary_ray(next_primary_), kRayRecordBytes, now / pe_.cycle,
-                 std::max(cycles, m->unloaded(kRayRecordBytes)), wait);
+      m->request(m->front(), m->addresses().primary_ray(next_primary_), kRayRecordBytes,
+                 now / pe_.cycle, std::max(cycles, m->unloaded(kRayRecordBytes)), wait);
     return next_primary_++;
   }
   /// A ray (`id`) goes past the front buffer: it takes a credit and `cycles` of the front buffer.
@@ -158,8 +160,11 @@ class FrontBufferPolicy {
           return d;
         }
         return decide(now, cycle, drain);
-      case Next::Finished: finish(now); return d;
-      case Next::Wait: return d;
+      case Next::Finished:
+        finish(now);
+        return d;
+      case Next::Wait:
+        return d;
     }
     return d;
   }
@@ -170,16 +175,22 @@ class FrontBufferPolicy {
   ///   bool read(FifoId, Item&)         takes a ray from that input; false when there is none
   ///   void drained()                   the inputs are drained
   ///   Item primary(size_t n)           primary ray n, made (numbered) now
-  ///   void dispatch(Item&&, cycles, from, MemoryWait&&)  the ray goes into the front buffer's pipeline
-  ///   void want(t)                     wake me at t
-  ///   void finished()                  every ray has ended (called once)
+  ///   void dispatch(Item&&, cycles, from, MemoryWait&&)  the ray goes into the front buffer's
+  ///   pipeline void want(t)                     wake me at t void finished() every ray has ended
+  ///   (called once)
   template <class Ops>
   bool carry_out(uint64_t now, uint64_t cycle, Ops& ops) {
     Decision d = decide(now, cycle, [&] { drain(ops); });
     switch (d.kind) {
-      case Decision::Queued: ops.dispatch(std::move(d.queued), d.cycles, d.from, std::move(d.wait)); return true;
-      case Decision::Primary: ops.dispatch(ops.primary(d.primary), d.cycles, d.from, std::move(d.wait)); return true;
-      case Decision::Align: ops.want(d.at); return false;
+      case Decision::Queued:
+        ops.dispatch(std::move(d.queued), d.cycles, d.from, std::move(d.wait));
+        return true;
+      case Decision::Primary:
+        ops.dispatch(ops.primary(d.primary), d.cycles, d.from, std::move(d.wait));
+        return true;
+      case Decision::Align:
+        ops.want(d.at);
+        return false;
       case Decision::None:
         if (finished_ && !finish_told_) {
           finish_told_ = true;
@@ -218,7 +229,9 @@ class FrontBufferPolicy {
   bool waiting_for_input() const { return state_ == State::Waiting; }
 
   /// Cycles until the next ray may be handed out after one that takes `cycles` (units/pipeline.h).
-  uint64_t interval(uint64_t cycles) const { return pipeline_interval(pe_.config.dispatch_interval, cycles); }
+  uint64_t interval(uint64_t cycles) const {
+    return pipeline_interval(pe_.config.dispatch_interval, cycles);
+  }
 
   bool finished() const { return finished_; }
   bool overflowed() const { return pe_.counters.spill_overflow > 0; }
@@ -259,7 +272,8 @@ class FrontBufferPolicy {
     const size_t on_chip = size_t(pe_.config.front_buffer_capacity);
     if (!m || queue_.size() <= std::max(before, on_chip)) return;
     for (size_t n = queue_.size() - std::max(before, on_chip); n > 0; --n)
-      m->post(m->front(), m->addresses().spilled_ray(spill_place(spill_writes_++)), kSpillRecordBytes, now / pe_.cycle);
+      m->post(m->front(), m->addresses().spilled_ray(spill_place(spill_writes_++)),
+              kSpillRecordBytes, now / pe_.cycle);
   }
 
   PeState& pe_;
@@ -269,12 +283,12 @@ class FrontBufferPolicy {
   size_t next_primary_ = 0, primaries_ = 0;
   int in_flight_ = 0;
   bool finished_ = false, finish_told_ = false;
-  std::vector<const FifoSpec*> ray_inputs_;  ///< the rays' inputs the PE has, in the FIFO table's order
+  std::vector<const FifoSpec*>
+      ray_inputs_;  ///< the rays' inputs the PE has, in the FIFO table's order
   enum class State { Deciding, Waiting, Aligning } state_ = State::Deciding;
   bool stalled_ = false;
   uint64_t waiting_since_ = 0;
   uint64_t spill_writes_ = 0, spill_reads_ = 0;
 };
-
 
 }  // namespace rtm

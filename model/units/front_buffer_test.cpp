@@ -157,12 +157,15 @@ TEST(FrontBufferPolicy, RandomTrafficKeepsTheCreditRule) {
       const int r = past[i];
       past.erase(past.begin() + long(i));
       switch (rng() % 4) {
-        case 0: p.returned(r); break;  // walks on
-        case 1:                        // ends, spawning a child
+        case 0:
+          p.returned(r);
+          break;  // walks on
+        case 1:   // ends, spawning a child
           p.ended();
           if (rng() % 2) p.spawned(next_id++);
           break;
-        default: p.ended();
+        default:
+          p.ended();
       }
     }
     EXPECT_EQ(p.next(), Next::Finished) << "trial " << trial;

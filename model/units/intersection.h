@@ -41,7 +41,8 @@ class MacUnit {
 /// Cycles the root unit, clip tests and sort need after the MAC finished a voxel, given each
 /// primitive's clip-test count: primitive p's roots are out root_latency after its sums, and its
 /// clip tests and sort then run on one shared unit.
-uint64_t back_end_cycles(const MachineConfig& c, const MacTiming::Job& mac, const std::vector<uint32_t>& clips);
+uint64_t back_end_cycles(const MachineConfig& c, const MacTiming::Job& mac,
+                         const std::vector<uint32_t>& clips);
 
 class RootUnit {
  public:

@@ -22,8 +22,8 @@ class LaneDispatcher {
   /// configuration bounds search_units and intersection_units by it).
   explicit LaneDispatcher(int lanes) {
     if (lanes < 0 || lanes > kMaxLanes)
-      throw std::invalid_argument("LaneDispatcher: " + std::to_string(lanes) + " lanes; it holds 0 to " +
-                                  std::to_string(kMaxLanes));
+      throw std::invalid_argument("LaneDispatcher: " + std::to_string(lanes) +
+                                  " lanes; it holds 0 to " + std::to_string(kMaxLanes));
     for (int i = 0; i < lanes; ++i) idle(i);
   }
   void idle(int lane) {

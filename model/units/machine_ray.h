@@ -13,8 +13,8 @@ namespace rtm {
 /// records it in `examined` for the intersection stage, and advances `walk` to the next voxel.
 struct MachineRay {
   Ray ray;
-  DdaState walk;        ///< the voxel to examine on the next pass
-  DdaState examined;    ///< the voxel the intersection stage tests
+  DdaState walk;         ///< the voxel to examine on the next pass
+  DdaState examined;     ///< the voxel the intersection stage tests
   bool started = false;  ///< walk set up (done on the ray's first pass through a search unit)
   bool last = false;     ///< `examined` is the last voxel of the walk
   uint32_t id = 0;       ///< unique within its PE, for waveforms
@@ -25,7 +25,9 @@ struct MachineRay {
   enum class Arrival : uint8_t { Hit, LightReached, Missed } arrival = Arrival::Hit;
 };
 
-inline std::ostream& operator<<(std::ostream& os, const MachineRay& r) { return os << "ray#" << r.id; }
+inline std::ostream& operator<<(std::ostream& os, const MachineRay& r) {
+  return os << "ray#" << r.id;
+}
 
 /// Sent to the front buffer when a ray leaves the loop, returning its credit.
 struct RayEnd {

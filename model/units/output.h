@@ -22,7 +22,8 @@ struct Work {
   uint64_t cycles = 0;    ///< latency: from taking the item to its result
   uint64_t interval = 0;  ///< until the unit can take its next item (units/pipeline.h)
   Output out;
-  MemoryWait wait;  ///< its local-memory requests (units/pe_memory.h): the scheduler hands them to its pipeline
+  MemoryWait wait;  ///< its local-memory requests (units/pe_memory.h): the scheduler hands them to
+                    ///< its pipeline
 };
 
 /// A unit's interval for an item of `latency` cycles that passes its first stage `beats` times:
@@ -33,7 +34,8 @@ inline uint64_t pipeline_interval(int key, uint64_t latency, uint64_t beats = 1)
 
 /// Records that unit (kind, index) wrote `out` for ray `ray` at `now`: every scheduler calls it
 /// after each write, so their event logs agree.
-inline void record_put(PeState& pe, uint64_t now, UnitKind kind, int index, uint32_t ray, const Output& out) {
+inline void record_put(PeState& pe, uint64_t now, UnitKind kind, int index, uint32_t ray,
+                       const Output& out) {
   if (pe.log) pe.log->put(now, kind, index, ray, out.fifo);
 }
 

@@ -44,7 +44,8 @@ MachineConfig machine(PeFrame frame, Precision p = Precision::Fp32) {
 
 /// Rays from the first voxel at the sphere, `aim` radii off its axis (in y), traced through a PE's
 /// units in the machine's frame; how many end as `end`.
-int count(const FarScene& f, const MachineConfig& c, double aim, RayResult::End end, int rays = 400) {
+int count(const FarScene& f, const MachineConfig& c, double aim, RayResult::End end,
+          int rays = 400) {
   const FramedScene v = framed(f.scene, f.grid, c.pe_frame);
   const GridFrame frame = c.pe_frame == PeFrame::Grid ? grid_frame(f.grid.box) : GridFrame{};
   PeTracer pe(v.scene, v.grid, c);
@@ -66,7 +67,8 @@ TEST(PeFrame, AHitJustPastAVoxelsEntryFaceAMillionAwayIsFound) {
   for (double gap : {0.0, 1e-9, 1e-6}) {
     const FarScene f(gap);
     EXPECT_EQ(count(f, machine(PeFrame::Grid), 0.5, RayResult::End::Hit), 400) << "gap " << gap;
-    EXPECT_EQ(count(f, machine(PeFrame::Grid, Precision::Fp64), 0.5, RayResult::End::Hit), 400) << "gap " << gap;
+    EXPECT_EQ(count(f, machine(PeFrame::Grid, Precision::Fp64), 0.5, RayResult::End::Hit), 400)
+        << "gap " << gap;
     std::cout << "[ numerics ] gap " << gap << ": world frame, fp32, "
               << count(f, machine(PeFrame::World), 0.5, RayResult::End::Hit) << " of 400 hit\n";
   }
@@ -79,7 +81,8 @@ TEST(PeFrame, GrazingRaysAMillionAwayAreClassifiedAsInDouble) {
     EXPECT_EQ(fp64, aim < 1 ? 400 : 0);
     EXPECT_EQ(count(f, machine(PeFrame::Grid), aim, RayResult::End::Hit), fp64) << "aim " << aim;
     std::cout << "[ numerics ] aim " << aim << " r: world frame, fp32, "
-              << count(f, machine(PeFrame::World), aim, RayResult::End::Hit) << " of 400 hit, fp64 " << fp64 << "\n";
+              << count(f, machine(PeFrame::World), aim, RayResult::End::Hit) << " of 400 hit, fp64 "
+              << fp64 << "\n";
   }
 }
 
@@ -93,7 +96,8 @@ TEST(PeFrame, ShadowRaysBornOnASurfaceAMillionAwayDoNotFindIt) {
   int shadow = 0, reached = 0;
   for (int i = 0; i < 400; ++i) {
     Ray r;
-    r.origin = frame.point({kFar + 0.2, kFar + 0.5 + 0.0004 * (i - 200), kFar + 0.6 - 0.0002 * (i % 50)});
+    r.origin =
+        frame.point({kFar + 0.2, kFar + 0.5 + 0.0004 * (i - 200), kFar + 0.6 - 0.0002 * (i % 50)});
     r.dir = normalize(frame.point(f.centre) - r.origin);
     RayResult out;
     pe.trace(r, out);
@@ -121,10 +125,13 @@ TEST(GridFrame, MapsTheGridOntoTheUnitCubeAndKeepsEverySurface) {
   const Primitive p = in_frame(f.scene.primitives[0], frame);
   // A point on the sphere, in the frame, is on the framed sphere to fp64 rounding of the frame.
   const Vec3 on = f.centre + Vec3(0, kRadius, 0);
-  EXPECT_NEAR(p.value_at(frame.point(on)) / (kRadius * frame.scale) / (kRadius * frame.scale), 0, 1e-6);
-  EXPECT_NEAR(p.q.value(frame.point(on)) / (kRadius * frame.scale) / (kRadius * frame.scale), 0, 1e-6);
+  EXPECT_NEAR(p.value_at(frame.point(on)) / (kRadius * frame.scale) / (kRadius * frame.scale), 0,
+              1e-6);
+  EXPECT_NEAR(p.q.value(frame.point(on)) / (kRadius * frame.scale) / (kRadius * frame.scale), 0,
+              1e-6);
   EXPECT_NEAR(p.r0, kRadius * 0.5, 1e-18);
-  EXPECT_TRUE(framed(f.scene, f.grid, PeFrame::World).scene.primitives[0].bounds.lo == f.scene.primitives[0].bounds.lo);
+  EXPECT_TRUE(framed(f.scene, f.grid, PeFrame::World).scene.primitives[0].bounds.lo ==
+              f.scene.primitives[0].bounds.lo);
 }
 
 }  // namespace

@@ -39,11 +39,14 @@ PeMemory::PeMemory(const MachineConfig& c, const SceneImage& image, uint64_t pix
   if (c.voxel_cache_bytes > 0) cache_ = VoxelCache::from(c);
   const bool sparse = c.mac_schedule == MachineConfig::MacSchedule::Sparse;
   image.visit([&](const auto& mem) {
-    for (const auto& ram : mem.rams) coef_bytes_.push_back(coef_record_bytes(c.intersection_precision_in_force(), coef_record_words(ram, sparse)));
+    for (const auto& ram : mem.rams)
+      coef_bytes_.push_back(
+          coef_record_bytes(c.intersection_precision_in_force(), coef_record_words(ram, sparse)));
   });
 }
 
-void PeMemory::request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
+void PeMemory::request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle,
+                             uint64_t need, MemoryWait& w) {
   beats_ += beats_of(bytes);
   if (who != host()) post_host_bursts(cycle);
   w.who = who;
@@ -76,9 +79,10 @@ void PeMemory::host_write(uint64_t address, uint64_t bytes, uint64_t from, uint6
       continue;
     }
     // A PE's transfers come one after another over its last link, so this is nearly always the end.
-    host_bursts_.insert(std::upper_bound(host_bursts_.begin(), host_bursts_.end(), b,
-                                         [](const Burst& x, const Burst& y) { return x.cycle < y.cycle; }),
-                        b);
+    host_bursts_.insert(
+        std::upper_bound(host_bursts_.begin(), host_bursts_.end(), b,
+                         [](const Burst& x, const Burst& y) { return x.cycle < y.cycle; }),
+        b);
   }
 }
 
@@ -98,11 +102,14 @@ void PeMemory::end_of_frame() {
 
 void PeMemory::collect_posted() {
   posted_.erase(std::remove_if(posted_.begin(), posted_.end(),
-                               [&](LocalMemoryTiming::Ticket t) { return timing_->resolved(t) && (timing_->collect(t), true); }),
+                               [&](LocalMemoryTiming::Ticket t) {
+                                 return timing_->resolved(t) && (timing_->collect(t), true);
+                               }),
                 posted_.end());
 }
 
-uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_t now, uint64_t cycle) {
+uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_t now,
+                         uint64_t cycle) {
   const uint64_t now_cycle = now / cycle;
   bool unknown = false;
   if (!w.pending.empty()) {
@@ -119,7 +126,8 @@ uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_
         continue;
       }
       const LocalMemoryTiming::Grant g = timing_->collect(p.ticket);
-      w.ready = std::max(w.ready, int64_t(g.completion - g.issue) + int64_t(w.latency) - int64_t(p.need));
+      w.ready =
+          std::max(w.ready, int64_t(g.completion - g.issue) + int64_t(w.latency) - int64_t(p.need));
       access_cycles_[size_t(w.who)] += visible(g.completion - g.issue, p.need, w.latency);
     }
     w.pending.resize(kept);
@@ -164,7 +172,8 @@ MemoryUse PeMemory::use() const {
   u.ideal = ideal();
   const std::vector<Stats> s = requesters();
   for (size_t i = 0; i < s.size(); ++i)
-    u.requesters.push_back({s[i].name, s[i].requests, s[i].bytes, s[i].stall_cycles, wait_cycles_[i], access_cycles_[i]});
+    u.requesters.push_back({s[i].name, s[i].requests, s[i].bytes, s[i].stall_cycles,
+                            wait_cycles_[i], access_cycles_[i]});
   if (timing_) {
     for (const auto& p : timing_->ports()) u.port_busy_cycles.push_back(p.busy_cycles);
     for (const auto& b : timing_->banks()) u.bank_conflicts += b.conflicts;

@@ -42,10 +42,11 @@ struct MemoryWait {
     uint64_t need;  ///< cycles after the item was taken that its plan needs the data at
   };
   std::vector<Pending> pending;
-  uint64_t latency = 0;       ///< the item's latency in the plan (Work::cycles)
-  int64_t ready = INT64_MIN;  ///< cycles after acceptance the result can leave at, by the grants collected
-  int who = 0;                ///< the requester (one per item)
-  bool counted = false;       ///< its wait is in the requester's wait cycles
+  uint64_t latency = 0;  ///< the item's latency in the plan (Work::cycles)
+  int64_t ready =
+      INT64_MIN;  ///< cycles after acceptance the result can leave at, by the grants collected
+  int who = 0;    ///< the requester (one per item)
+  bool counted = false;  ///< its wait is in the requester's wait cycles
 
   bool empty() const { return pending.empty() && ready == INT64_MIN; }
 };
@@ -55,16 +56,20 @@ struct MemoryUse {
   struct Requester {
     std::string name;
     uint64_t requests = 0, bytes = 0;
-    uint64_t stall_cycles = 0;  ///< what contention added to its requests' latencies (the grants' stalls)
-    uint64_t wait_cycles = 0;   ///< what its results waited past their due time for data (the pipeline stalled)
-    uint64_t access_cycles = 0; ///< its reads' times, issue to data (posted writes: none), however they overlap
+    uint64_t stall_cycles =
+        0;  ///< what contention added to its requests' latencies (the grants' stalls)
+    uint64_t wait_cycles =
+        0;  ///< what its results waited past their due time for data (the pipeline stalled)
+    uint64_t access_cycles =
+        0;  ///< its reads' times, issue to data (posted writes: none), however they overlap
   };
-  bool ideal = true;                ///< memory_ports = 0 and memory_banks = 0: every request unloaded
+  bool ideal = true;  ///< memory_ports = 0 and memory_banks = 0: every request unloaded
   std::vector<Requester> requesters;
   std::vector<uint64_t> port_busy_cycles;  ///< empty with the ideal memory (no ports kept)
-  uint64_t beats = 0;                       ///< what the ports carried in all
+  uint64_t beats = 0;                      ///< what the ports carried in all
   uint64_t bank_conflicts = 0;
-  uint64_t coef_hits = 0, coef_misses = 0, coef_evictions = 0;  ///< the lanes' coefficient RAMs, summed
+  uint64_t coef_hits = 0, coef_misses = 0,
+           coef_evictions = 0;  ///< the lanes' coefficient RAMs, summed
   bool voxel_cache = false;
   uint64_t cache_hits = 0, cache_misses = 0, cache_line_fills = 0;
 
@@ -88,9 +93,10 @@ class PeMemory {
   bool ideal() const { return !timing_; }
   uint64_t unloaded(uint64_t bytes) const { return latency_ + beats_of(bytes) - 1; }
 
-  /// A request made at PE cycle `cycle` for an item whose plan needs its data `need` cycles after it
-  /// was taken (need >= unloaded(bytes): on time when unloaded). The unit sets w.latency.
-  void request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w) {
+  /// A request made at PE cycle `cycle` for an item whose plan needs its data `need` cycles after
+  /// it was taken (need >= unloaded(bytes): on time when unloaded). The unit sets w.latency.
+  void request(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need,
+               MemoryWait& w) {
     if (timing_) return request_timed(who, address, bytes, cycle, need, w);
     // The fast path, inline: every unit asks this on nearly every item. Unloaded, the data is
     // there need - unloaded(bytes) >= 0 cycles before the plan needs it.
@@ -134,7 +140,8 @@ class PeMemory {
   VoxelCache* voxel_cache() { return cache_ ? &*cache_ : nullptr; }
   const VoxelCache* voxel_cache() const { return cache_ ? &*cache_ : nullptr; }
 
-  /// Per requester (named), its requests, bytes and stall cycles; the host's gather counted, not timed.
+  /// Per requester (named), its requests, bytes and stall cycles; the host's gather counted, not
+  /// timed.
   std::vector<Stats> requesters() const;
   /// The timing's ports and banks; null with the ideal memory (none kept).
   const LocalMemoryTiming* timing() const { return timing_.get(); }
@@ -145,7 +152,8 @@ class PeMemory {
  private:
   /// The beats a port moves `bytes` in.
   uint64_t beats_of(uint64_t bytes) const { return (bytes + width_ - 1) / width_; }
-  void request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need, MemoryWait& w);
+  void request_timed(int who, uint64_t address, uint64_t bytes, uint64_t cycle, uint64_t need,
+                     MemoryWait& w);
   /// Of an access of `cycles`, what its item's plan does not hide: a read within a unit's constant
   /// (needed after the item's latency) hides that much of its time.
   static uint64_t visible(uint64_t cycles, uint64_t need, uint64_t latency) {
@@ -158,8 +166,8 @@ class PeMemory {
 
   const int search_units_, lanes_;
   const uint64_t latency_, width_;
-  std::unique_ptr<LocalMemoryTiming> timing_;  ///< null: the ideal memory's fast path
-  std::vector<Stats> counted_;                 ///< the fast path's statistics, and the host's
+  std::unique_ptr<LocalMemoryTiming> timing_;      ///< null: the ideal memory's fast path
+  std::vector<Stats> counted_;                     ///< the fast path's statistics, and the host's
   std::vector<LocalMemoryTiming::Ticket> posted_;  ///< posted writes whose grants are to be dropped
   struct Burst {
     uint64_t cycle, address, bytes;

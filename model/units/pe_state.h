@@ -1,5 +1,6 @@
 // What the units of one PE share, apart from any scheduler: the configuration, the scene image
-// in local memory and the memory's timing, the counters they fill in, ray numbering, and the event log.
+// in local memory and the memory's timing, the counters they fill in, ray numbering, and the event
+// log.
 #pragma once
 
 #include <array>
@@ -22,14 +23,17 @@ namespace rtm {
 struct PeCounters {
   TraceCounts counts;
   uint64_t mac_products = 0;
-  uint64_t mac_products_saved = 0;  ///< skipped by sparse schedules, against the paper's 28 per test
-  uint64_t mac_cycles_saved = 0;    ///< cycles of the MAC's entry (its jobs' intervals) saved by sparse schedules
+  uint64_t mac_products_saved =
+      0;  ///< skipped by sparse schedules, against the paper's 28 per test
+  uint64_t mac_cycles_saved =
+      0;  ///< cycles of the MAC's entry (its jobs' intervals) saved by sparse schedules
   uint64_t spills = 0;
   /// Per kind of unit (units/unit_table.h), one per unit, each counted by its own pipeline
   /// (sized by size_for() before any pipeline counts into them).
   std::array<std::vector<UnitStats>, kUnitKinds> units;
   void size_for(const MachineConfig& c) {
-    for (const UnitSpec& u : unit_table()) units[size_t(u.kind)].resize(size_t(unit_count(u.kind, c)));
+    for (const UnitSpec& u : unit_table())
+      units[size_t(u.kind)].resize(size_t(unit_count(u.kind, c)));
   }
   UnitStats& unit(UnitKind k, int index) { return units[size_t(k)].at(size_t(index)); }
   /// Kind k's figures summed over its units.
@@ -47,17 +51,18 @@ struct PeCounters {
   uint64_t start = 0;         ///< the first primary ray handed out
   uint64_t finish = 0;        ///< the last ray ended
   uint64_t credit_stall = 0;  ///< rays waiting but no credit to send them
-  uint64_t spill_overflow = 0;  ///< rays waiting when they outgrew the spill area (0: they never did)
+  uint64_t spill_overflow =
+      0;  ///< rays waiting when they outgrew the spill area (0: they never did)
   uint64_t spill_overflow_at = 0;
 };
 
 /// Which optional units a PE elaborates (all of them unless the machine leaves out what the
 /// scene cannot use).
 struct PeUnits {
-  bool spawn_path = true;    ///< spawn FIFO from shading back to the front buffer
-  bool shadow_rays = true;   ///< shading's shadow-ray generator
-  bool reflection = true;    ///< shading's reflected-ray generator
-  bool refraction = true;    ///< shading's transmitted-ray generator
+  bool spawn_path = true;   ///< spawn FIFO from shading back to the front buffer
+  bool shadow_rays = true;  ///< shading's shadow-ray generator
+  bool reflection = true;   ///< shading's reflected-ray generator
+  bool refraction = true;   ///< shading's transmitted-ray generator
 
   /// Whether the PE has this FIFO: the spawn path is left out when the scene spawns no rays.
   bool has(const FifoSpec& f) const { return !f.spawn_path || spawn_path; }
@@ -71,7 +76,7 @@ struct PeState {
   int pe = 0;
   PeUnits units;
   MachineConfig config;
-  uint64_t cycle = 1;  ///< the PE clock period in ticks
+  uint64_t cycle = 1;                       ///< the PE clock period in ticks
   std::shared_ptr<const SceneImage> image;  ///< set when the scene transfer lands in local memory
   PeCounters counters;
   uint32_t next_ray_id = 0;

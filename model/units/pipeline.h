@@ -53,7 +53,8 @@ class Pipeline {
   };
 
   /// `cycle`: one cycle in the time unit the caller uses; `stats`: where to count (may be null).
-  explicit Pipeline(uint64_t cycle = 1, UnitStats* stats = nullptr) : cycle_(cycle), stats_(stats ? stats : &own_) {}
+  explicit Pipeline(uint64_t cycle = 1, UnitStats* stats = nullptr)
+      : cycle_(cycle), stats_(stats ? stats : &own_) {}
 
   bool empty() const { return count_ == 0; }
   size_t size() const { return count_; }
@@ -66,7 +67,8 @@ class Pipeline {
 
   /// Accepts `item` at `now` (can_accept(now)), its latency and interval in cycles; returns when
   /// its result is due.
-  [[gnu::always_inline]] uint64_t accept(const Item& item, uint64_t now, uint64_t latency, uint64_t interval, MemoryWait&& wait = {}) {
+  [[gnu::always_inline]] uint64_t accept(const Item& item, uint64_t now, uint64_t latency,
+                                         uint64_t interval, MemoryWait&& wait = {}) {
     uint64_t due = now + latency * cycle_;
     if (count_ == 0)
       busy_since_ = now;
@@ -77,7 +79,8 @@ class Pipeline {
     s.item = item;
     s.due = due;
     s.accepted = now;
-    if (!wait.empty() || !s.wait.empty()) s.wait = std::move(wait);  // most items ask nothing of memory
+    if (!wait.empty() || !s.wait.empty())
+      s.wait = std::move(wait);  // most items ask nothing of memory
     ready_ = now + interval * cycle_;
     ++stats_->items;
     stats_->issue_cycles += interval;
@@ -124,7 +127,7 @@ class Pipeline {
   uint64_t cycle_;
   UnitStats own_;
   UnitStats* stats_;
-  std::vector<Slot> ring_;  ///< the items inside, count_ of them from head_
+  std::vector<Slot> ring_;    ///< the items inside, count_ of them from head_
   size_t mask_ = size_t(-1);  ///< ring_.size() - 1, kept: the size of a Slot is no power of two
   size_t head_ = 0, count_ = 0;
   uint64_t ready_ = 0;

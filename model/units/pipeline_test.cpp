@@ -113,7 +113,8 @@ struct Harness {
 
   void run() {
     for (uint64_t now = 0; now < 1000; ++now) {
-      const bool woken = wakeups.next().first == now || (waiting && next < arrivals.size() && arrivals[next] == now);
+      const bool woken = wakeups.next().first == now ||
+                         (waiting && next < arrivals.size() && arrivals[next] == now);
       if (!woken && now > 0) continue;
       wakeups.fired(now);
       step_unit(pipe, now, 1, nullptr, *this);

@@ -103,7 +103,9 @@ Shaded shading(const std::vector<std::string>& sets) {
 bool same(const std::vector<Ray>& a, const std::vector<Ray>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
-    if (a[i].origin != b[i].origin || a[i].dir != b[i].dir || a[i].contribution != b[i].contribution) return false;
+    if (a[i].origin != b[i].origin || a[i].dir != b[i].dir ||
+        a[i].contribution != b[i].contribution)
+      return false;
   return true;
 }
 

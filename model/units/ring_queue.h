@@ -26,7 +26,8 @@ class RingQueue {
  private:
   [[gnu::noinline]] void grow() {
     std::vector<T> bigger(ring_.empty() ? 16 : ring_.size() * 2);  // a power of two
-    for (size_t i = 0; i < count_; ++i) bigger[i] = std::move(ring_[(head_ + i) & (ring_.size() - 1)]);
+    for (size_t i = 0; i < count_; ++i)
+      bigger[i] = std::move(ring_[(head_ + i) & (ring_.size() - 1)]);
     ring_ = std::move(bigger);
     head_ = 0;
   }

@@ -42,7 +42,7 @@ Route search_route(const Scene& s, const Grid& g, MachineRay& r, bool examined) 
 Route intersection_route(const Scene& s, MachineRay& r, const VoxelHit& h) {
   if (h.hit) {
     if (r.ray.kind == RayKind::Shadow) {  // the light is blocked
-      r.prim = h.prim;  // for the error attribution (error/error_causes.h)
+      r.prim = h.prim;                    // for the error attribution (error/error_causes.h)
       return Route::End;
     }
     r.arrival = MachineRay::Arrival::Hit;

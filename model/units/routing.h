@@ -10,8 +10,8 @@ namespace rtm {
 enum class Route {
   Intersect,  ///< occupied voxel: to the intersection stage
   Feedback,   ///< walk on: back to the front buffer
-  Shade,      ///< to the shading stage (a hit, a shadow ray that reached its light, a background miss)
-  End,        ///< the ray leaves the loop
+  Shade,  ///< to the shading stage (a hit, a shadow ray that reached its light, a background miss)
+  End,    ///< the ray leaves the loop
 };
 
 /// One search-unit pass: set the walk up on the ray's first pass, examine the current voxel,

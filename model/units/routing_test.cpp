@@ -45,7 +45,8 @@ TEST(Routing, EmptyVoxelsAreFedBackThenTheOccupiedOneGoesToIntersection) {
 
 TEST(Routing, PrimaryRayHittingGoesToShading) {
   Fixture f;
-  MachineRay r = f.ray(RayKind::Primary, {2.05, 0.5, 0.5}, {1, 0, 0});  // inside the sphere, voxel 2
+  MachineRay r =
+      f.ray(RayKind::Primary, {2.05, 0.5, 0.5}, {1, 0, 0});  // inside the sphere, voxel 2
   ASSERT_TRUE(search_pass(f.grid, r));
   VoxelHit h;
   h.hit = true;
@@ -59,7 +60,8 @@ TEST(Routing, PrimaryRayHittingGoesToShading) {
 
 TEST(Routing, MissInANonLastVoxelFeedsBack) {
   Fixture f;
-  MachineRay r = f.ray(RayKind::Reflected, {2.5, 0.95, 0.5}, {-1, 0, 0});  // voxel 2, heading to voxel 1
+  MachineRay r =
+      f.ray(RayKind::Reflected, {2.5, 0.95, 0.5}, {-1, 0, 0});  // voxel 2, heading to voxel 1
   ASSERT_TRUE(search_pass(f.grid, r));
   EXPECT_FALSE(r.last);
   EXPECT_EQ(intersection_route(f.scene, r, VoxelHit{}), Route::Feedback);
@@ -78,7 +80,8 @@ TEST(Routing, ShadowRayBlockedEnds) {
 
 TEST(Routing, ShadowRayLeavingTheGridReachesItsLight) {
   Fixture f;
-  MachineRay r = f.ray(RayKind::Shadow, {3.5, 0.5, 0.5}, {0, 1, 0}, 10.0);  // leaves the grid after voxel 3
+  MachineRay r =
+      f.ray(RayKind::Shadow, {3.5, 0.5, 0.5}, {0, 1, 0}, 10.0);  // leaves the grid after voxel 3
   ASSERT_TRUE(search_pass(f.grid, r));
   EXPECT_TRUE(r.last);
   EXPECT_EQ(search_route(f.scene, f.grid, r, true), Route::Shade);
@@ -102,7 +105,8 @@ TEST(Routing, PrimaryRayLeavingTheGridEndsOrTakesTheBackground) {
   Fixture f;
   MachineRay r = f.ray(RayKind::Primary, {3.5, 0.5, 0.5}, {0, 1, 0});
   ASSERT_TRUE(search_pass(f.grid, r));
-  EXPECT_EQ(search_route(f.scene, f.grid, r, true), Route::End);  // black background: nothing to add
+  EXPECT_EQ(search_route(f.scene, f.grid, r, true),
+            Route::End);  // black background: nothing to add
   f.scene.background = {0.1, 0.2, 0.3};
   MachineRay q = f.ray(RayKind::Primary, {3.5, 0.5, 0.5}, {0, 1, 0});
   ASSERT_TRUE(search_pass(f.grid, q));

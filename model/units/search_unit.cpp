@@ -22,10 +22,12 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
       ++pe_.counters.counts.voxel_steps;
       if (PeMemory* m = pe_.memory.get()) {
         const int64_t v = g.index(r.examined.cell[0], r.examined.cell[1], r.examined.cell[2]);
-        const PeMemory::VoxelRead entry = m->voxel_read(m->addresses().voxel_entry(v), voxel_entry_bytes());
+        const PeMemory::VoxelRead entry =
+            m->voxel_read(m->addresses().voxel_entry(v), voxel_entry_bytes());
         w.cycles += entry.cycles;
         w.wait.latency = w.cycles;  // so far: the latency its plan has when it is read
-        if (entry.bytes) m->request(m->search(index_), entry.address, entry.bytes, cycle, w.cycles, w.wait);
+        if (entry.bytes)
+          m->request(m->search(index_), entry.address, entry.bytes, cycle, w.cycles, w.wait);
       }
     }
     if (!(walk_on && route == Route::Feedback)) break;
@@ -33,10 +35,18 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
   w.wait.latency = w.cycles;
   w.interval = pipeline_interval(c.search_interval, w.cycles, passes);
   switch (route) {
-    case Route::Intersect: w.out = {FifoId::Intersect, Output::What::Item}; break;
-    case Route::Feedback: w.out = {FifoId::FeedbackSearch, Output::What::Item}; break;
-    case Route::Shade: w.out = {FifoId::Shade, Output::What::Item}; break;
-    case Route::End: w.out = {FifoId::Ends, Output::What::End}; break;
+    case Route::Intersect:
+      w.out = {FifoId::Intersect, Output::What::Item};
+      break;
+    case Route::Feedback:
+      w.out = {FifoId::FeedbackSearch, Output::What::Item};
+      break;
+    case Route::Shade:
+      w.out = {FifoId::Shade, Output::What::Item};
+      break;
+    case Route::End:
+      w.out = {FifoId::Ends, Output::What::End};
+      break;
   }
   if (pe_.log) pe_.log->take(now, UnitKind::Search, index_, r.id, w.cycles);
   return w;

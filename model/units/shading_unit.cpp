@@ -24,12 +24,15 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
     case MachineRay::Arrival::Hit:
       if (r.ray.kind == RayKind::Primary) primary_id = int32_t(r.prim);
       if (fp32)
-        shade_hit<float>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, c.normal_interpolation, out);
+        shade_hit<float>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine,
+                         c.normal_interpolation, out);
       else
-        shade_hit<double>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine, c.normal_interpolation, out);
+        shade_hit<double>(s, r.ray, r.t_hit, s.primitives[r.prim], c.hit_refine,
+                          c.normal_interpolation, out);
       pixel.add(out.brightness);
       cycles = uint64_t(c.shade_cycles) + uint64_t(c.refine_cycles_in_force()) +
-               uint64_t(c.interpolate_cycles_for(s.primitives[r.prim])) + uint64_t(c.spawn_cycles) * out.rays.size();
+               uint64_t(c.interpolate_cycles_for(s.primitives[r.prim])) +
+               uint64_t(c.spawn_cycles) * out.rays.size();
       break;
     case MachineRay::Arrival::LightReached:
       pixel.add(r.ray.brightness);
@@ -48,7 +51,8 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
     // The pixel's brightness is read, added to and written back within the unit's cycles.
     const uint64_t at = m->addresses().frame_entry(r.slot), cycle = now / pe_.cycle;
     w.wait.latency = cycles;
-    m->request(m->shading(), at, kBrightnessBytes, cycle, std::max(cycles, m->unloaded(kBrightnessBytes)), w.wait);
+    m->request(m->shading(), at, kBrightnessBytes, cycle,
+               std::max(cycles, m->unloaded(kBrightnessBytes)), w.wait);
     m->post(m->shading(), at, kBrightnessBytes, cycle);
   }
   if (pe_.log) pe_.log->take(now, UnitKind::Shading, 0, r.id, cycles);

@@ -20,7 +20,8 @@ class ShadingUnit {
   // The oldest ray's outputs: results leave a pipelined unit in order.
   size_t outputs() const { return 1 + head().rays.size(); }
   Output output(size_t k) const {
-    return k == 0 ? Output{FifoId::Ends, Output::What::End} : Output{FifoId::Spawn, Output::What::Item};
+    return k == 0 ? Output{FifoId::Ends, Output::What::End}
+                  : Output{FifoId::Spawn, Output::What::Item};
   }
   /// Output k > 0's ray, numbered now: call it once, when the scheduler first tries to write it
   /// (rays are numbered in the order they are made, and a write may wait for room).

@@ -50,7 +50,8 @@ bool step_unit(Pipeline<Item>& pipe, uint64_t now, uint64_t cycle, PeMemory* mem
   }
   if (!pipe.empty()) ops.want(pipe.head().due);
   // Unpipelined, the next item may come when the result leaves: one wake-up for both.
-  if (pipe.ready() > now && (pipe.empty() || pipe.ready() != pipe.head().due)) ops.want(pipe.ready());
+  if (pipe.ready() > now && (pipe.empty() || pipe.ready() != pipe.head().due))
+    ops.want(pipe.ready());
   return waiting;
 }
 

@@ -13,20 +13,25 @@ using U = UnitKind;
 
 // Each unit's longest item; their sum bounds a ray's pass round the loop.
 uint64_t front_item(const M& c, const ItemBounds& b) {
-  return uint64_t(c.fb_dispatch_cycles) + uint64_t(c.pe_ray_cycles) + b.access;  // a spilled ray read back
+  return uint64_t(c.fb_dispatch_cycles) + uint64_t(c.pe_ray_cycles) +
+         b.access;  // a spilled ray read back
 }
 uint64_t shading_item(const M& c, const ItemBounds& b) {
-  return uint64_t(c.shade_cycles) + uint64_t(c.spawn_cycles + c.accumulate_cycles) * (b.lights + 3) + b.access;
+  return uint64_t(c.shade_cycles) +
+         uint64_t(c.spawn_cycles + c.accumulate_cycles) * (b.lights + 3) + b.access;
 }
 uint64_t search_item(const M& c, const ItemBounds& b) {
-  return b.walk_voxels * (uint64_t(c.dda_step_cycles) + b.access);  // search_walk = until_occupied: the whole walk
+  return b.walk_voxels *
+         (uint64_t(c.dda_step_cycles) + b.access);  // search_walk = until_occupied: the whole walk
 }
 uint64_t mac_item(const M& c, const ItemBounds& b) {
-  const uint64_t test = uint64_t(kMacProducts) * uint64_t(c.add_latency) + 2 * uint64_t(c.mul_latency) + uint64_t(c.add_latency);
+  const uint64_t test = uint64_t(kMacProducts) * uint64_t(c.add_latency) +
+                        2 * uint64_t(c.mul_latency) + uint64_t(c.add_latency);
   return (b.fullest_voxel + 1) * (test + b.access);
 }
 uint64_t root_item(const M& c, const ItemBounds& b) {
-  const uint64_t test = uint64_t(c.root_cycles()) + uint64_t(c.sort_cycles) + uint64_t(c.clip_cycles) * (b.most_clips + 1);
+  const uint64_t test = uint64_t(c.root_cycles()) + uint64_t(c.sort_cycles) +
+                        uint64_t(c.clip_cycles) * (b.most_clips + 1);
   return (b.fullest_voxel + 1) * test + b.access;
 }
 
@@ -35,7 +40,8 @@ uint64_t root_item(const M& c, const ItemBounds& b) {
 const std::array<UnitSpec, kUnitKinds>& unit_table() {
   static const std::array<UnitSpec, kUnitKinds> table = {{
       {U::FrontBuffer, "front_buffer", nullptr, nullptr, false, false, true, front_item,
-       "admits primary rays, merges the rays fed back and spawned, hands them to the search units (§4.2)"},
+       "admits primary rays, merges the rays fed back and spawned, hands them to the search units "
+       "(§4.2)"},
       {U::Shading, "shading", nullptr, nullptr, false, false, true, shading_item,
        "adds brightness into the frame buffer, spawns shadow and branch rays (§6)"},
       {U::Search, "search", "search_units", &M::search_units, false, false, true, search_item,

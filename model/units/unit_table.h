@@ -21,8 +21,8 @@ struct ItemBounds {
   uint64_t fullest_voxel = 0;  ///< the most primitives in one voxel
   uint64_t most_clips = 0;     ///< the most clip half-spaces of one primitive
   uint64_t lights = 0;
-  uint64_t walk_voxels = 0;    ///< the most voxels one walk can pass (the grid's edges summed, and 3)
-  uint64_t access = 0;         ///< one local-memory access at its slowest, behind every requester's
+  uint64_t walk_voxels = 0;  ///< the most voxels one walk can pass (the grid's edges summed, and 3)
+  uint64_t access = 0;       ///< one local-memory access at its slowest, behind every requester's
 };
 
 struct UnitSpec {

@@ -36,7 +36,8 @@ TEST(UnitTable, CountKeysAreConfigurationKeysOfTheSameValue) {
       continue;
     }
     const auto& keys = config_keys();
-    const auto k = std::find_if(keys.begin(), keys.end(), [&](const ConfigKey& k) { return k.name == u.count_key; });
+    const auto k = std::find_if(keys.begin(), keys.end(),
+                                [&](const ConfigKey& k) { return k.name == u.count_key; });
     ASSERT_NE(k, keys.end()) << u.name << ": no key " << u.count_key;
     EXPECT_EQ(k->get(c), std::to_string(unit_count(u.kind, c))) << u.name;
   }

@@ -22,7 +22,8 @@ class FuzzCorpus : public ::testing::TestWithParam<Target> {};
 
 TEST_P(FuzzCorpus, EveryInputIsReadOrRefusedWithinASecond) {
   const Target& target = GetParam();
-  const std::filesystem::path dir = std::filesystem::path(RTM_SOURCE_DIR) / "tb" / "fuzz-corpus" / target.name;
+  const std::filesystem::path dir =
+      std::filesystem::path(RTM_SOURCE_DIR) / "tb" / "fuzz-corpus" / target.name;
   int read = 0, refused = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     SCOPED_TRACE(entry.path().string());
@@ -42,7 +43,9 @@ TEST_P(FuzzCorpus, EveryInputIsReadOrRefusedWithinASecond) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, FuzzCorpus, ::testing::ValuesIn(kTargets),
-                         [](const ::testing::TestParamInfo<Target>& p) { return std::string(p.param.name); });
+                         [](const ::testing::TestParamInfo<Target>& p) {
+                           return std::string(p.param.name);
+                         });
 
 }  // namespace
 }  // namespace rtm::fuzz

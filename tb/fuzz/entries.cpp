@@ -95,7 +95,8 @@ bool config(std::string_view input) {
   MachineConfig again;
   parse_config(again, described, "described.yaml");
   if (describe_config(again) != described)
-    throw std::logic_error("what rtm config prints of an accepted file reads back differently:\n" + described);
+    throw std::logic_error("what rtm config prints of an accepted file reads back differently:\n" +
+                           described);
   return true;
 }
 

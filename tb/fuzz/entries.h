@@ -1,8 +1,8 @@
 // The fuzz targets' entry functions (docs/reliability.md, "Fuzzing"). Each reads one input through
 // the reader the program uses and returns whether it was read (true) or refused with that reader's
-// own error (false); anything else escapes to the caller: another exception, a crash or a sanitizer report
-// is a finding. The libFuzzer targets (*_fuzz.cpp, built by scripts/fuzz) and the suite's replay
-// of the committed corpus (corpus_test.cpp, tb/fuzz-corpus/TARGET) call the same functions.
+// own error (false); anything else escapes to the caller: another exception, a crash or a sanitizer
+// report is a finding. The libFuzzer targets (*_fuzz.cpp, built by scripts/fuzz) and the suite's
+// replay of the committed corpus (corpus_test.cpp, tb/fuzz-corpus/TARGET) call the same functions.
 #pragma once
 
 #include <string_view>
@@ -25,6 +25,7 @@ struct Target {
   const char* name;  ///< scripts/fuzz's name, and the folder under tb/fuzz-corpus
   bool (*run)(std::string_view);
 };
-inline constexpr Target kTargets[] = {{"nff", nff}, {"native", native}, {"mesh", mesh}, {"config", config}, {"set", set}};
+inline constexpr Target kTargets[] = {
+    {"nff", nff}, {"native", native}, {"mesh", mesh}, {"config", config}, {"set", set}};
 
 }  // namespace rtm::fuzz
