@@ -102,7 +102,7 @@ def test_sources_name_docs_and_sections_that_exist():
         for file in set(re.findall(r"\bdocs/[\w/.-]+\.md\b", text)):
             if not os.path.exists(os.path.join(ROOT, file)):
                 bad.append(f"{rel(src)}: {file}: no such file")
-        for file, ref in PROSE.findall(re.sub(r"\n\s*(#|//)+\s*", " ", text)):
+        for file, ref in PROSE.findall(re.sub(r"\n\s*(#|//+)+\s*", " ", text)):
             path = os.path.join(ROOT, file)
             if os.path.exists(path) and not names_section(path, " ".join(ref.split())):
                 bad.append(f'{rel(src)}: {file}, "{ref}": no such heading')
