@@ -167,9 +167,9 @@ void print_interconnect(const MachineResult& m, const MachineConfig& c) {
   if (c.link_topology == MachineConfig::LinkTopology::Star ||
       c.link_topology == MachineConfig::LinkTopology::Tree)
     std::printf(", %d host port%s", c.host_ports, c.host_ports == 1 ? "" : "s");
-  std::printf(
-      ": %llu bytes, busy %llu cycles", (unsigned long long)bytes,
-      (unsigned long long)std::llround(m.host.link_busy / period));  // as the stats round it
+  std::printf(": %llu bytes, busy %llu cycles", (unsigned long long)bytes,
+              (unsigned long long)std::llround(sc_core::sc_time::from_value(m.host.link_busy) /
+                                               period));  // as the stats round it
   if (m.links.size() == 1)
     std::printf(" (%.1f%% of the frame)\n", share);
   else
@@ -253,7 +253,7 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds,
               g.n[2], c.pes, c.pes == 1 ? "" : "s", to_string(c.partition),
               precision_text(c).c_str(), to_string(c.timing), configuration_text(c).c_str());
   std::printf("cycles: %llu (%.3f ms simulated at %.4g ns a cycle)\n", (unsigned long long)m.cycles,
-              m.end.to_seconds() * 1e3, c.clock_ns);
+              sc_core::sc_time::from_value(m.end).to_seconds() * 1e3, c.clock_ns);
   print_rays(m.counts);
   std::printf("rays per cycle: %.4f\n",
               double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));

@@ -1,9 +1,9 @@
 #include "machine/machine.h"
 
 #include "machine/engine_pe.h"
-#include "machine/gtkw.h"
+#include "frame/gtkw.h"
 #include "machine/modular_pe.h"
-#include "machine/partition.h"
+#include "frame/partition.h"
 #include "machine/sim_time.h"
 #include "machine/watchdog.h"
 #include "render/atomic_file.h"
@@ -389,7 +389,10 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
         "clock_ns or a smaller frame fits");
 
   MachineResult r;
-  r.end = sc_core::sc_time_stamp();
+  const sc_time end = sc_core::sc_time_stamp();
+  const sc_time period(c.clock_ns, sc_core::SC_NS);
+  r.end = end.value();
+  r.clock_ticks = period.value();
   r.host = top.host->times;
   r.links = top.host->link_use();
   for (auto& pe : top.pes) {
@@ -412,7 +415,7 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     pe->ctx.memory->end_of_frame();
     r.memory_use.push_back(pe->ctx.memory->use());
   }
-  r.fifos = summarise_fifos(top.pes, r.end);
+  r.fifos = summarise_fifos(top.pes, end);
   for (auto& pe : top.pes)
     for (auto& [name, st] : pe->fifo_stats())
       for (const FifoSpec& f : fifo_table())
@@ -432,15 +435,15 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     r.mac_products_saved += pe->ctx.counters.mac_products_saved;
     r.mac_cycles_saved += pe->ctx.counters.mac_cycles_saved;
   }
-  r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
+  r.cycles = uint64_t(std::llround(end / period));
   r.stats = frame_stats(r, c);
   if (tf) {
     sc_core::sc_close_vcd_trace_file(tf);
     vcd->commit(vcd_file(opt.vcd));
   }
   if (wave && !traced.empty()) {
-    const GtkwView view = recorded_view(top.pes, traced, r.end, c, r.warnings);
-    if (!opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), *wave, view);
+    const GtkwView view = recorded_view(top.pes, traced, end, c, r.warnings);
+    if (!opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), wave->signals(), view);
   }
   if (!logs.empty()) {
     std::ostringstream text;

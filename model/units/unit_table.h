@@ -2,7 +2,7 @@
 // has, the longest one item can take in it, and whether it counts towards utilisation and the
 // bottleneck. Which FIFOs it reads and writes is the FIFO table's (units/fifo_table.h), which
 // inputs() and outputs() read. The counters (units/pe_state.h), the frame statistics and the
-// bottleneck (machine/frame_stats.*), the stats file (tb/stats_json.cpp), the stall watchdog
+// bottleneck (frame/frame_stats.*), the stats file (tb/stats_json.cpp), the stall watchdog
 // (machine/machine.cpp), the event log and both schedulers' lists of units iterate it.
 #pragma once
 
@@ -35,7 +35,7 @@ struct UnitSpec {
   /// The event log numbers it (mac0, root1); replicated units that are interchangeable (the
   /// search units: which takes a ray is the scheduler's choice) go unnumbered.
   bool logged_by_number;
-  /// Counts towards utilisation, the frame profile and the bottleneck (machine/frame_stats.h).
+  /// Counts towards utilisation, the frame profile and the bottleneck (frame/frame_stats.h).
   bool in_utilisation;
   /// An upper bound on the PE cycles the unit spends on one item without finishing it.
   uint64_t (*longest_item)(const MachineConfig&, const ItemBounds&);
