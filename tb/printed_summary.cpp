@@ -32,13 +32,16 @@ void print_files(const RenderFiles& files) {
     std::printf("waveform: %s (GTKWave: gtkwave %s)\n", files.vcd.c_str(), files.gtkw.c_str());
 }
 
-/// One share per unit, as the stats name them.
+/// One share per unit that utilisation counts, along the pipeline, each under its label.
 void print_units(const char* over, const UnitShares& u) {
-  std::printf(
-      "utilisation %s: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading "
-      "%.1f%%",
-      over, 100 * u[UnitKind::FrontBuffer], 100 * u[UnitKind::Search], 100 * u[UnitKind::Mac],
-      100 * u[UnitKind::Root], 100 * u[UnitKind::Shading]);
+  std::printf("utilisation %s", over);
+  const char* separator = ": ";
+  for (UnitKind k : pipeline_order()) {
+    const UnitSpec& s = unit_spec(k);
+    if (!s.in_utilisation) continue;
+    std::printf("%s%s %.1f%%", separator, s.label, 100 * u[k]);
+    separator = ", ";
+  }
 }
 
 /// The PE's arithmetic: `precision`, and each unit whose own key says otherwise.

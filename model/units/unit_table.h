@@ -28,6 +28,7 @@ struct ItemBounds {
 struct UnitSpec {
   UnitKind kind;
   const char* name;       ///< in statistics, the event log, waveforms and the docs
+  const char* label;      ///< as people read it, in the printed summary ("root/sort")
   const char* count_key;  ///< the configuration key of how many a PE has; null: one
   int MachineConfig::*count;
   /// Root units rank (and are logged) by their lane: each takes only its own MAC's results.
@@ -51,6 +52,10 @@ inline int unit_count(UnitKind k, const MachineConfig& c) {
   const UnitSpec& u = unit_spec(k);
   return u.count ? c.*u.count : 1;
 }
+/// Every kind in the order a ray meets them along the macro-pipeline (Fig. 1): each after every
+/// kind that writes a FIFO it reads, the FIFOs back into the front buffer aside; of the kinds
+/// that may come next, the first in rank order.
+std::vector<UnitKind> pipeline_order();
 /// The FIFOs kind k reads, and writes, in the FIFO table's order.
 std::vector<FifoId> inputs(UnitKind k);
 std::vector<FifoId> outputs(UnitKind k);
