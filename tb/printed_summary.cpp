@@ -32,13 +32,16 @@ void print_files(const RenderFiles& files) {
     std::printf("waveform: %s (GTKWave: gtkwave %s)\n", files.vcd.c_str(), files.gtkw.c_str());
 }
 
-/// One share per unit, as the stats name them.
+/// One share per unit that utilisation counts, along the pipeline, each under its label.
 void print_units(const char* over, const UnitShares& u) {
-  std::printf(
-      "utilisation %s: front buffer %.1f%%, search %.1f%%, MAC %.1f%%, root/sort %.1f%%, shading "
-      "%.1f%%",
-      over, 100 * u[UnitKind::FrontBuffer], 100 * u[UnitKind::Search], 100 * u[UnitKind::Mac],
-      100 * u[UnitKind::Root], 100 * u[UnitKind::Shading]);
+  std::printf("utilisation %s", over);
+  const char* separator = ": ";
+  for (UnitKind k : pipeline_order()) {
+    const UnitSpec& s = unit_spec(k);
+    if (!s.in_utilisation) continue;
+    std::printf("%s%s %.1f%%", separator, s.label, 100 * u[k]);
+    separator = ", ";
+  }
 }
 
 /// The PE's arithmetic: `precision`, and each unit whose own key says otherwise.
@@ -167,9 +170,9 @@ void print_interconnect(const MachineResult& m, const MachineConfig& c) {
   if (c.link_topology == MachineConfig::LinkTopology::Star ||
       c.link_topology == MachineConfig::LinkTopology::Tree)
     std::printf(", %d host port%s", c.host_ports, c.host_ports == 1 ? "" : "s");
-  std::printf(
-      ": %llu bytes, busy %llu cycles", (unsigned long long)bytes,
-      (unsigned long long)std::llround(m.host.link_busy / period));  // as the stats round it
+  std::printf(": %llu bytes, busy %llu cycles", (unsigned long long)bytes,
+              (unsigned long long)std::llround(sc_core::sc_time::from_value(m.host.link_busy) /
+                                               period));  // as the stats round it
   if (m.links.size() == 1)
     std::printf(" (%.1f%% of the frame)\n", share);
   else
@@ -253,7 +256,7 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds,
               g.n[2], c.pes, c.pes == 1 ? "" : "s", to_string(c.partition),
               precision_text(c).c_str(), to_string(c.timing), configuration_text(c).c_str());
   std::printf("cycles: %llu (%.3f ms simulated at %.4g ns a cycle)\n", (unsigned long long)m.cycles,
-              m.end.to_seconds() * 1e3, c.clock_ns);
+              sc_core::sc_time::from_value(m.end).to_seconds() * 1e3, c.clock_ns);
   print_rays(m.counts);
   std::printf("rays per cycle: %.4f\n",
               double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));

@@ -100,12 +100,15 @@ nlohmann::json config_value(const ConfigKey& k, const MachineConfig& c) {
   return v;
 }
 
-/// A simulated time in whole PE cycles.
-uint64_t whole_cycles(const sc_core::sc_time& t, const MachineConfig& c) {
-  return uint64_t(std::llround(t / sc_core::sc_time(c.clock_ns, sc_core::SC_NS)));
+/// A simulated time, in ticks, in whole PE cycles.
+uint64_t whole_cycles(uint64_t ticks, const MachineConfig& c) {
+  return uint64_t(std::llround(sc_core::sc_time::from_value(ticks) /
+                               sc_core::sc_time(c.clock_ns, sc_core::SC_NS)));
 }
 
-double sim_time_ns(const MachineResult& m) { return m.end.to_seconds() * 1e9; }
+double sim_time_ns(const MachineResult& m) {
+  return sc_core::sc_time::from_value(m.end).to_seconds() * 1e9;
+}
 
 /// The topology, each link's busy time and bytes, and their totals.
 nlohmann::json interconnect_json(const MachineResult& m, const MachineConfig& c) {
@@ -114,7 +117,7 @@ nlohmann::json interconnect_json(const MachineResult& m, const MachineConfig& c)
   for (const LinkUse& l : m.links) {
     const sc_core::sc_time busy = sc_core::sc_time::from_value(l.busy_ticks);
     links.push_back({{"name", l.name},
-                     {"busy_cycles", whole_cycles(busy, c)},
+                     {"busy_cycles", whole_cycles(l.busy_ticks, c)},
                      {"busy_seconds", busy.to_seconds()},
                      {"bytes", l.bytes},
                      {"transfers", l.hops}});
@@ -123,7 +126,7 @@ nlohmann::json interconnect_json(const MachineResult& m, const MachineConfig& c)
   return {{"topology", to_string(c.link_topology)},
           {"links", links},
           {"busy_cycles", whole_cycles(m.host.link_busy, c)},
-          {"busy_seconds", m.host.link_busy.to_seconds()},
+          {"busy_seconds", sc_core::sc_time::from_value(m.host.link_busy).to_seconds()},
           {"bytes", bytes}};
 }
 
@@ -218,10 +221,7 @@ nlohmann::json memory_access_json(const MemoryUse& u) {
 }  // namespace
 
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
-  auto cyc = [&](const sc_core::sc_time& t) { return whole_cycles(t, c); };
-  auto ticks = [&](uint64_t t) {
-    return cyc(sc_core::sc_time::from_value(t));
-  };  // PeCounters' times
+  auto cyc = [&](uint64_t ticks) { return whole_cycles(ticks, c); };
   const FrameStats& s = m.stats;
   nlohmann::json per_pe = nlohmann::json::array();
   for (size_t i = 0; i < m.per_pe.size(); ++i) {
@@ -229,9 +229,9 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
     nlohmann::json search_units = nlohmann::json::array();
     for (const SearchUnitShares& u : s.search_units[i])
       search_units.push_back({{"busy", u.busy}, {"issue", u.issue}});
-    per_pe.push_back({{"cycles", ticks(p.finish)},
-                      {"start_cycle", ticks(p.start)},
-                      {"credit_stall_cycles", ticks(p.credit_stall)},
+    per_pe.push_back({{"cycles", cyc(p.finish)},
+                      {"start_cycle", cyc(p.start)},
+                      {"credit_stall_cycles", cyc(p.credit_stall)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
                       {"memory_used_bytes", m.memory[i].used},

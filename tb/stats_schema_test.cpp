@@ -1,7 +1,7 @@
 // The statistics' contract: real renders of every kind validate against docs/stats.schema.json
 // (through scripts/check-stats), and the head of a stats file names the run and the exact scene it
 // read. That the schema names what the unit table declares is
-// model/machine/stats_schema_test.cpp's.
+// model/frame/stats_schema_test.cpp's.
 #include <cstdio>
 #include <set>
 #include <string>

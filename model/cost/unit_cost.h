@@ -62,7 +62,7 @@ uint64_t record_bits(Payload p, const MachineConfig& c);
 UnitInventory unit_inventory(UnitKind k, const MachineConfig& c, const PeUnits& units,
                              uint64_t primitives, const Technology& t);
 
-/// What a frame did, over all PEs: the counters the cost reads (machine/frame_cost.h fills it).
+/// What a frame did, over all PEs: the counters the cost reads (frame/frame_cost.h fills it).
 struct FrameActivity {
   int pes = 1;
   double seconds = 0;  ///< the frame's simulated time

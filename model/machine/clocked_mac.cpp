@@ -65,57 +65,76 @@ void ClockedMac::clocked() {
   }
 }
 
+// One edge, stage by stage from the pipeline's end to its start (each stage takes what the one
+// before it held at the last edge), then the registers' signals.
 void ClockedMac::edge() {
-  const Precision p = precision_;
   const bool tracing = window_ && window_->now();
+  const bool handed = accumulate(tracing);
+  const Stage m2 = multiply_by_coefficient();
+  const Stage m1 = multiply_latches();
+  const Stage in = issue();
+  mul1_.push_front(in);
+  ++tick_;
+  if (tracing) trace_edge(in, m1, m2, handed);
+}
+
+bool ClockedMac::accumulate(bool tracing) {
   // Adder: accumulate the product leaving it into α, β or γ.
   const Stage out = adder_.back();
   adder_.pop_back();
-  bool handed = false;
-  if (out.valid) {
-    Posted& j = job(out.job);
-    const MacOp& op = kMacSchedule[size_t(out.k)];
-    sum_[op.sum] = round_to(p, sum_[op.sum] + out.value);
-    ++accumulated_;
-    if (tracing) {
-      acc.write(sum_[op.sum]);
-      abg_select.write(uint32_t(op.sum));
-      adder_ray_id.write(j.job.ray_id);
-      prim.write(uint32_t(out.prim));
-      product_counter.write(accumulated_);
-    }
-    if (out.last) {
-      j.done.sums[size_t(out.prim)] = {sum_[0], sum_[1], sum_[2]};
-      if (tracing) alpha.write(sum_[0]), beta.write(sum_[1]), gamma.write(sum_[2]);
-      handed = true;
-      sum_[0] = sum_[1] = sum_[2] = 0;
-      if (out.prim + 1 == int(j.done.sums.size())) {
-        j.done.cycles = tick_ - j.start + 1;
-        j.finished = true;
-        accumulated_ = 0;
-        // The sums are in the accumulator at this edge; the stage takes them at the next cycle
-        // boundary.
-        finished_.notify(period_ / 2);
-      }
-    }
+  if (!out.valid) return false;
+  Posted& j = job(out.job);
+  const MacOp& op = kMacSchedule[size_t(out.k)];
+  sum_[op.sum] = round_to(precision_, sum_[op.sum] + out.value);
+  ++accumulated_;
+  if (tracing) {
+    acc.write(sum_[op.sum]);
+    abg_select.write(uint32_t(op.sum));
+    adder_ray_id.write(j.job.ray_id);
+    prim.write(uint32_t(out.prim));
+    product_counter.write(accumulated_);
   }
+  if (!out.last) return false;
+  j.done.sums[size_t(out.prim)] = {sum_[0], sum_[1], sum_[2]};
+  if (tracing) alpha.write(sum_[0]), beta.write(sum_[1]), gamma.write(sum_[2]);
+  sum_[0] = sum_[1] = sum_[2] = 0;
+  if (out.prim + 1 == int(j.done.sums.size())) {
+    j.done.cycles = tick_ - j.start + 1;
+    j.finished = true;
+    accumulated_ = 0;
+    // The sums are in the accumulator at this edge; the stage takes them at the next cycle
+    // boundary.
+    finished_.notify(period_ / 2);
+  }
+  return true;
+}
+
+ClockedMac::Stage ClockedMac::multiply_by_coefficient() {
   // Multiplier 2: multiplier 1's product times the coefficient RAM word.
   Stage m2 = mul2_.back();
   mul2_.pop_back();
   if (m2.valid)
-    m2.value =
-        round_to(p, m2.value * job(m2.job).job.rams[size_t(m2.prim)][kMacSchedule[size_t(m2.k)].w]);
+    m2.value = round_to(
+        precision_, m2.value * job(m2.job).job.rams[size_t(m2.prim)][kMacSchedule[size_t(m2.k)].w]);
   adder_.push_front(m2);
+  return m2;
+}
+
+ClockedMac::Stage ClockedMac::multiply_latches() {
   // Multiplier 1: two latch operands.
   Stage m1 = mul1_.back();
   mul1_.pop_back();
   if (m1.valid) {
     const MacOp& op = kMacSchedule[size_t(m1.k)];
     const Latches<double>& l = job(m1.job).job.latches[size_t(m1.prim)];
-    m1.value = round_to(p, l[op.x] * l[op.y]);
+    m1.value = round_to(precision_, l[op.x] * l[op.y]);
   }
   mul2_.push_front(m1);
-  // Issue the next product when the schedule says so: the oldest job with products left.
+  return m1;
+}
+
+ClockedMac::Stage ClockedMac::issue() {
+  // The next product when the schedule says so: the oldest job with products left.
   Stage in;
   for (size_t i = 0; i < jobs_.size(); ++i) {
     Posted& j = jobs_[i];
@@ -136,25 +155,24 @@ void ClockedMac::edge() {
     }
     break;
   }
-  mul1_.push_front(in);
-  ++tick_;
+  return in;
+}
 
-  if (tracing) {
-    m1_valid.write(in.valid);
-    if (in.valid) {
-      const MacOp& op = kMacSchedule[size_t(in.k)];
-      const Latches<double>& l = job(in.job).job.latches[size_t(in.prim)];
-      m1_a.write(l[op.x]);
-      m1_b.write(l[op.y]);
-    }
-    if (m1.valid)
-      m1_out.write(m1.value),
-          m2_coef.write(job(m1.job).job.rams[size_t(m1.prim)][kMacSchedule[size_t(m1.k)].w]);
-    m2_valid.write(m1.valid);
-    if (m2.valid) m2_out.write(m2.value);
-    add_valid.write(m2.valid);
-    sums_valid.write(handed);
+void ClockedMac::trace_edge(const Stage& in, const Stage& m1, const Stage& m2, bool handed) {
+  m1_valid.write(in.valid);
+  if (in.valid) {
+    const MacOp& op = kMacSchedule[size_t(in.k)];
+    const Latches<double>& l = job(in.job).job.latches[size_t(in.prim)];
+    m1_a.write(l[op.x]);
+    m1_b.write(l[op.y]);
   }
+  if (m1.valid)
+    m1_out.write(m1.value),
+        m2_coef.write(job(m1.job).job.rams[size_t(m1.prim)][kMacSchedule[size_t(m1.k)].w]);
+  m2_valid.write(m1.valid);
+  if (m2.valid) m2_out.write(m2.value);
+  add_valid.write(m2.valid);
+  sums_valid.write(handed);
 }
 
 void ClockedMac::trace(Waveform& wave, const std::string& prefix, const TraceWindow* window) {

@@ -113,6 +113,18 @@ class ClockedMac : public sc_core::sc_module {
   };
   Posted& job(uint64_t serial) { return jobs_[size_t(serial - first_serial_)]; }
 
+  // The stages of one edge, in the order edge() runs them.
+  /// The adder: the product leaving it into α, β or γ; true when a primitive's sums are handed.
+  bool accumulate(bool tracing);
+  /// Multiplier 2: the product from multiplier 1 times its coefficient, into the adder.
+  Stage multiply_by_coefficient();
+  /// Multiplier 1: the product of two latches, into multiplier 2.
+  Stage multiply_latches();
+  /// The product the schedule issues at this edge (invalid: none), for multiplier 1.
+  Stage issue();
+  /// The registers' signals after the edge.
+  void trace_edge(const Stage& in, const Stage& m1, const Stage& m2, bool handed);
+
   MacTiming timing_;
   Precision precision_;
   sc_core::sc_time period_;

@@ -91,7 +91,7 @@ void Host::host_sleep_until(uint64_t t) {
 void Host::wait_for_a_port() { host_sleep_until(net_.host_free()); }
 
 void Host::host_work(sc_time t) {
-  times.work += t;
+  times.work += t.value();
   host_sleep_until(now() + t.value());
 }
 
@@ -101,11 +101,11 @@ void Host::run() {
   preprocess();
   distribute();
   host_sleep_until(net_.idle_at());  // every transfer over
-  times.transfer = sc_core::sc_time_stamp();
+  times.transfer = now();
   gather_all();
   host_sleep_until(net_.idle_at());
-  times.gathered = sc_core::sc_time_stamp();
-  for (const LinkUse& l : net_.links()) times.link_busy += sc_time::from_value(l.busy_ticks);
+  times.gathered = now();
+  for (const LinkUse& l : net_.links()) times.link_busy += l.busy_ticks;
   done = true;
   sc_core::sc_stop();  // in clocked timing the clock would run on forever
 }
@@ -123,7 +123,7 @@ void Host::preprocess() {
   host_work(checked_periods(host_cycle(),
                             double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
                             "the host's voxel-data generation"));
-  times.voxels = sc_core::sc_time_stamp();
+  times.voxels = now();
 }
 
 std::vector<Ray> Host::rays_of(int pe, size_t from, size_t count) const {
@@ -191,7 +191,7 @@ void Host::distribute() {
     if (!pe_rays)
       host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_ray_cycles) * pixels),
                                 "the host's primary-ray generation"));
-    times.rays = sc_core::sc_time_stamp();
+    times.rays = now();
     if (config_.broadcast) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {
       if (!config_.broadcast) send_scene(pe);
@@ -215,7 +215,7 @@ void Host::distribute() {
     }
     if (!any) break;
   }
-  times.rays = sc_core::sc_time_stamp();
+  times.rays = now();
 }
 
 void Host::gather(int pe) {
@@ -244,7 +244,7 @@ void Host::gather_all() {
   if (config_.gather == MachineConfig::Gather::AfterAll) {
     for (Pe* pe : pes_)
       if (!pe->finished()) sc_core::wait(pe->finished_event);
-    times.pes_done = sc_core::sc_time_stamp();
+    times.pes_done = now();
     for (int pe = 0; pe < n; ++pe) gather(pe);
     return;
   }
@@ -270,9 +270,7 @@ void Host::gather_all() {
     --left;
   }
   // The frame's PE phase ends with the last PE, whatever the link was doing then.
-  for (Pe* pe : pes_)
-    times.pes_done =
-        std::max(times.pes_done, sc_core::sc_time::from_value(pe->ctx.counters.finish));
+  for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
 }
 
 }  // namespace rtm

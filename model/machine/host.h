@@ -13,20 +13,12 @@
 #include <tlm>
 #include <tlm_utils/simple_initiator_socket.h>
 
+#include "frame/machine_result.h"
 #include "machine/pe.h"
 #include "net/interconnect.h"
 #include "memory/memory_layout.h"
 
 namespace rtm {
-
-/// When each phase of the frame ended.
-struct HostTimes {
-  sc_core::sc_time voxels, rays, transfer, pes_done, gathered;
-  sc_core::sc_time link_busy = sc_core::SC_ZERO_TIME;  ///< summed over the links
-  /// The host's own work (voxel and primary-ray generation) before `transfer`; the rest of that
-  /// time it waited for the link. The two differ from `rays` when the rays stream (ray_block > 0).
-  sc_core::sc_time work = sc_core::SC_ZERO_TIME;
-};
 
 class Host : public sc_core::sc_module {
  public:

@@ -1,9 +1,9 @@
 #include "machine/machine.h"
 
 #include "machine/engine_pe.h"
-#include "machine/gtkw.h"
+#include "frame/gtkw.h"
 #include "machine/modular_pe.h"
-#include "machine/partition.h"
+#include "frame/partition.h"
 #include "machine/sim_time.h"
 #include "machine/watchdog.h"
 #include "render/atomic_file.h"
@@ -286,70 +286,55 @@ GtkwView recorded_view(const std::vector<std::unique_ptr<Pe>>& pes, const std::v
   return view;
 }
 
-}  // namespace
+/// A waveform being recorded: the trace file, the VCD under its temporary name (renamed once
+/// closed), the signals traced into it and the PEs whose signals they are. Empty: no waveform.
+struct Recording {
+  sc_core::sc_trace_file* tf = nullptr;
+  std::unique_ptr<PartialFile> vcd;
+  std::unique_ptr<Waveform> wave;
+  std::vector<int> traced;
+};
 
-std::string vcd_file(const std::string& vcd) {
-  return vcd.size() > 4 && vcd.substr(vcd.size() - 4) == ".vcd" ? vcd : vcd + ".vcd";
+/// Opens the waveform the options ask for and traces the PEs they name, each within its window.
+Recording start_waveform(Machine& top, const MachineConfig& c, const MachineOptions& opt) {
+  Recording rec;
+  if (opt.vcd.empty()) return rec;
+  const std::string tmp = temporary_beside(vcd_file(opt.vcd));
+  rec.vcd = std::make_unique<PartialFile>(tmp);
+  open_for_writing(tmp,
+                   vcd_file(opt.vcd));  // SystemC would report a failure twice, in its own words
+  rec.tf = sc_core::sc_create_vcd_trace_file(
+      tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
+  rec.tf->set_time_unit(1, sc_core::SC_NS);
+  rec.wave = std::make_unique<Waveform>(rec.tf);
+  const sc_time period(c.clock_ns, sc_core::SC_NS);
+  auto time_of = [&](uint64_t cycles) {  // past the horizon: never
+    return double(cycles) * double(period.value()) >= double(kTimeHorizonTicks)
+               ? sc_core::sc_max_time()
+               : period * double(cycles);
+  };
+  // Every PE's window shares the anchor: the PE it names sets it, traced or not.
+  std::shared_ptr<WindowAnchor> anchor;
+  if (opt.vcd_anchor_pe >= 0)
+    anchor = std::make_shared<WindowAnchor>(WindowAnchor{opt.vcd_anchor_pe});
+  for (auto& pe : top.pes) {
+    pe->ctx.window.anchor = anchor;
+    pe->ctx.window.from = time_of(opt.vcd_from_cycle);
+    if (opt.vcd_to_cycle != UINT64_MAX) pe->ctx.window.to = time_of(opt.vcd_to_cycle);
+  }
+  for (int pe : opt.vcd_pes) {
+    if (pe < 0 || pe >= c.pes) continue;
+    top.pes[size_t(pe)]->ctx.window.enabled = true;
+    top.pes[size_t(pe)]->trace(*rec.wave);
+    rec.traced.push_back(pe);
+  }
+  return rec;
 }
 
-MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
-                          const MachineOptions& opt) {
-  c.validate();
-  // The kernel's informational notes (the machine stopping itself when the frame is gathered,
-  // the trace file's time unit) are not news to the user.
-  sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
-  const auto t0 = std::chrono::steady_clock::now();
-  check_threads_fit(expected_threads(c, !opt.vcd.empty()),
-                    c);  // before the seconds elaboration takes
-  // What the host hands the PEs, in the frame they compute in (its cost is the host's: host.cpp).
-  const FramedScene pe_view = framed(s, g, c.pe_frame);
-  Machine top("machine", pe_view.scene, pe_view.grid, c, opt.progress && isatty(2),
-              !opt.vcd.empty(), opt.max_memory, opt.max_rays, opt.pool, opt.sim_threads);
-
-  check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
-
-  std::vector<EventLog> logs(opt.event_log.empty() ? 0 : size_t(c.pes));
-  for (size_t pe = 0; pe < logs.size(); ++pe) top.pes[pe]->ctx.log = &logs[pe];
-
-  sc_core::sc_trace_file* tf = nullptr;
-  std::unique_ptr<PartialFile> vcd;  // written under a temporary name, renamed once closed
-  std::unique_ptr<Waveform> wave;
-  std::vector<int> traced;  // the PEs whose signals are in the waveform
-  if (!opt.vcd.empty()) {
-    const std::string tmp = temporary_beside(vcd_file(opt.vcd));
-    vcd = std::make_unique<PartialFile>(tmp);
-    open_for_writing(tmp,
-                     vcd_file(opt.vcd));  // SystemC would report a failure twice, in its own words
-    tf = sc_core::sc_create_vcd_trace_file(
-        tmp.substr(0, tmp.size() - 4).c_str());  // SystemC adds ".vcd"
-    tf->set_time_unit(1, sc_core::SC_NS);
-    wave = std::make_unique<Waveform>(tf);
-    const sc_time period(c.clock_ns, sc_core::SC_NS);
-    auto time_of = [&](uint64_t cycles) {  // past the horizon: never
-      return double(cycles) * double(period.value()) >= double(kTimeHorizonTicks)
-                 ? sc_core::sc_max_time()
-                 : period * double(cycles);
-    };
-    // Every PE's window shares the anchor: the PE it names sets it, traced or not.
-    std::shared_ptr<WindowAnchor> anchor;
-    if (opt.vcd_anchor_pe >= 0)
-      anchor = std::make_shared<WindowAnchor>(WindowAnchor{opt.vcd_anchor_pe});
-    for (auto& pe : top.pes) {
-      pe->ctx.window.anchor = anchor;
-      pe->ctx.window.from = time_of(opt.vcd_from_cycle);
-      if (opt.vcd_to_cycle != UINT64_MAX) pe->ctx.window.to = time_of(opt.vcd_to_cycle);
-    }
-    for (int pe : opt.vcd_pes) {
-      if (pe < 0 || pe >= c.pes) continue;
-      top.pes[size_t(pe)]->ctx.window.enabled = true;
-      top.pes[size_t(pe)]->trace(*wave);
-      traced.push_back(pe);
-    }
-  }
-
-  top.run();
-  if ((top.progress_display && top.progress_display->drew())) std::fprintf(stderr, "\r%80s\r", "");
-
+/// Throws if the simulation stopped before the frame was done: over its memory or work budget,
+/// a front buffer beyond its spill area, or past the time horizon.
+void check_not_stopped(const Machine& top, const Scene& s, const MachineConfig& c,
+                       const MachineOptions& opt) {
   if (top.watchdog->over_budget || top.watchdog->over_rays) {
     uint64_t rays = 0;
     for (auto& pe : top.pes) rays += pe->ctx.counters.counts.total_rays();
@@ -387,19 +372,10 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
         std::to_string(uint64_t(sc_core::sc_time_stamp() / sc_time(c.clock_ns, sc_core::SC_NS))) +
         ", the most a frame may take (SystemC counts time in 64-bit picoseconds); a shorter "
         "clock_ns or a smaller frame fits");
+}
 
-  MachineResult r;
-  r.end = sc_core::sc_time_stamp();
-  r.host = top.host->times;
-  r.links = top.host->link_use();
-  for (auto& pe : top.pes) {
-    if (!pe->finished()) {
-      r.deadlock = true;
-      r.deadlock_report += pe->occupancy_report() + "\n";
-    }
-  }
-  if (!top.host->done || top.watchdog->stalled) r.deadlock = true;
-  r.image = top.host->image;
+/// Every PE's counters, its local memory's use and its FIFOs' writes, into `r`.
+void add_pe_counters(Machine& top, MachineResult& r) {
   for (auto& pe : top.pes) {
     const PeCounters& k = pe->ctx.counters;
     r.counts.add(k.counts);
@@ -412,11 +388,36 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
     pe->ctx.memory->end_of_frame();
     r.memory_use.push_back(pe->ctx.memory->use());
   }
-  r.fifos = summarise_fifos(top.pes, r.end);
   for (auto& pe : top.pes)
     for (auto& [name, st] : pe->fifo_stats())
       for (const FifoSpec& f : fifo_table())
         if (name == f.name) r.fifo_writes[size_t(f.id)] += st->writes;
+  for (auto& pe : top.pes) {
+    r.mac_products_saved += pe->ctx.counters.mac_products_saved;
+    r.mac_cycles_saved += pe->ctx.counters.mac_cycles_saved;
+  }
+}
+
+/// What the frame did, from the host and every PE once the simulation ended, and the figures
+/// derived from it.
+MachineResult collect_result(Machine& top, const MachineConfig& c) {
+  MachineResult r;
+  const sc_time end = sc_core::sc_time_stamp();
+  const sc_time period(c.clock_ns, sc_core::SC_NS);
+  r.end = end.value();
+  r.clock_ticks = period.value();
+  r.host = top.host->times;
+  r.links = top.host->link_use();
+  for (auto& pe : top.pes) {
+    if (!pe->finished()) {
+      r.deadlock = true;
+      r.deadlock_report += pe->occupancy_report() + "\n";
+    }
+  }
+  if (!top.host->done || top.watchdog->stalled) r.deadlock = true;
+  r.image = top.host->image;
+  add_pe_counters(top, r);
+  r.fifos = summarise_fifos(top.pes, end);
   r.needs = top.needs;
   r.engine_unsupported = top.engine_unsupported;
   r.scene_bytes = top.scene_bytes;
@@ -428,25 +429,63 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
         {top.units.reflection, "shading.reflection"},
         {top.units.refraction, "shading.refraction"}})
     if (!kept) r.left_out_units.push_back(name);
-  for (auto& pe : top.pes) {
-    r.mac_products_saved += pe->ctx.counters.mac_products_saved;
-    r.mac_cycles_saved += pe->ctx.counters.mac_cycles_saved;
-  }
-  r.cycles = uint64_t(std::llround(r.end / sc_time(c.clock_ns, sc_core::SC_NS)));
+  r.cycles = uint64_t(std::llround(end / period));
   r.stats = frame_stats(r, c);
-  if (tf) {
-    sc_core::sc_close_vcd_trace_file(tf);
-    vcd->commit(vcd_file(opt.vcd));
+  return r;
+}
+
+/// Closes the waveform and writes its save file (a window that recorded nothing is a warning in
+/// `r`), and writes the event log.
+void write_recordings(Machine& top, Recording& rec, std::vector<EventLog>& logs, MachineResult& r,
+                      const MachineConfig& c, const MachineOptions& opt) {
+  if (rec.tf) {
+    sc_core::sc_close_vcd_trace_file(rec.tf);
+    rec.vcd->commit(vcd_file(opt.vcd));
   }
-  if (wave && !traced.empty()) {
-    const GtkwView view = recorded_view(top.pes, traced, r.end, c, r.warnings);
-    if (!opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), *wave, view);
+  if (rec.wave && !rec.traced.empty()) {
+    const GtkwView view =
+        recorded_view(top.pes, rec.traced, sc_time::from_value(r.end), c, r.warnings);
+    if (!opt.gtkw.empty()) write_gtkw(opt.gtkw, vcd_file(opt.vcd), rec.wave->signals(), view);
   }
   if (!logs.empty()) {
     std::ostringstream text;
     write_event_log(text, logs, top.pes[0]->ctx.cycle);
     write_text_atomically(opt.event_log, text.str());
   }
+}
+
+}  // namespace
+
+std::string vcd_file(const std::string& vcd) {
+  return vcd.size() > 4 && vcd.substr(vcd.size() - 4) == ".vcd" ? vcd : vcd + ".vcd";
+}
+
+MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
+                          const MachineOptions& opt) {
+  c.validate();
+  // The kernel's informational notes (the machine stopping itself when the frame is gathered,
+  // the trace file's time unit) are not news to the user.
+  sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+  const auto t0 = std::chrono::steady_clock::now();
+  check_threads_fit(expected_threads(c, !opt.vcd.empty()),
+                    c);  // before the seconds elaboration takes
+  // What the host hands the PEs, in the frame they compute in (its cost is the host's: host.cpp).
+  const FramedScene pe_view = framed(s, g, c.pe_frame);
+  Machine top("machine", pe_view.scene, pe_view.grid, c, opt.progress && isatty(2),
+              !opt.vcd.empty(), opt.max_memory, opt.max_rays, opt.pool, opt.sim_threads);
+
+  check_threads_fit(Machine::threads(sc_core::sc_get_top_level_objects()), c);
+
+  std::vector<EventLog> logs(opt.event_log.empty() ? 0 : size_t(c.pes));
+  for (size_t pe = 0; pe < logs.size(); ++pe) top.pes[pe]->ctx.log = &logs[pe];
+  Recording rec = start_waveform(top, c, opt);
+
+  top.run();
+  if ((top.progress_display && top.progress_display->drew())) std::fprintf(stderr, "\r%80s\r", "");
+
+  check_not_stopped(top, s, c, opt);
+  MachineResult r = collect_result(top, c);
+  write_recordings(top, rec, logs, r, c, opt);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

@@ -6,13 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "machine/frame_stats.h"
-#include "machine/host.h"
 #include "engine/worker_pool.h"
-#include "memory/memory_layout.h"
-#include "units/fifo_table.h"
-#include "units/pe_memory.h"
-#include "render/scene_needs.h"
+#include "frame/machine_result.h"
+#include "machine/host.h"
 
 namespace rtm {
 
@@ -38,44 +34,6 @@ struct MachineOptions {
   /// rtm render starts them before the image library loads, since a thread started during the
   /// load waits for it to finish (0.27-0.30 s measured on balls-3).
   WorkerPool* pool = nullptr;
-};
-
-/// Per FIFO kind, over all PEs.
-struct FifoSummary {
-  std::string kind;
-  int depth = 0;
-  int peak = 0;
-  double mean = 0;  ///< time-weighted mean occupancy, averaged over the FIFOs of this kind
-};
-
-struct MachineResult {
-  Image image;
-  TraceCounts counts;
-  uint64_t mac_products = 0, mac_busy_cycles = 0, mac_issue_cycles = 0, spills = 0;
-  std::vector<PeCounters> per_pe;
-  std::vector<FifoSummary> fifos;
-  std::array<uint64_t, kFifoCount>
-      fifo_writes{};  ///< records written into each FIFO of the table, over all PEs
-  HostTimes host;
-  std::vector<LinkUse>
-      links;  ///< the interconnect's links: busy time and bytes of each (net/interconnect.h)
-  uint64_t scene_bytes = 0;           ///< one PE's copy of the scene as the link carries it
-  std::vector<MemoryLayout> memory;   ///< each PE's local memory (memory/memory_layout.h)
-  std::vector<MemoryUse> memory_use;  ///< what each PE's local memory did (units/pe_memory.h)
-  sc_core::sc_time end;
-  uint64_t cycles = 0;  ///< the frame's simulated time in PE cycles
-  FrameStats stats;     ///< derived from the counters above (frame_stats.h)
-  double wall_seconds = 0;
-  SceneNeeds needs;                         ///< what the scene can use (render/scene_needs.h)
-  std::vector<std::string> left_out_units;  ///< per PE, not elaborated
-  uint64_t mac_products_saved = 0,
-           mac_cycles_saved = 0;   ///< by sparse MAC schedules (cycles: of the MAC's entry)
-  PeUnits units;                   ///< what each PE elaborated
-  std::string engine_unsupported;  ///< why the PEs ran as modules; empty: on the PE engine
-  std::vector<std::string>
-      warnings;  ///< for the user, one line each (e.g. a waveform window that recorded nothing)
-  bool deadlock = false;
-  std::string deadlock_report;  ///< every FIFO's occupancy when the simulation stalled
 };
 
 /// A valid configuration that is more than this host can run (rtm exits 2, as for a bad

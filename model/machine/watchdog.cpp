@@ -23,7 +23,7 @@ void ProgressDisplay::draw(const std::vector<Pe*>& pes, const Host& host) {
     p.pixels_started += pe->ctx.counters.counts.rays[0];
     all_done = all_done && pe->finished();
   }
-  const bool generated = host.times.rays != sc_core::SC_ZERO_TIME;  // the host's primary rays
+  const bool generated = host.times.rays != 0;  // the host's primary rays
   p.phase = all_done ? "gather" : p.pixels_started ? "PEs" : generated ? "transfer" : "host";
   p.pixels = pixels_;
   p.seconds = std::chrono::duration<double>(now - start_).count();

@@ -1,6 +1,5 @@
-// A waveform being recorded: the VCD file, and every signal traced into it, named after the
-// object hierarchy (sc_object::name() + "." + the signal), so the GTKWave save file (gtkw.h) is
-// written from what was actually traced.
+// A waveform being recorded: the VCD file, and every signal traced into it, so the GTKWave save
+// file (frame/gtkw.h) is written from what was actually traced.
 #pragma once
 
 #include <string>
@@ -9,16 +8,13 @@
 
 #include <systemc>
 
+#include "frame/gtkw.h"
+
 namespace rtm {
 
 class Waveform {
  public:
-  enum class Format { Bit, Decimal, Real };
-  struct Signal {
-    std::string name;  ///< hierarchical, e.g. machine.pe0.search2.busy
-    Format format;
-    int bits;  ///< of a Decimal value
-  };
+  using Format = TracedSignal::Format;
 
   explicit Waveform(sc_core::sc_trace_file* file) : file_(file) {}
 
@@ -27,7 +23,7 @@ class Waveform {
     sc_core::sc_trace(file_, v, name);
     signals_.push_back({name, format_of<T>(), int(8 * sizeof(typename value_of<T>::type))});
   }
-  const std::vector<Signal>& signals() const { return signals_; }
+  const std::vector<TracedSignal>& signals() const { return signals_; }
 
  private:
   template <class T>
@@ -47,7 +43,7 @@ class Waveform {
   };
 
   sc_core::sc_trace_file* file_;
-  std::vector<Signal> signals_;
+  std::vector<TracedSignal> signals_;
 };
 
 }  // namespace rtm

@@ -1,6 +1,7 @@
 #include "units/unit_table.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "geom/mac_schedule.h"
 
@@ -39,17 +40,18 @@ uint64_t root_item(const M& c, const ItemBounds& b) {
 
 const std::array<UnitSpec, kUnitKinds>& unit_table() {
   static const std::array<UnitSpec, kUnitKinds> table = {{
-      {U::FrontBuffer, "front_buffer", nullptr, nullptr, false, false, true, front_item,
+      {U::FrontBuffer, "front_buffer", "front buffer", nullptr, nullptr, false, false, true,
+       front_item,
        "admits primary rays, merges the rays fed back and spawned, hands them to the search units "
        "(§4.2)"},
-      {U::Shading, "shading", nullptr, nullptr, false, false, true, shading_item,
+      {U::Shading, "shading", "shading", nullptr, nullptr, false, false, true, shading_item,
        "adds brightness into the frame buffer, spawns shadow and branch rays (§6)"},
-      {U::Search, "search", "search_units", &M::search_units, false, false, true, search_item,
-       "a 3DDDA pass over the ray's voxel, routed by its occupancy (§4)"},
-      {U::Mac, "mac", "intersection_units", &M::intersection_units, false, true, true, mac_item,
-       "alpha, beta, gamma for every primitive in the voxel (§5.2)"},
-      {U::Root, "root", "intersection_units", &M::intersection_units, true, true, true, root_item,
-       "roots, clip tests and the nearest hit in the voxel (§5.1)"},
+      {U::Search, "search", "search", "search_units", &M::search_units, false, false, true,
+       search_item, "a 3DDDA pass over the ray's voxel, routed by its occupancy (§4)"},
+      {U::Mac, "mac", "MAC", "intersection_units", &M::intersection_units, false, true, true,
+       mac_item, "alpha, beta, gamma for every primitive in the voxel (§5.2)"},
+      {U::Root, "root", "root/sort", "intersection_units", &M::intersection_units, true, true, true,
+       root_item, "roots, clip tests and the nearest hit in the voxel (§5.1)"},
   }};
   return table;
 }
@@ -62,6 +64,31 @@ std::vector<FifoId> fifos(UnitKind k, std::vector<UnitKind> FifoSpec::*side) {
   return out;
 }
 }  // namespace
+
+std::vector<UnitKind> pipeline_order() {
+  std::vector<UnitKind> order;
+  std::array<bool, kUnitKinds> placed{};
+  // Whether every kind that writes a FIFO k reads (besides k itself) is placed.
+  auto ready = [&](UnitKind k) {
+    for (const FifoSpec& f : fifo_table()) {
+      const bool back = std::count(f.readers.begin(), f.readers.end(), UnitKind::FrontBuffer);
+      if (back || !std::count(f.readers.begin(), f.readers.end(), k)) continue;
+      for (UnitKind w : f.writers)
+        if (w != k && !placed[size_t(w)]) return false;
+    }
+    return true;
+  };
+  while (order.size() < kUnitKinds) {
+    const auto next =
+        std::find_if(unit_table().begin(), unit_table().end(),
+                     [&](const UnitSpec& u) { return !placed[size_t(u.kind)] && ready(u.kind); });
+    if (next == unit_table().end())
+      throw std::logic_error("the FIFO table's units feed one another in a loop");
+    placed[size_t(next->kind)] = true;
+    order.push_back(next->kind);
+  }
+  return order;
+}
 
 std::vector<FifoId> inputs(UnitKind k) { return fifos(k, &FifoSpec::readers); }
 std::vector<FifoId> outputs(UnitKind k) { return fifos(k, &FifoSpec::writers); }

@@ -2,7 +2,7 @@
 // has, the longest one item can take in it, and whether it counts towards utilisation and the
 // bottleneck. Which FIFOs it reads and writes is the FIFO table's (units/fifo_table.h), which
 // inputs() and outputs() read. The counters (units/pe_state.h), the frame statistics and the
-// bottleneck (machine/frame_stats.*), the stats file (tb/stats_json.cpp), the stall watchdog
+// bottleneck (frame/frame_stats.*), the stats file (tb/stats_json.cpp), the stall watchdog
 // (machine/machine.cpp), the event log and both schedulers' lists of units iterate it.
 #pragma once
 
@@ -28,6 +28,7 @@ struct ItemBounds {
 struct UnitSpec {
   UnitKind kind;
   const char* name;       ///< in statistics, the event log, waveforms and the docs
+  const char* label;      ///< as people read it, in the printed summary ("root/sort")
   const char* count_key;  ///< the configuration key of how many a PE has; null: one
   int MachineConfig::*count;
   /// Root units rank (and are logged) by their lane: each takes only its own MAC's results.
@@ -35,7 +36,7 @@ struct UnitSpec {
   /// The event log numbers it (mac0, root1); replicated units that are interchangeable (the
   /// search units: which takes a ray is the scheduler's choice) go unnumbered.
   bool logged_by_number;
-  /// Counts towards utilisation, the frame profile and the bottleneck (machine/frame_stats.h).
+  /// Counts towards utilisation, the frame profile and the bottleneck (frame/frame_stats.h).
   bool in_utilisation;
   /// An upper bound on the PE cycles the unit spends on one item without finishing it.
   uint64_t (*longest_item)(const MachineConfig&, const ItemBounds&);
@@ -51,6 +52,10 @@ inline int unit_count(UnitKind k, const MachineConfig& c) {
   const UnitSpec& u = unit_spec(k);
   return u.count ? c.*u.count : 1;
 }
+/// Every kind in the order a ray meets them along the macro-pipeline (Fig. 1): each after every
+/// kind that writes a FIFO it reads, the FIFOs back into the front buffer aside; of the kinds
+/// that may come next, the first in rank order.
+std::vector<UnitKind> pipeline_order();
 /// The FIFOs kind k reads, and writes, in the FIFO table's order.
 std::vector<FifoId> inputs(UnitKind k);
 std::vector<FifoId> outputs(UnitKind k);

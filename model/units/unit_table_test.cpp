@@ -22,7 +22,23 @@ TEST(UnitTable, EachEntryIsItsKindInRankOrderAndNamedOnce) {
     EXPECT_TRUE(names.insert(u.name).second) << u.name;
     EXPECT_NE(u.longest_item, nullptr) << u.name;
     EXPECT_TRUE(u.doc && *u.doc) << u.name;
+    EXPECT_TRUE(u.label && *u.label) << u.name;
   }
+}
+
+TEST(UnitTable, ThePipelineOrderFollowsTheFifosAwayFromTheFrontBuffer) {
+  const std::vector<UnitKind> order = pipeline_order();
+  EXPECT_EQ(order, (std::vector<UnitKind>{UnitKind::FrontBuffer, UnitKind::Search, UnitKind::Mac,
+                                          UnitKind::Root, UnitKind::Shading}));
+  // Each kind comes after every kind that writes a FIFO it reads, but for the FIFOs back into
+  // the front buffer.
+  auto place = [&](UnitKind k) { return std::find(order.begin(), order.end(), k) - order.begin(); };
+  for (const FifoSpec& f : fifo_table())
+    for (UnitKind r : f.readers)
+      for (UnitKind w : f.writers)
+        if (r != UnitKind::FrontBuffer && r != w) {
+          EXPECT_LT(place(w), place(r)) << f.name;
+        }
 }
 
 TEST(UnitTable, CountKeysAreConfigurationKeysOfTheSameValue) {

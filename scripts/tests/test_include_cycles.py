@@ -23,11 +23,21 @@ def test_a_cycle_is_reported_with_the_file_that_closes_it(tmp_path):
                          "d": '#include "a/z.h"\n'}.items():
         (tmp_path / folder).mkdir()
         (tmp_path / folder / "f.h").write_text(text)
-    # A test may include a layer above: it closes no cycle.
-    (tmp_path / "a" / "f_test.cpp").write_text('#include "d/f.h"\n')
     r = run("--root", str(tmp_path))
     assert r.returncode == 1, r.stdout + r.stderr
     assert r.stdout == ("include-cycles: the folders a, b, c include one another: a -> b (" +
                         os.path.join(tmp_path.name, "a", "f.h") + "); b -> c (" +
                         os.path.join(tmp_path.name, "b", "f.h") + "); c -> a (" +
                         os.path.join(tmp_path.name, "c", "f.h") + ")\n")
+
+
+def test_a_test_that_includes_a_layer_above_closes_a_cycle(tmp_path):
+    for folder, text in {"a": '#include "b/x.h"\n', "b": ""}.items():
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "f.h").write_text(text)
+    (tmp_path / "b" / "f_test.cpp").write_text('#include "a/f.h"\n')
+    r = run("--root", str(tmp_path))
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert r.stdout == ("include-cycles: the folders a, b include one another: a -> b (" +
+                        os.path.join(tmp_path.name, "a", "f.h") + "); b -> a (" +
+                        os.path.join(tmp_path.name, "b", "f_test.cpp") + ")\n")

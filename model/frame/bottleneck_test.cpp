@@ -1,4 +1,4 @@
-#include "machine/bottleneck.h"
+#include "frame/bottleneck.h"
 
 #include "units/unit_table.h"
 

@@ -1,4 +1,4 @@
-#include "machine/gtkw.h"
+#include "frame/gtkw.h"
 
 #include <algorithm>
 #include <cmath>
@@ -55,8 +55,8 @@ std::string gtkw_alias(const std::string& signal) {
   return alias;
 }
 
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave,
-                const GtkwView& view) {
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path,
+                const std::vector<TracedSignal>& signals, const GtkwView& view) {
   // GTKWave shows 2^-zoom ns over 200 pixels.
   const double span = double(std::max<uint64_t>(1, view.to_ns - view.from_ns));
   const double zoom = -std::log2(span * 200 / kWavePixels);
@@ -89,16 +89,17 @@ void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const
     out << flags(kBlank | kGroupBegin) << "-" << title << "\n";
     open.push_back(title);
   };
-  for (const Waveform::Signal& s : wave.signals()) {
+  for (const TracedSignal& s : signals) {
     const auto [pe, unit] = group_of(s.name);
     enter(0, pe);
     enter(1, unit);
-    const unsigned f = s.format == Waveform::Format::Bit    ? kBin | kRightJustify
-                       : s.format == Waveform::Format::Real ? kReal | kDec | kRightJustify
-                                                            : kDec | kRightJustify;
+    const unsigned f = s.format == TracedSignal::Format::Bit    ? kBin | kRightJustify
+                       : s.format == TracedSignal::Format::Real ? kReal | kDec | kRightJustify
+                                                                : kDec | kRightJustify;
     // The VCD's top scope is SystemC's; a multi-bit value's name carries its bit range.
     out << flags(f) << "+{" << gtkw_alias(s.name) << "} SystemC." << s.name
-        << (s.format == Waveform::Format::Decimal ? "[" + std::to_string(s.bits - 1) + ":0]" : "")
+        << (s.format == TracedSignal::Format::Decimal ? "[" + std::to_string(s.bits - 1) + ":0]"
+                                                      : "")
         << "\n";
   }
   close_to(0);

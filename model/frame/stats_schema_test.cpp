@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cost/unit_cost.h"
-#include "machine/bottleneck.h"
+#include "frame/bottleneck.h"
 #include "units/unit_table.h"
 
 namespace rtm {

@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "cost/unit_cost.h"
-#include "machine/machine.h"
+#include "frame/machine_result.h"
 
 namespace rtm {
 

@@ -1,9 +1,9 @@
-#include "machine/frame_stats.h"
+#include "frame/frame_stats.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "machine/machine.h"
+#include "frame/machine_result.h"
 
 namespace rtm {
 
@@ -24,13 +24,15 @@ UnitShares divided(UnitShares u, double by) {
   return u;
 }
 
+/// `ticks` of simulated time in clock periods of `period` ticks (as sc_time divides them).
+double in_cycles(uint64_t ticks, uint64_t period) { return double(ticks) / double(period); }
+
 /// A PE's working window in cycles: its first primary ray handed out to its last ray ended.
-double working_window(const PeCounters& p, const sc_core::sc_time& period) {
-  return sc_core::sc_time::from_value(p.finish - p.start) / period;
+double working_window(const PeCounters& p, uint64_t period) {
+  return in_cycles(p.finish - p.start, period);
 }
 
-std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p,
-                                                 const sc_core::sc_time& period) {
+std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p, uint64_t period) {
   const double w = working_window(p, period);
   std::vector<SearchUnitShares> shares;
   for (const UnitStats& u : p.units[size_t(UnitKind::Search)])
@@ -41,22 +43,22 @@ std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p,
 
 /// Phases, unit figures over the PEs' working windows, credit stalls and load imbalance.
 FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
-  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
+  const uint64_t period = m.clock_ticks;
   FrameProfile f;
   f.total = double(m.cycles);
   // Streamed rays overlap the host's work and the link's: what is not the host's work before the
   // transfer is done is waiting for the link.
-  f.host_preprocess = m.host.work / period;
-  f.transfer = (m.host.transfer - m.host.work) / period;
-  f.pe = (m.host.pes_done - m.host.transfer) / period;
-  f.gather = (m.host.gathered - m.host.pes_done) / period;
+  f.host_preprocess = in_cycles(m.host.work, period);
+  f.transfer = in_cycles(m.host.transfer - m.host.work, period);
+  f.pe = in_cycles(m.host.pes_done - m.host.transfer, period);
+  f.gather = in_cycles(m.host.gathered - m.host.pes_done, period);
   double window = 0, longest = 0, stall = 0, memory_wait = 0, memory_access = 0, held = 0;
   for (size_t i = 0; i < m.per_pe.size(); ++i) {
     const PeCounters& p = m.per_pe[i];
     const double w = working_window(p, period);
     window += w;
     longest = std::max(longest, w);
-    stall += sc_core::sc_time::from_value(p.credit_stall) / period;
+    stall += in_cycles(p.credit_stall, period);
     held += double(p.all().held_cycles);
     if (i >= m.memory_use.size()) continue;
     memory_wait += double(m.memory_use[i].wait_cycles());
@@ -84,8 +86,8 @@ FrameStats frame_stats(const MachineResult& m, const MachineConfig& c) {
   FrameStats s;
   s.utilisation = divided(sum(m, c, &UnitStats::busy_cycles), double(m.cycles) * c.pes);
   s.profile = profile(m, c);
-  const sc_core::sc_time period(c.clock_ns, sc_core::SC_NS);
-  for (const PeCounters& p : m.per_pe) s.search_units.push_back(search_unit_shares(p, period));
+  for (const PeCounters& p : m.per_pe)
+    s.search_units.push_back(search_unit_shares(p, m.clock_ticks));
   s.bottleneck = bottleneck(s.profile);
   s.mac_bound_cycles = std::ceil(double(m.mac_products) / c.pes);
   s.cycles_over_mac_bound = s.mac_bound_cycles > 0 ? double(m.cycles) / s.mac_bound_cycles : 0.0;

@@ -1,4 +1,4 @@
-#include "machine/frame_cost.h"
+#include "frame/frame_cost.h"
 
 namespace rtm {
 

@@ -1,4 +1,4 @@
-#include "machine/bottleneck.h"
+#include "frame/bottleneck.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,8 +1,8 @@
-#include "machine/frame_stats.h"
+#include "frame/frame_stats.h"
 
 #include <gtest/gtest.h>
 
-#include "machine/machine.h"
+#include "frame/machine_result.h"
 
 namespace rtm {
 namespace {
@@ -28,11 +28,9 @@ struct TwoPes {
     config.clock_ns = 10;
     config.search_units = 4;
     config.intersection_units = 2;
-    auto at = [&](double cycle) {
-      return sc_core::sc_time(config.clock_ns, sc_core::SC_NS) * cycle;
-    };
-    auto ticks = [&](double cycle) { return at(cycle).value(); };  // PeCounters' times
+    auto at = [](uint64_t cycle) { return cycle * 10000; };  // in ticks of 1 ps
     MachineResult& m = result;
+    m.clock_ticks = at(1);
     m.cycles = 1200;
     m.mac_products = 2000;
     m.host.rays = at(100);
@@ -43,9 +41,9 @@ struct TwoPes {
     m.per_pe.resize(2);
     PeCounters& a = m.per_pe[0];
     a.size_for(config);
-    a.start = ticks(150);
-    a.finish = ticks(1150);
-    a.credit_stall = ticks(90);
+    a.start = at(150);
+    a.finish = at(1150);
+    a.credit_stall = at(90);
     a.unit(UnitKind::FrontBuffer, 0).busy_cycles = 300;
     // The four search units: busy 2000 cycles together, issue 600, held 6000, starved 1200.
     a.units[size_t(UnitKind::Search)] = {
@@ -56,9 +54,9 @@ struct TwoPes {
     a.unit(UnitKind::Shading, 0).busy_cycles = 240;
     PeCounters& b = m.per_pe[1];
     b.size_for(config);
-    b.start = ticks(150);
-    b.finish = ticks(650);
-    b.credit_stall = ticks(60);
+    b.start = at(150);
+    b.finish = at(650);
+    b.credit_stall = at(60);
     b.unit(UnitKind::FrontBuffer, 0).busy_cycles = 150;
     b.units[size_t(UnitKind::Search)] = {search_unit(400, 0, 0, 0), search_unit(300, 0, 0, 0),
                                          search_unit(200, 0, 0, 0), search_unit(100, 0, 0, 0)};
@@ -105,8 +103,8 @@ TEST(FrameStats, ProfileOverTheWorkingWindows) {
 // the transfer was done; the rest it waited for the link.
 TEST(FrameStats, StreamedRaysSplitTheHostsWorkFromItsWaitForTheLink) {
   TwoPes t;
-  t.result.host.rays = sc_core::sc_time(10 * 140, sc_core::SC_NS);
-  t.result.host.work = sc_core::sc_time(10 * 60, sc_core::SC_NS);
+  t.result.host.rays = 140 * t.result.clock_ticks;
+  t.result.host.work = 60 * t.result.clock_ticks;
   const FrameProfile f = frame_stats(t.result, t.config).profile;
   EXPECT_DOUBLE_EQ(f.host_preprocess, 60);
   EXPECT_DOUBLE_EQ(f.transfer, 90);
@@ -177,7 +175,8 @@ TEST(FrameStats, MacBound) {
 
 TEST(FrameStats, AnEmptyRunHasNoUtilisationAndNoImbalance) {
   const MachineConfig c;
-  const MachineResult m;
+  MachineResult m;
+  m.clock_ticks = 10000;
   const FrameStats s = frame_stats(m, c);
   EXPECT_DOUBLE_EQ(s.utilisation[UnitKind::Mac], 0);
   EXPECT_DOUBLE_EQ(s.profile.busy[UnitKind::Mac], 0);

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "machine/bottleneck.h"
+#include "frame/bottleneck.h"
 
 namespace rtm {
 

@@ -5,10 +5,18 @@
 
 #include <cstdint>
 #include <string>
-
-#include "machine/waveform.h"
+#include <vector>
 
 namespace rtm {
+
+/// One signal traced into the VCD, named after the object hierarchy (sc_object::name() + "." +
+/// the signal).
+struct TracedSignal {
+  enum class Format { Bit, Decimal, Real };
+  std::string name;  ///< hierarchical, e.g. machine.pe0.search2.busy
+  Format format;
+  int bits;  ///< of a Decimal value
+};
 
 /// What the save file shows first.
 struct GtkwView {
@@ -16,8 +24,8 @@ struct GtkwView {
   double clock_ns = 10;             ///< the PE clock period: how the ruler's ns become cycles
 };
 
-void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path, const Waveform& wave,
-                const GtkwView& view);
+void write_gtkw(const std::string& gtkw_path, const std::string& vcd_path,
+                const std::vector<TracedSignal>& signals, const GtkwView& view);
 
 /// The name GTKWave shows for a traced signal: its hierarchy below the machine, joined by '/'
 /// (GTKWave cuts a name at its dots and shows only the last part, four `busy` in a row).

@@ -1,4 +1,4 @@
-#include "machine/partition.h"
+#include "frame/partition.h"
 
 #include <algorithm>
 
