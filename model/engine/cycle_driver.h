@@ -76,7 +76,8 @@ class CycleDriver {
         if (at < now) throw std::logic_error("CycleDriver: a wake-up missed");
         if (at == now) due.push_back({rank(u) << 48 | order, &u});
       }
-      std::sort(due.begin(), due.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      std::sort(due.begin(), due.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
       for (auto& [order, u] : due) {
         u->wakeups.fired(now);
         step(*u, now);
@@ -93,7 +94,8 @@ class CycleDriver {
       if (front_.waiting_for_input() && poked) step(front(), now);
       // 3. Freed places are free.
       ++phase_;
-      if (std::all_of(units_.begin(), units_.end(), [](const Unit& u) { return u.wakeups.empty(); }))
+      if (std::all_of(units_.begin(), units_.end(),
+                      [](const Unit& u) { return u.wakeups.empty(); }))
         break;
     }
     return front_.finished();
@@ -152,7 +154,8 @@ class CycleDriver {
     f.items.push_back(v);
     f.written.push_back(phase_);
     const std::vector<UnitKind>& readers = fifo_spec(o.fifo).readers;
-    front_written_ = front_written_ || std::count(readers.begin(), readers.end(), UnitKind::FrontBuffer);
+    front_written_ =
+        front_written_ || std::count(readers.begin(), readers.end(), UnitKind::FrontBuffer);
     record_put(pe_, now, u.kind, u.index, v.r.id, o);
     return true;
   }

@@ -311,8 +311,6 @@ void PeEngine::wake(size_t unit, uint64_t now) {
   switch (place.kind) {
     case UnitKind::FrontBuffer:
       return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
-    case UnitKind::Search:
-      return step(Ops<UnitKind::Search>{*this, unit, now, place});
     case UnitKind::Mac:
       return step(Ops<UnitKind::Mac>{*this, unit, now, place});
     case UnitKind::Root:
@@ -322,7 +320,7 @@ void PeEngine::wake(size_t unit, uint64_t now) {
 #define RTM_RAY_STAGE_CASE(kind, Class) \
   case UnitKind::kind:                  \
     return step(Ops<UnitKind::kind>{*this, unit, now, place});
-      RTM_EXTRA_RAY_STAGES(RTM_RAY_STAGE_CASE)
+      RTM_RAY_STAGES(RTM_RAY_STAGE_CASE)
 #undef RTM_RAY_STAGE_CASE
   }
 }

@@ -24,6 +24,7 @@
 #include <string>
 #include <tuple>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "units/fifo_report.h"
@@ -195,8 +196,9 @@ class PeEngine {
   // The units.
   FrontBufferPolicy<uint32_t> front_;
   /// The ray stages' units (units/ray_stage.h), a vector per kind.
+  /// (std::monostate only starts the list.)
 #define RTM_RAY_STAGE_UNITS(kind, Class) , std::vector<Class>
-  std::tuple<std::vector<SearchUnit> RTM_EXTRA_RAY_STAGES(RTM_RAY_STAGE_UNITS)> stage_units_;
+  std::tuple<std::monostate RTM_RAY_STAGES(RTM_RAY_STAGE_UNITS)> stage_units_;
 #undef RTM_RAY_STAGE_UNITS
   template <UnitKind K>
   std::vector<typename RayStage<K>::Unit>& stage_units() {

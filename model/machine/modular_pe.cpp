@@ -50,8 +50,7 @@ void ModularPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
 #define RTM_RAY_STAGE_CASE(K, Class) \
   case UnitKind::K:                  \
     return of.push_back(create_stage<UnitKind::K>(k));
-      RTM_RAY_STAGE_CASE(Search, SearchUnit)
-      RTM_EXTRA_RAY_STAGES(RTM_RAY_STAGE_CASE)
+      RTM_RAY_STAGES(RTM_RAY_STAGE_CASE)
 #undef RTM_RAY_STAGE_CASE
     case UnitKind::Mac:
       // An intersection unit runs its lane's MAC and root unit.

@@ -7,7 +7,6 @@
 
 #include "units/output.h"  // and, through units/extra_units.h, pass_through.def
 
-
 namespace rtm {
 
 class PassThroughUnit {

@@ -91,8 +91,7 @@ TEST(TestUnit, BothSchedulersRunAPassThroughAddedThroughTheTables) {
   const std::string engine = render(false, engine_summary);
   const std::string modules = render(true, modules_summary);
   ASSERT_NE(engine_summary.find("engine_unsupported ''"), std::string::npos) << engine_summary;
-  ASSERT_NE(modules_summary.find("engine_unsupported 'pe_simulation = modules'"),
-            std::string::npos)
+  ASSERT_NE(modules_summary.find("engine_unsupported 'pe_simulation = modules'"), std::string::npos)
       << modules_summary.substr(0, 200);
   EXPECT_FALSE(engine.empty());
   EXPECT_TRUE(engine == modules) << "the event logs differ";

@@ -9,8 +9,8 @@
 //   RTM_EXTRA_FIFO_IDS       FifoId enumerators, each with a comma, after the root FIFO
 //   RTM_EXTRA_FIFO_ROWS      their rows of the FIFO table (units/fifo_table.cpp), each with a comma
 //   RTM_EXTRA_RAY_STAGES(X)  X(kind, class) for each added kind that takes rays from one FIFO and
-//                            writes each to its Output: both schedulers run it as they run the
-//                            search units (units/ray_stage.h)
+//                            writes each to its Output: it joins units/ray_stage.h's list, and
+//                            both schedulers run it as they run the search units
 //   RTM_INTERSECT_WRITER     the kind that writes the intersect FIFO (UnitKind::Search) ...
 //   RTM_SEARCH_TO_INTERSECT  ... and the FIFO the search units send rays to for intersection
 //                            (FifoId::Intersect): another when a unit stands between them

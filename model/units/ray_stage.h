@@ -17,25 +17,27 @@
 
 namespace rtm {
 
+/// Every ray stage as X(kind, class), in rank order: the search units, then any a build adds. A
+/// new one is an entry here, and both schedulers run it.
+#define RTM_RAY_STAGES(X) X(Search, SearchUnit) RTM_EXTRA_RAY_STAGES(X)
+
 /// value: whether kind K is a ray stage; Unit: its class.
 template <UnitKind K>
 struct RayStage : std::false_type {};
 
-#define RTM_RAY_STAGE(kind, Class)                  \
-  template <>                                       \
+#define RTM_RAY_STAGE(kind, Class)                   \
+  template <>                                        \
   struct RayStage<UnitKind::kind> : std::true_type { \
-    using Unit = Class;                             \
+    using Unit = Class;                              \
   };
-RTM_RAY_STAGE(Search, SearchUnit)
-RTM_EXTRA_RAY_STAGES(RTM_RAY_STAGE)
+RTM_RAY_STAGES(RTM_RAY_STAGE)
 #undef RTM_RAY_STAGE
 
 /// Calls f(std::integral_constant<UnitKind, K>) for each ray stage K, in rank order.
 template <class F>
 void for_each_ray_stage(F&& f) {
 #define RTM_RAY_STAGE(kind, Class) f(std::integral_constant<UnitKind, UnitKind::kind>{});
-  RTM_RAY_STAGE(Search, SearchUnit)
-  RTM_EXTRA_RAY_STAGES(RTM_RAY_STAGE)
+  RTM_RAY_STAGES(RTM_RAY_STAGE)
 #undef RTM_RAY_STAGE
 }
 
