@@ -311,17 +311,17 @@ void PeEngine::wake(size_t unit, uint64_t now) {
   switch (place.kind) {
     case UnitKind::FrontBuffer:
       return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
+#define RTM_RAY_STAGE_CASE(kind, Class) \
+  case UnitKind::kind:                  \
+    return step(Ops<UnitKind::kind>{*this, unit, now, place});
+      RTM_RAY_STAGES(RTM_RAY_STAGE_CASE)
+#undef RTM_RAY_STAGE_CASE
     case UnitKind::Mac:
       return step(Ops<UnitKind::Mac>{*this, unit, now, place});
     case UnitKind::Root:
       return step(Ops<UnitKind::Root>{*this, unit, now, place});
     case UnitKind::Shading:
       return step(Ops<UnitKind::Shading>{*this, unit, now, place});
-#define RTM_RAY_STAGE_CASE(kind, Class) \
-  case UnitKind::kind:                  \
-    return step(Ops<UnitKind::kind>{*this, unit, now, place});
-      RTM_RAY_STAGES(RTM_RAY_STAGE_CASE)
-#undef RTM_RAY_STAGE_CASE
   }
 }
 
