@@ -171,11 +171,15 @@ struct BuildOf {
 };
 
 /// Beside the unit table: each kind's build, in its order.
-constexpr std::array<BuildOf, kUnitKinds> kBuilds = {{{U::FrontBuffer, front_buffer},
-                                                      {U::Shading, shading},
-                                                      {U::Search, search},
-                                                      {U::Mac, mac},
-                                                      {U::Root, root}}};
+// clang-format off
+constexpr std::array<BuildOf, kUnitKinds> kBuilds = {{
+    {U::FrontBuffer, front_buffer},
+    {U::Shading, shading},
+    {U::Search, search},
+    RTM_EXTRA_UNIT_BUILDS  // a build's (units/extra_units.h)
+    {U::Mac, mac},
+    {U::Root, root}}};
+// clang-format on
 constexpr bool in_kind_order() {
   for (size_t k = 0; k < kUnitKinds; ++k)
     if (kBuilds[k].kind != UnitKind(k)) return false;

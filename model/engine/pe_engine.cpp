@@ -33,9 +33,7 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
       rays_(rays),
       cycle_(pe.cycle),
       front_(pe, rays_expected),
-      shading_(pe),
-      waiting_search_(0),
-      waiting_macs_(0) {
+      shading_(pe) {
   for_each_fifo(pe, [&](const FifoSpec& f, int lane) {
     if (lane == 0) first_fifo_[size_t(f.id)] = fifos_.size();
     Fifo& fifo = fifos_.emplace_back(f, pe.config.*f.depth, &phase_);
@@ -51,7 +49,11 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
   }
   due_at_.assign(places_.size(), kNever);
   due_now_.assign(places_.size(), 0);
-  for (int k = 0; k < unit_count(UnitKind::Search, pe.config); ++k) search_.emplace_back(pe, k);
+  for_each_ray_stage([&](auto kind) {
+    constexpr UnitKind K = kind;
+    stage_input_[size_t(K)] = &fifo(inputs(K).front());
+    for (int k = 0; k < unit_count(K, pe.config); ++k) stage_units<K>().emplace_back(pe, k);
+  });
   for (int lane = 0; lane < unit_count(UnitKind::Mac, pe.config); ++lane)
     macs_.emplace_back(pe, lane);
   for (int lane = 0; lane < unit_count(UnitKind::Root, pe.config); ++lane)
@@ -141,12 +143,15 @@ void PeEngine::next_phase() {
 
 void PeEngine::take_inputs(uint64_t now) {
   // Replicated units: the lowest-numbered waiting one takes each ray.
-  Fifo& search_in = fifo(FifoId::Search);
-  while (waiting_search_.any_idle() && search_in.visible())
-    wake(place(UnitKind::Search, size_t(waiting_search_.take())), now);
+  for_each_ray_stage([&](auto kind) {
+    LaneDispatcher& waiting = waiting_[size_t(kind())];
+    for (Fifo& in = *stage_input_[size_t(kind())]; waiting.any_idle() && in.visible();)
+      wake(place(kind, size_t(waiting.take())), now);
+  });
   Fifo& mac_in = fifo(FifoId::Intersect);
-  while (waiting_macs_.any_idle() && mac_in.visible())
-    wake(place(UnitKind::Mac, size_t(waiting_macs_.take())), now);
+  LaneDispatcher& waiting_macs = waiting_[size_t(UnitKind::Mac)];
+  while (waiting_macs.any_idle() && mac_in.visible())
+    wake(place(UnitKind::Mac, size_t(waiting_macs.take())), now);
   for (size_t lane = 0; lane < roots_.size(); ++lane)
     if (places_[place(UnitKind::Root, lane)].waiting && fifo(FifoId::Root, lane).visible())
       wake(place(UnitKind::Root, lane), now);
@@ -201,10 +206,8 @@ struct PeEngine::Ops {
     // Whatever woke it, a unit decides again whether it waits for input.
     if constexpr (K == UnitKind::FrontBuffer) {
       e.front_.woke(now);
-    } else if constexpr (K == UnitKind::Search) {
-      e.waiting_search_.busy(index());
-    } else if constexpr (K == UnitKind::Mac) {
-      e.waiting_macs_.busy(index());
+    } else if constexpr (RayStage<K>::value || K == UnitKind::Mac) {
+      e.waiting_[size_t(K)].busy(index());
     } else {
       place.waiting = false;
     }
@@ -215,8 +218,8 @@ struct PeEngine::Ops {
     if constexpr (K == UnitKind::FrontBuffer) {
       return e.emit({FifoId::Search, Output::What::Item}, e.slots_[h.item], h.item,
                     UnitKind::FrontBuffer, 0, now);
-    } else if constexpr (K == UnitKind::Search) {
-      return e.emit(h.out, e.slots_[h.item], h.item, UnitKind::Search, index(), now);
+    } else if constexpr (RayStage<K>::value) {
+      return e.emit(h.out, e.slots_[h.item], h.item, K, index(), now);
     } else if constexpr (K == UnitKind::Mac) {
       Fifo& out = e.fifo(FifoId::Root, size_t(index()));
       if (out.full()) return false;
@@ -246,11 +249,11 @@ struct PeEngine::Ops {
     if constexpr (K == UnitKind::FrontBuffer) {
       FrontOps ops{e, now};
       return e.front_.carry_out(now, e.cycle_, ops);
-    } else if constexpr (K == UnitKind::Search) {
-      Fifo& in = e.fifo(FifoId::Search);
+    } else if constexpr (RayStage<K>::value) {
+      Fifo& in = *e.stage_input_[size_t(K)];
       if (!in.visible()) return false;
       const uint32_t slot = in.read(now);
-      Work w = e.search_[size_t(index())].take(e.slots_[slot], now);
+      Work w = e.stage_units<K>()[size_t(index())].take(e.slots_[slot], now);
       pipe().accept({slot, w.out}, now, w.cycles, w.interval, std::move(w.wait));
       return true;
     } else if constexpr (K == UnitKind::Mac) {
@@ -290,10 +293,8 @@ struct PeEngine::Ops {
   bool wait_for_input() {
     if constexpr (K == UnitKind::FrontBuffer) {
       return e.front_.wait(now);
-    } else if constexpr (K == UnitKind::Search) {
-      e.waiting_search_.idle(index());
-    } else if constexpr (K == UnitKind::Mac) {
-      e.waiting_macs_.idle(index());
+    } else if constexpr (RayStage<K>::value || K == UnitKind::Mac) {
+      e.waiting_[size_t(K)].idle(index());
     } else {
       place.waiting = true;
     }
@@ -310,8 +311,11 @@ void PeEngine::wake(size_t unit, uint64_t now) {
   switch (place.kind) {
     case UnitKind::FrontBuffer:
       return step(Ops<UnitKind::FrontBuffer>{*this, unit, now, place});
-    case UnitKind::Search:
-      return step(Ops<UnitKind::Search>{*this, unit, now, place});
+#define RTM_RAY_STAGE_CASE(kind, Class) \
+  case UnitKind::kind:                  \
+    return step(Ops<UnitKind::kind>{*this, unit, now, place});
+      RTM_RAY_STAGES(RTM_RAY_STAGE_CASE)
+#undef RTM_RAY_STAGE_CASE
     case UnitKind::Mac:
       return step(Ops<UnitKind::Mac>{*this, unit, now, place});
     case UnitKind::Root:

@@ -22,13 +22,15 @@
 #include <cstdint>
 #include <deque>
 #include <string>
+#include <tuple>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "units/fifo_report.h"
 #include "units/front_buffer.h"
 #include "units/intersection.h"
-#include "units/search_unit.h"
+#include "units/ray_stage.h"
 #include "units/shading_unit.h"
 #include "units/unit_step.h"
 #include "units/wakeups.h"
@@ -193,12 +195,22 @@ class PeEngine {
 
   // The units.
   FrontBufferPolicy<uint32_t> front_;
-  std::vector<SearchUnit> search_;
+  /// The ray stages' units (units/ray_stage.h), a vector per kind.
+  /// (std::monostate only starts the list.)
+#define RTM_RAY_STAGE_UNITS(kind, Class) , std::vector<Class>
+  std::tuple<std::monostate RTM_RAY_STAGES(RTM_RAY_STAGE_UNITS)> stage_units_;
+#undef RTM_RAY_STAGE_UNITS
+  template <UnitKind K>
+  std::vector<typename RayStage<K>::Unit>& stage_units() {
+    return std::get<std::vector<typename RayStage<K>::Unit>>(stage_units_);
+  }
+  std::array<Fifo*, kUnitKinds> stage_input_{};  ///< a ray stage's input FIFO
   std::vector<MacUnit> macs_;
   std::vector<RootUnit> roots_;
   ShadingUnit shading_;
-  LaneDispatcher waiting_search_;  ///< search units waiting for a ray: the lowest-numbered takes it
-  LaneDispatcher waiting_macs_;
+  /// By kind, the replicated units (ray stages, MACs) waiting for an item: the lowest-numbered
+  /// takes it.
+  std::array<LaneDispatcher, kUnitKinds> waiting_;
   ShadingWriter<uint32_t> shading_writer_;
 };
 

@@ -1,9 +1,12 @@
 // The PE engine in process, without SystemC, on hand-built PE states (one PE of an SPD scene, its
 // primary rays handed over at once): every ray tree finishes and sums to the pixel the units give
 // traced one ray at a time; back-to-back items; a full FIFO stalling shading; credits bounding
-// the rays past the front buffer; spills beyond the on-chip capacity. tb/engine_test.cpp compares
-// the engine with the modules on whole frames.
+// the rays past the front buffer; spills beyond the on-chip capacity; and the same frames on a
+// second, plain driver of the same units (engine/cycle_driver.h) write the same event logs.
+// tb/engine_test.cpp compares the engine with the modules on whole frames.
 #include "engine/pe_engine.h"
+
+#include "engine/test_pe.h"
 
 #include <algorithm>
 #include <map>
@@ -15,67 +18,11 @@
 #include <gtest/gtest.h>
 
 #include "error/pe_tracer.h"
-#include "geom/grid.h"
-#include "memory/memory_layout.h"
-#include "memory/scene_image.h"
-#include "render/camera.h"
-#include "scene/grid_frame.h"
-#include "scene/scene.h"
 
 namespace rtm {
 namespace {
-
-constexpr uint64_t kCycle = 10000;  // ticks: a 10 ns clock at SystemC's 1 ps resolution
-
-/// One PE rendering all of a small frame of an SPD scene on the engine, with its event log.
-struct EnginePe {
-  Scene scene;
-  Grid grid;
-  FramedScene view;
-  std::vector<Ray> rays;
-  PeState pe;
-  EventLog log;
-  std::vector<PixelSum> frame;
-  std::vector<int32_t> ids;
-
-  EnginePe(const std::string& spd, int size, const MachineConfig& c) {
-    scene = load_scene(std::string(RTM_SOURCE_DIR) + "/scenes/spd/" + spd + ".nff");
-    scene.camera.width = scene.camera.height = size;
-    grid = build_grid(scene.primitives, scene.grid, 1);
-    view = framed(scene, grid, c.pe_frame);
-    const PrimaryRays camera(view.scene.camera);
-    for (int y = 0; y < size; ++y)
-      for (int x = 0; x < size; ++x) rays.push_back(camera.at(x, y));
-    pe.config = c;
-    pe.cycle = kCycle;
-    pe.log = &log;
-    pe.counters.size_for(c);
-    pe.image = std::make_shared<SceneImage>(view.scene, view.grid, c);
-    pe.memory = std::make_shared<PeMemory>(c, *pe.image, rays.size());
-    pe.spill_rays = memory_layout(*pe.image, rays.size(), c).spill_rays();
-    pe.spawn_fanout = view.scene.lights.size() + 2;
-    frame.assign(rays.size(), PixelSum{});
-    ids.assign(rays.size(), -1);
-  }
-
-  /// Runs the frame to its end; returns the event log's lines.
-  std::vector<std::string> run() {
-    PeEngine engine(pe, frame, ids, rays, rays.size());
-    engine.rays_arrived(0, rays.size());
-    engine.run_before(UINT64_MAX);
-    EXPECT_TRUE(engine.finished()) << engine.occupancy_report();
-    EXPECT_TRUE(engine.idle());
-    for (const auto& [name, stats] : engine.fifo_stats(pe.counters.finish, 1e-12))
-      EXPECT_GT(stats->depth, 0) << name;
-    std::vector<EventLog> logs{log};
-    std::ostringstream text;
-    write_event_log(text, logs, kCycle);
-    std::vector<std::string> lines;
-    std::istringstream in(text.str());
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-  }
-};
+using test::EnginePe;
+using test::kCycle;
 
 /// An event-log line's fields: cycle, unit, ray, event, detail.
 struct Event {
@@ -228,6 +175,52 @@ TEST(PeEngine, RaysBeyondTheOnChipCapacitySpillAndComeBack) {
   EXPECT_EQ(q.pe.counters.spills, 0u);
   EXPECT_TRUE(same(p.frame, q.frame));
   EXPECT_EQ(p.ids, q.ids);
+}
+
+/// The configurations of the tests above: back-to-back items (pipelined and not), a full FIFO
+/// stalling shading, credits, spills; each runs to its finish, with the same unit statistics.
+TEST(PeEngine, APlainCycleByCycleDriverWritesTheSameEventLogs) {
+  std::vector<std::pair<std::string, MachineConfig>> cases;
+  cases.emplace_back("fast", fast());
+  for (int interval : {1, 0}) {
+    MachineConfig c = fast();
+    c.fb_dispatch_cycles = 3;
+    c.dispatch_interval = interval;
+    cases.emplace_back("dispatch_interval " + std::to_string(interval), c);
+  }
+  MachineConfig c = fast();
+  c.feedback_fifo_depth = 1;
+  cases.emplace_back("feedback_fifo_depth 1", c);
+  c = fast();
+  c.loop_credits = 2;
+  cases.emplace_back("loop_credits 2", c);
+  c = fast();
+  c.front_buffer_capacity = 1;
+  cases.emplace_back("front_buffer_capacity 1", c);
+  for (const auto& [name, config] : cases) {
+    EnginePe engine("balls-1", 8, config), driver("balls-1", 8, config);
+    const std::vector<std::string> a = engine.run(), b = driver.run_cycle_driver();
+    EXPECT_GT(a.size(), 1000u) << name;
+    EXPECT_TRUE(a == b) << name << ": the event logs differ";
+    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+      if (a[i] != b[i]) {
+        ADD_FAILURE() << name << ", line " << i + 1 << ": engine '" << a[i] << "', driver '" << b[i]
+                      << "'";
+        break;
+      }
+    EXPECT_TRUE(same(engine.frame, driver.frame)) << name;
+    EXPECT_EQ(engine.pe.counters.finish, driver.pe.counters.finish) << name;
+    EXPECT_GT(driver.pe.counters.finish, 0u) << name;
+    for (const UnitSpec& u : unit_table()) {
+      const UnitStats x = engine.pe.counters.total(u.kind), y = driver.pe.counters.total(u.kind);
+      EXPECT_EQ(x.items, y.items) << name << " " << u.name;
+      EXPECT_EQ(x.busy_cycles, y.busy_cycles) << name << " " << u.name;
+      EXPECT_EQ(x.held_cycles, y.held_cycles) << name << " " << u.name;
+      EXPECT_EQ(x.starved_cycles, y.starved_cycles) << name << " " << u.name;
+    }
+    EXPECT_EQ(engine.pe.counters.credit_stall, driver.pe.counters.credit_stall) << name;
+    EXPECT_EQ(engine.pe.counters.spills, driver.pe.counters.spills) << name;
+  }
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ void PeTracer::trace(const Ray& ray, RayResult& out) {
   FifoId to = FifoId::Search;
   while (to == FifoId::Search || to == FifoId::FeedbackSearch || to == FifoId::FeedbackIntersect) {
     to = search_.take(r, 0).out.fifo;
-    if (to == FifoId::Intersect) {
+    if (to == kSearchToIntersect) {  // through any unit in between, unchanged
       mac_.take(job_, 0);
       to = root_.take(job_, 0).out.fifo;
     }

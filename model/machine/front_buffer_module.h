@@ -19,7 +19,7 @@ class FrontBufferModule : public UnitModule {
                     sc_core::sc_event& finished);
 
   const FrontBufferPolicy<MachineRay>& policy() const { return policy_; }
-  void trace(Waveform& wave);
+  void trace(Waveform& wave) override;
 
  private:
   struct Ops;

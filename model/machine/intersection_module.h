@@ -24,7 +24,7 @@ class IntersectionModule : public UnitModule {
   IntersectionModule(sc_core::sc_module_name name, PeContext& ctx, sc_core::sc_clock* clock,
                      Dispatcher& dispatcher, int lane);
 
-  void trace(Waveform& wave);
+  void trace(Waveform& wave) override;
   MeteredFifo<MacResult>& root_fifo() { return root_fifo_; }
 
  private:

@@ -47,13 +47,11 @@ void ModularPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
     case UnitKind::Shading:
       shading_ = std::make_unique<ShadingModule>(unit_name(kind), ctx, memory);
       return of.push_back(shading_.get());
-    case UnitKind::Search:
-      if (k == 0)
-        search_dispatch_ = std::make_unique<Dispatcher>(
-            "search_dispatch", *rays_[size_t(FifoId::Search)], c.search_units);
-      search_.push_back(std::make_unique<SearchModule>(
-          (unit_name(kind) + std::to_string(k)).c_str(), ctx, k, *search_dispatch_));
-      return of.push_back(search_.back().get());
+#define RTM_RAY_STAGE_CASE(K, Class) \
+  case UnitKind::K:                  \
+    return of.push_back(create_stage<UnitKind::K>(k));
+      RTM_RAY_STAGES(RTM_RAY_STAGE_CASE)
+#undef RTM_RAY_STAGE_CASE
     case UnitKind::Mac:
       // An intersection unit runs its lane's MAC and root unit.
       if (k == 0)
@@ -65,6 +63,17 @@ void ModularPe::create(UnitKind kind, int k, sc_core::sc_clock* clock) {
     case UnitKind::Root:
       return of.push_back(intersection_.at(size_t(k)).get());
   }
+}
+
+template <UnitKind K>
+UnitModule* ModularPe::create_stage(int k) {
+  if (k == 0)
+    stage_dispatch_[size_t(K)] =
+        std::make_unique<Dispatcher>((unit_name(K) + std::string("_dispatch")).c_str(),
+                                     *rays_[size_t(inputs(K).front())], unit_count(K, ctx.config));
+  stages_.push_back(std::make_unique<RayStageModule<K>>((unit_name(K) + std::to_string(k)).c_str(),
+                                                        ctx, k, *stage_dispatch_[size_t(K)]));
+  return stages_.back().get();
 }
 
 FifoMeter& ModularPe::meter(const FifoSpec& f, int lane) {
@@ -92,7 +101,7 @@ void ModularPe::trace(Waveform& wave) {
                                  &ctx.window);
   ends_->trace(wave, std::string(ends_->name()) + ".occupancy", &ctx.window);
   front_->trace(wave);
-  for (auto& s : search_) s->trace(wave);
+  for (auto& s : stages_) s->trace(wave);
   for (auto& x : intersection_) x->trace(wave);
   shading_->trace(wave);
 }

@@ -8,7 +8,7 @@
 #include "machine/front_buffer_module.h"
 #include "machine/intersection_module.h"
 #include "machine/pe.h"
-#include "machine/search_module.h"
+#include "machine/ray_stage_module.h"
 #include "machine/shading_module.h"
 
 namespace rtm {
@@ -26,6 +26,9 @@ class ModularPe : public Pe {
  private:
   /// Creates the module that runs unit k of this kind.
   void create(UnitKind kind, int k, sc_core::sc_clock* clock);
+  /// Creates the module that runs unit k of ray stage K (units/ray_stage.h).
+  template <UnitKind K>
+  UnitModule* create_stage(int k);
   /// Where FIFO f's meter is (lane: of a per-lane FIFO).
   FifoMeter& meter(const FifoSpec& f, int lane);
 
@@ -34,8 +37,9 @@ class ModularPe : public Pe {
   std::unique_ptr<MeteredFifo<RayEnd>> ends_;
 
   std::unique_ptr<FrontBufferModule> front_;
-  std::vector<std::unique_ptr<SearchModule>> search_;
-  std::unique_ptr<Dispatcher> search_dispatch_, intersect_dispatch_;
+  std::vector<std::unique_ptr<UnitModule>> stages_;  ///< the ray stages' units, in rank order
+  std::array<std::unique_ptr<Dispatcher>, kUnitKinds> stage_dispatch_;  ///< a ray stage's
+  std::unique_ptr<Dispatcher> intersect_dispatch_;
   std::vector<std::unique_ptr<IntersectionModule>>
       intersection_;  ///< the paper has one; more is an option
   std::unique_ptr<ShadingModule> shading_;

@@ -24,7 +24,7 @@ class ShadingModule : public UnitModule {
  public:
   SC_HAS_PROCESS(ShadingModule);
   ShadingModule(sc_core::sc_module_name name, PeContext& ctx, LocalMemory& mem);
-  void trace(Waveform& wave);
+  void trace(Waveform& wave) override;
 
  private:
   struct Ops;

@@ -50,6 +50,8 @@ class UnitModule : public sc_core::sc_module {
   /// Binds this module's port for `id` (in or out, as the table says) to a channel.
   void bind(FifoId id, MeteredFifo<MachineRay>& f);
   void bind(FifoId id, MeteredFifo<RayEnd>& f);
+  /// Traces its signals into `wave`.
+  virtual void trace(Waveform& wave) = 0;
 
  protected:
   /// `kinds`: the units this module runs (an intersection unit runs a MAC and a root unit).

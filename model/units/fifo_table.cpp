@@ -24,7 +24,7 @@ const std::array<FifoSpec, kFifoCount>& fifo_table() {
        Payload::Ray,
        "intersect_fifo_depth",
        &M::intersect_fifo_depth,
-       {U::Search},
+       {kIntersectWriter},
        {U::Mac},
        false,
        false,
@@ -90,6 +90,8 @@ const std::array<FifoSpec, kFifoCount>& fifo_table() {
        false,
        false,
        "alpha, beta, gamma per primitive: MAC -> root unit and sort"},
+      // clang-format off
+      RTM_EXTRA_FIFO_ROWS  // a build's (units/extra_units.h)
       {FifoId::Ends,
        "ends_fifo",
        "ends",
@@ -102,6 +104,7 @@ const std::array<FifoSpec, kFifoCount>& fifo_table() {
        false,
        true,
        "a ray left the loop: its credit back to the front buffer"},
+      // clang-format on
   }};
   return table;
 }

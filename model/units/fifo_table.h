@@ -1,7 +1,7 @@
 // Every FIFO of a PE, once: its name, what it carries, its depth's configuration key, and which
 // units write and read it. The modules (machine/modular_pe.cpp) build their channels from it, the
 // PE engine its queues, statistics and deadlock reports list FIFOs in its order, and the units
-// name their outputs by it.
+// name their outputs by it. A build may add FIFOs (units/extra_units.h).
 #pragma once
 
 #include <array>
@@ -14,6 +14,7 @@
 
 namespace rtm {
 
+// clang-format off
 enum class FifoId : uint8_t {
   Search,
   Intersect,
@@ -22,9 +23,17 @@ enum class FifoId : uint8_t {
   FeedbackIntersect,
   Spawn,
   Root,
+  RTM_EXTRA_FIFO_IDS  // a build's (units/extra_units.h)
   Ends
 };
-constexpr size_t kFifoCount = 8;
+// clang-format on
+constexpr size_t kFifoCount = size_t(FifoId::Ends) + 1;
+
+/// The kind that writes the intersect FIFO, and the FIFO the search units send a ray to for
+/// intersection: the search units and the intersect FIFO, unless a build puts a unit between
+/// them (units/extra_units.h).
+constexpr UnitKind kIntersectWriter = RTM_INTERSECT_WRITER;
+constexpr FifoId kSearchToIntersect = RTM_SEARCH_TO_INTERSECT;
 
 /// What travels in a FIFO: a ray (MachineRay), a MAC result (MacResult), or a ray's end (RayEnd).
 enum class Payload : uint8_t { Ray, MacResult, End };

@@ -20,7 +20,7 @@ class LaneDispatcher {
 
   /// `lanes` waiting at first; the lanes numbered later must lie below kMaxLanes too (the
   /// configuration bounds search_units and intersection_units by it).
-  explicit LaneDispatcher(int lanes) {
+  explicit LaneDispatcher(int lanes = 0) {
     if (lanes < 0 || lanes > kMaxLanes)
       throw std::invalid_argument("LaneDispatcher: " + std::to_string(lanes) +
                                   " lanes; it holds 0 to " + std::to_string(kMaxLanes));

@@ -36,7 +36,7 @@ Work SearchUnit::take(MachineRay& r, uint64_t now) {
   w.interval = pipeline_interval(c.search_interval, w.cycles, passes);
   switch (route) {
     case Route::Intersect:
-      w.out = {FifoId::Intersect, Output::What::Item};
+      w.out = {kSearchToIntersect, Output::What::Item};
       break;
     case Route::Feedback:
       w.out = {FifoId::FeedbackSearch, Output::What::Item};

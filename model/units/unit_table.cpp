@@ -48,8 +48,11 @@ const std::array<UnitSpec, kUnitKinds>& unit_table() {
        "adds brightness into the frame buffer, spawns shadow and branch rays (§6)"},
       {U::Search, "search", "search", "search_units", &M::search_units, false, false, true,
        search_item, "a 3DDDA pass over the ray's voxel, routed by its occupancy (§4)"},
+      // clang-format off
+      RTM_EXTRA_UNIT_ROWS  // a build's (units/extra_units.h)
       {U::Mac, "mac", "MAC", "intersection_units", &M::intersection_units, false, true, true,
        mac_item, "alpha, beta, gamma for every primitive in the voxel (§5.2)"},
+      // clang-format on
       {U::Root, "root", "root/sort", "intersection_units", &M::intersection_units, true, true, true,
        root_item, "roots, clip tests and the nearest hit in the voxel (§5.1)"},
   }};
