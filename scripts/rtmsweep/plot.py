@@ -12,6 +12,8 @@ cost.FMT            energy per frame and frames per second per mm2 vs PE count (
 energy.FMT          the frame's energy split into each unit's, the local memories', the link's and leakage
 scaling.md          a table: cycles, speedup, parallel efficiency, phase shares, load imbalance
                     and bottleneck per configuration and PE count
+cost.md             a table: area, energy per frame, frames/s, frames/s/mm2 and frames/J per
+                    configuration and PE count, and each scene's best (when the CSV has them)
 
 A "configuration" (one line) is a scene with every other setting except the PE count; labels
 name only the settings that vary in the CSV (a variant alone, not also its preset). Its colour
@@ -396,13 +398,46 @@ def write_table(configs, out, written):
     return "\n".join(lines) + "\n"
 
 
+def write_cost_table(configs, out, written):
+    """cost.md (docs/cost.md): per configuration and PE count, area, energy per frame, frames per
+    second, per mm² and per joule; then per scene the configurations of most frames/s/mm² and most
+    frames/J. None without cost columns."""
+    if not any(num(r.get("frames_per_s_per_mm2")) is not None for c in configs for r in c.rows):
+        return None
+    fmt = lambda v, f: (f % v) if v is not None else ""
+    micro = lambda j: "" if j is None else f"{j * 1e6:,.0f}" if j >= 1e-4 else f"{j * 1e6:.4g}"
+    lines = ["| configuration | PEs | area, mm² | energy per frame, µJ | frames/s | frames/s/mm² | frames/J |",
+             "|---|---|---|---|---|---|---|"]
+    for c in configs:
+        for r in c.rows:
+            area, per_mm2, energy = (num(r.get(k)) for k in ("area_mm2", "frames_per_s_per_mm2", "energy_j"))
+            fps = per_mm2 * area if per_mm2 is not None and area is not None else None
+            lines.append(f"| {c.label} | {r['_pes']} | {fmt(area, '%.3f')} | "
+                         f"{micro(energy)} | {fmt(fps, '%.4g')} | "
+                         f"{fmt(per_mm2, '%.4g')} | {fmt(num(r.get('frames_per_j')), '%.4g')} |")
+    best = lambda rows, key: max((r for r in rows if num(r[1].get(key)) is not None),
+                                 key=lambda r: num(r[1].get(key)), default=None)
+    cell = lambda b, key: f"{b[0].label}, {b[1]['_pes']} PEs ({num(b[1].get(key)):.4g})" if b else ""
+    lines += ["", "| scene | most frames/s/mm² | most frames/J |", "|---|---|---|"]
+    for scene in sorted({c.scene for c in configs}):
+        rows = [(c, r) for c in configs if c.scene == scene for r in c.rows]
+        lines.append(f"| {scene} | {cell(best(rows, 'frames_per_s_per_mm2'), 'frames_per_s_per_mm2')} | "
+                     f"{cell(best(rows, 'frames_per_j'), 'frames_per_j')} |")
+    path = os.path.join(out.folder, "cost.md")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    written.append(path)
+    return "\n".join(lines) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="plot-sweep", description="Plots a scripts/sweep results.csv.")
     ap.add_argument("csv", help="results.csv written by scripts/sweep")
     ap.add_argument("outdir", help="folder for the plots (created)")
     ap.add_argument("--format", choices=FORMATS, default="png", help="the plots' file format (default png)")
     ap.add_argument("--quiet", "-q", action="store_true", help="print only problems")
-    ap.add_argument("--page", help="the study page (docs/studies/*.md) whose generated part to rewrite with scaling.md")
+    ap.add_argument("--page", help="the study page (docs/studies/*.md) whose generated part to rewrite with scaling.md"
+                    " (and cost.md)")
     ap.add_argument("--part", default="scaling", help="the page's part: its markers name `scripts/plot-sweep PART`")
     ap.add_argument("--rtm", help="the rtm that made the CSV: the page's stamp says what `RTM --version` prints")
     args = ap.parse_args(argv)
@@ -433,6 +468,9 @@ def main(argv=None):
     if not plot_energy(configs, out, written):
         notes.append(out.file("energy") + ": skipped, no energy columns")
     table = write_table(configs, out, written)
+    cost = write_cost_table(configs, out, written)
+    if cost:
+        table += "\nWhat each configuration costs (docs/cost.md):\n\n" + cost
     if args.page:
         build = page.build_of(args.rtm) if args.rtm else page.NOT_RECORDED
         try:

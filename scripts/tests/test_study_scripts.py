@@ -93,10 +93,21 @@ def test_error_vs_runtime_writes_its_runs_plots_and_page(tmp_path, rtm):
     run(os.path.join(SCRIPTS, "error-vs-runtime"), "--quick", "--scenes", "balls-1", "--size", "16x16",
         "--build", os.path.dirname(rtm), "--out", str(tmp_path / "out"), "--page", str(p), timeout=600)
     out = rows(tmp_path / "out" / "runs.csv")
-    assert {r["config"] for r in out} >= {"default", "paper fp32"} and all(r["scene"] == "balls-1" for r in out)
-    for name in ("error-vs-cycles.png", "error-vs-wall.png", "pareto.md"):
+    assert {r["config"] for r in out} >= {"default", "paper fp32", "fp64"} and all(r["scene"] == "balls-1" for r in out)
+    by = {r["config"]: r for r in out}
+    assert all(float(r["energy_j"]) > 0 and float(r["area_mm2"]) > 0 for r in out)
+    # fp64 elements are larger than fp32 ones: the whole PE in fp64 costs area, one unit in fp64 less.
+    assert float(by["fp64"]["area_mm2"]) > float(by["shading fp64"]["area_mm2"]) > float(by["default"]["area_mm2"])
+    for name in ("error-vs-cycles.png", "error-vs-wall.png", "error-vs-energy.png", "pareto.md"):
         assert (tmp_path / "out" / name).stat().st_size > 0
-    assert "balls-1" in stamped(p, rtm)
+    text = stamped(p, rtm)
+    assert "balls-1" in text and "default energy per frame, µJ" in text and "default area, mm²" in text
+    assert "| fp64 |" in text.split("Simulator cost")[1]
+    # --replot remakes the page from runs.csv and keeps the build the page records.
+    (tmp_path / "out" / "pareto.md").unlink()
+    run(os.path.join(SCRIPTS, "error-vs-runtime"), "--replot", "--out", str(tmp_path / "out"), "--page", str(p))
+    assert (tmp_path / "out" / "pareto.md").stat().st_size > 0
+    assert "default area, mm²" in stamped(p, rtm)
 
 
 @pytest.fixture

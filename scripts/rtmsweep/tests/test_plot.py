@@ -54,6 +54,36 @@ def test_plot_sweep_writes_its_png_files_and_table(tmp_path, csv_rows):
     assert "| rings-7 scanlines | 2 |" in table and "| rings-7 scanlines | 1 |" not in table
 
 
+def test_the_cost_table_has_a_line_per_run_and_each_scenes_best(tmp_path, csv_rows):
+    for row in csv_rows:
+        if row["status"] == "ok":
+            row.update(area_mm2=2.0 * row["pes"], frames_per_j=1.0 / row["energy_j"])
+    (tmp_path / "results.csv").write_text(results.format_rows(COLUMNS, csv_rows))
+    page = tmp_path / "page.md"
+    page.write_text("# P\n\nCommand: `x`\nOutput: y\n\n<!-- begin: written by scripts/plot-sweep scaling, do not edit -->\n"
+                    "<!-- end: written by scripts/plot-sweep scaling -->\n")
+    r = sh(PLOT_SWEEP, tmp_path / "results.csv", tmp_path / "plots", "--page", page)
+    assert r.returncode == 0, r.stdout + r.stderr
+    table = (tmp_path / "plots" / "cost.md").read_text()
+    ok = sum(row["status"] == "ok" for row in csv_rows)
+    # balls-4 scanlines on 2 PEs: 4 mm², 1.02 mJ, 50 / 1.2 = 41.67 frames/s/mm², so 166.7 frames/s.
+    assert "| balls-4 scanlines | 2 | 4.000 | 1,020 | 166.7 | 41.67 | 980.4 |" in table
+    # The most frames/s/mm² is the fewest PEs (50 / (1 + 0.1 p)); rings-7 has no 1-PE run.
+    assert "| balls-4 | balls-4 blocks, 1 PEs (45.45) | balls-4 blocks, 1 PEs (990.1) |" in table
+    assert "| rings-7 | rings-7 scanlines, 2 PEs (41.67) |" in table
+    assert table.count("\n") == 2 + ok + 1 + 2 + 2
+    assert table in page.read_text()
+
+
+def test_no_cost_columns_no_cost_table(tmp_path, csv_rows):
+    for row in csv_rows:
+        row.pop("frames_per_s_per_mm2", None)
+    (tmp_path / "results.csv").write_text(results.format_rows(COLUMNS, csv_rows))
+    r = sh(PLOT_SWEEP, tmp_path / "results.csv", tmp_path / "plots", "--quiet")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert not (tmp_path / "plots" / "cost.md").exists()
+
+
 def test_the_lines_are_named_by_the_settings_that_vary(tmp_path, csv_rows):
     from rtmsweep import plot
     head = columns.header(["variant", "loop_credits"])
@@ -96,7 +126,7 @@ def test_the_plots_can_be_pdf_or_svg(tmp_path, csv_rows, fmt, magic):
     r = sh(PLOT_SWEEP, tmp_path / "results.csv", tmp_path / "plots", "--format", fmt, "--quiet")
     assert r.returncode == 0, r.stdout + r.stderr
     written = sorted(p.name for p in (tmp_path / "plots").iterdir())
-    assert written == sorted([p.replace(".png", "." + fmt) for p in PLOTS] + ["scaling.md"])
+    assert written == sorted([p.replace(".png", "." + fmt) for p in PLOTS] + ["scaling.md", "cost.md"])
     for p in PLOTS:
         data = (tmp_path / "plots" / p.replace(".png", "." + fmt)).read_bytes()
         assert data.startswith(magic) and len(data) > 5000, p
