@@ -26,6 +26,17 @@ class BookedCycles {
     if (w >= words_.size()) words_.resize(w + 1, 0);
     words_[w] |= uint64_t(1) << (cycle % 64);
   }
+  /// Books cycles from .. from + n - 1, a word at a time.
+  void book(uint64_t from, uint64_t n) {
+    if (n == 0) return;
+    book(from);
+    book(from + n - 1);  // the words now reach both ends
+    for (uint64_t c = from, end = from + n; c < end;) {
+      const uint64_t bit = c % 64, take = std::min<uint64_t>(64 - bit, end - c);
+      words_[(c - base_) / 64] |= (take == 64 ? ~uint64_t(0) : (uint64_t(1) << take) - 1) << bit;
+      c += take;
+    }
+  }
   /// The first booked cycle at or after `cycle`, or kNone.
   uint64_t next_booked(uint64_t cycle) const { return next(cycle, 0); }
   /// The first cycle at or after `cycle` that is not booked.

@@ -60,5 +60,22 @@ TEST(BookedCycles, EmptyEverythingIsFree) {
   EXPECT_EQ(b.next_free(70), 71u);
 }
 
+TEST(BookedCycles, BookingASpanBooksEachOfItsCycles) {
+  std::mt19937_64 rng(3);
+  for (int run = 0; run < 200; ++run) {
+    BookedCycles spans, singles;
+    for (int i = 0; i < 20; ++i) {
+      const uint64_t from = 500 + rng() % 400, n = rng() % 150;
+      spans.book(from, n);
+      for (uint64_t c = from; c < from + n; ++c) singles.book(c);
+    }
+    for (uint64_t c = 400; c < 1100; ++c) {
+      ASSERT_EQ(spans.booked(c), singles.booked(c)) << c;
+      ASSERT_EQ(spans.next_free(c), singles.next_free(c)) << c;
+      ASSERT_EQ(spans.next_booked(c), singles.next_booked(c)) << c;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rtm

@@ -69,9 +69,11 @@ void LocalMemoryTiming::admit_waiting() {
     return config_.arbitration == MemoryArbitration::RoundRobin ? (r.requester - pointer_ + n) % n
                                                                 : r.requester;
   };
-  // Stable: one requester's requests keep the order they were made in.
-  std::stable_sort(waiting_.begin(), waiting_.end(),
-                   [&](const Request& a, const Request& b) { return rank(a) < rank(b); });
+  // Stable: one requester's requests keep the order they were made in. (Most cycles have one
+  // request, and the sort's buffer costs an allocation.)
+  if (waiting_.size() > 1)
+    std::stable_sort(waiting_.begin(), waiting_.end(),
+                     [&](const Request& a, const Request& b) { return rank(a) < rank(b); });
   pointer_ = (waiting_.front().requester + 1) % n;
   for (const Request& r : waiting_) admit(r);
   waiting_.clear();
@@ -80,22 +82,31 @@ void LocalMemoryTiming::admit_waiting() {
 void LocalMemoryTiming::admit(const Request& r) {
   forget_before(r.cycle);
   const uint64_t n = beats(r.bytes);
-  const std::vector<Use> uses = bank_uses(r.address, r.bytes);
+  bank_uses(r.address, r.bytes, uses_);
   // Conflicts: the banks its unloaded schedule would find booked.
-  std::vector<int> conflicting;
-  for (const Use& u : uses)
-    if (bank_booked_[size_t(u.bank)].booked(r.cycle + u.beat)) conflicting.push_back(u.bank);
-  std::sort(conflicting.begin(), conflicting.end());
-  conflicting.erase(std::unique(conflicting.begin(), conflicting.end()), conflicting.end());
-  for (int b : conflicting) ++bank_stats_[size_t(b)].conflicts;
+  conflicting_.clear();
+  for (const Use& u : uses_)
+    if (bank_booked_[size_t(u.bank)].booked(r.cycle + u.beat)) conflicting_.push_back(u.bank);
+  std::sort(conflicting_.begin(), conflicting_.end());
+  conflicting_.erase(std::unique(conflicting_.begin(), conflicting_.end()), conflicting_.end());
+  for (int b : conflicting_) ++bank_stats_[size_t(b)].conflicts;
 
+  // The earliest start from the issue cycle on; each step skips only starts that cannot be it.
   uint64_t start = r.cycle;
   int port = -1;
-  while (!banks_free(uses, start) || (port = free_port(start, n)) < 0) start = next_start(start);
+  for (;;) {
+    const uint64_t banks_from = first_free_banks(uses_, start);
+    if (banks_from != start) {
+      start = banks_from;
+      continue;
+    }
+    if ((port = free_port(start, n)) >= 0) break;
+    start = next_start(start);
+  }
 
-  for (uint64_t k = 0; k < n; ++k) port_booked_[size_t(port)].book(start + k);
+  port_booked_[size_t(port)].book(start, n);
   port_stats_[size_t(port)].busy_cycles += n;
-  for (const Use& u : uses) {
+  for (const Use& u : uses_) {
     bank_booked_[size_t(u.bank)].book(start + u.beat);
     ++bank_stats_[size_t(u.bank)].busy_cycles;
   }
@@ -106,11 +117,10 @@ void LocalMemoryTiming::admit(const Request& r) {
   grants_[r.ticket] = {r.cycle, start, start + config_.latency + n - 1, port};
 }
 
-/// The banks each beat uses.
-std::vector<LocalMemoryTiming::Use> LocalMemoryTiming::bank_uses(uint64_t address,
-                                                                 uint64_t bytes) const {
-  std::vector<Use> uses;
-  if (config_.banks == 0) return uses;
+/// The banks each beat uses, into `uses`.
+void LocalMemoryTiming::bank_uses(uint64_t address, uint64_t bytes, std::vector<Use>& uses) const {
+  uses.clear();
+  if (config_.banks == 0) return;
   const uint64_t w = config_.bytes_per_cycle, g = config_.interleave_bytes,
                  banks = uint64_t(config_.banks);
   for (uint64_t k = 0; k * w < bytes; ++k) {
@@ -121,13 +131,16 @@ std::vector<LocalMemoryTiming::Use> LocalMemoryTiming::bank_uses(uint64_t addres
     for (uint64_t granule = first; granule <= last; ++granule)
       uses.push_back({k, int(granule % banks)});
   }
-  return uses;
 }
 
-bool LocalMemoryTiming::banks_free(const std::vector<Use>& uses, uint64_t start) const {
-  for (const Use& u : uses)
-    if (bank_booked_[size_t(u.bank)].booked(start + u.beat)) return false;
-  return true;
+/// `start` if every bank is free in the beat that uses it, else the earliest start at which the
+/// first use found booked is free (no start before it can be free for that use).
+uint64_t LocalMemoryTiming::first_free_banks(const std::vector<Use>& uses, uint64_t start) const {
+  for (const Use& u : uses) {
+    const BookedCycles& b = bank_booked_[size_t(u.bank)];
+    if (b.booked(start + u.beat)) return b.next_free(start + u.beat) - u.beat;
+  }
+  return start;
 }
 
 /// The lowest-numbered port free in cycles start .. start + beats - 1, or -1; with ports = 0 a new
@@ -151,11 +164,13 @@ void LocalMemoryTiming::forget_before(uint64_t cycle) {
     for (BookedCycles& b : *booked) b.forget_before(cycle);
 }
 
-/// A start needs a port free in its first cycle: while every port is booked, none can start.
+/// After no port was free for a request's beats from `start`: the earliest start any port may
+/// take. A port booked in cycle b of those beats has b in the beats of every start up to b, so it
+/// can start no earlier than the first free cycle after b.
 uint64_t LocalMemoryTiming::next_start(uint64_t start) const {
-  if (config_.ports == 0) return start + 1;
   uint64_t next = BookedCycles::kNone;
-  for (const BookedCycles& p : port_booked_) next = std::min(next, p.next_free(start));
+  for (const BookedCycles& p : port_booked_)
+    next = std::min(next, p.next_free(p.next_booked(start)));
   return std::max(next, start + 1);
 }
 

@@ -133,10 +133,10 @@ class LocalMemoryTiming {
   };
   void admit_waiting();
   void admit(const Request& r);
-  std::vector<Use> bank_uses(uint64_t address, uint64_t bytes) const;
-  bool banks_free(const std::vector<Use>& uses, uint64_t start) const;
+  void bank_uses(uint64_t address, uint64_t bytes, std::vector<Use>& uses) const;
+  uint64_t first_free_banks(const std::vector<Use>& uses, uint64_t start) const;
   int free_port(uint64_t start, uint64_t beats);
-  /// The next start worth trying after `start` fails.
+  /// The next start worth trying after no port is free at `start`.
   uint64_t next_start(uint64_t start) const;
   void forget_before(uint64_t cycle);
 
@@ -146,6 +146,8 @@ class LocalMemoryTiming {
   std::vector<BankStats> bank_stats_;
   std::vector<BookedCycles> port_booked_, bank_booked_;  ///< none before the oldest open request
   std::vector<Request> waiting_;  ///< the requests of one cycle, not yet admitted
+  std::vector<Use> uses_;         ///< the request being admitted's, kept to reuse its storage
+  std::vector<int> conflicting_;  ///< likewise
   std::unordered_map<Ticket, Grant> grants_;
   Ticket next_ticket_ = 0;
   uint64_t open_from_ = 0;  ///< the earliest cycle a request may still be made for

@@ -383,5 +383,54 @@ TEST(LocalMemoryTiming, RandomRequestsNeverDoubleBookAndTheirGrantsObeyTheFormul
   }
 }
 
+// First come, first served, so requests are admitted in the order made: each grant is the earliest
+// start, at or after its issue, at which the lowest-numbered port is free for all its beats and
+// every bank each beat uses is free, given the grants before it (found here by trying every start
+// and port in turn, on sets of booked cycles). Long requests among short ones, on few ports and
+// banks, so that a request has to look past many booked cycles.
+TEST(LocalMemoryTiming, EachGrantIsTheEarliestFreeStartGivenTheGrantsBeforeIt) {
+  std::mt19937 rng(5);
+  for (int run = 0; run < 80; ++run) {
+    const int ports = int(rng() % 3), banks = int(rng() % 4);
+    const uint64_t width = 1 + rng() % 8, granule = 1 + rng() % 8;
+    const Config c = memory(ports, banks, granule, 1, width, MemoryArbitration::Fcfs);
+    LocalMemoryTiming m = with(c, 2);
+    using Booked = std::vector<std::set<uint64_t>>;
+    Booked port_booked = Booked(size_t(ports)), bank_booked = Booked(size_t(banks));
+    uint64_t cycle = 0;
+    for (int i = 0; i < 120; ++i) {
+      cycle += rng() % 3;
+      const uint64_t address = rng() % 256, bytes = 1 + (rng() % 4 == 0 ? rng() % 96 : rng() % 8);
+      const uint64_t beats = (bytes + width - 1) / width;
+      const Grant g = m.collect(m.request(int(rng() % 2), address, bytes, cycle));
+      if (ports == 0) continue;  // a port for every request: only banks make it wait
+      auto fits = [&](uint64_t s, int p) {
+        for (uint64_t k = 0; k < beats; ++k) {
+          if (port_booked[size_t(p)].count(s + k)) return false;
+          const uint64_t lo = address + k * width, hi = address + std::min(bytes, (k + 1) * width);
+          for (uint64_t byte = lo; byte < hi && banks > 0; ++byte)
+            if (bank_booked[size_t(byte / granule % uint64_t(banks))].count(s + k)) return false;
+        }
+        return true;
+      };
+      uint64_t s = cycle;
+      int p = 0;
+      for (;; ++s) {
+        for (p = 0; p < ports && !fits(s, p); ++p) {
+        }
+        if (p < ports) break;
+      }
+      ASSERT_EQ(g.start, s) << "run " << run << ", request " << i;
+      ASSERT_EQ(g.port, p) << "run " << run << ", request " << i;
+      for (uint64_t k = 0; k < beats; ++k) {
+        port_booked[size_t(p)].insert(s + k);
+        const uint64_t lo = address + k * width, hi = address + std::min(bytes, (k + 1) * width);
+        for (uint64_t byte = lo; byte < hi && banks > 0; ++byte)
+          bank_booked[size_t(byte / granule % uint64_t(banks))].insert(s + k);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rtm
