@@ -12,6 +12,8 @@ cost.FMT            energy per frame and frames per second per mm2 vs PE count (
 energy.FMT          the frame's energy split into each unit's, the local memories', the link's and leakage
 scaling.md          a table: cycles, speedup, parallel efficiency, phase shares, load imbalance
                     and bottleneck per configuration and PE count
+cost.md             a table (when the CSV has the cost columns): area, energy per frame, power,
+                    frames per second per mm2 and per joule, and each part's share of the energy
 
 A "configuration" (one line) is a scene with every other setting except the PE count; labels
 name only the settings that vary in the CSV (a variant alone, not also its preset). Its colour
@@ -396,13 +398,41 @@ def write_table(configs, out, written):
     return "\n".join(lines) + "\n"
 
 
+def write_cost_table(configs, out, written):
+    """cost.md: per configuration and PE count, what the frame costs (docs/cost.md) and where its
+    energy goes; "" when the CSV has no cost columns."""
+    if not any(c.values("energy_j")[0] for c in configs):
+        return ""
+    lines = ["| configuration | PEs | area mm² | energy per frame (J) | power (W) | frames/s per mm² "
+             "| frames/J (frames/s per W) | " + " | ".join(f"{label} %" for _, label, _ in ENERGY) + " |",
+             "|---|---|---|---|---|---|---|" + "---|" * len(ENERGY)]
+    fmt = lambda v: f"{v:.3g}" if v is not None else ""
+    for c in configs:
+        for r in c.rows:
+            energy = num(r.get("energy_j"))
+            shares = []
+            for col, _, _ in ENERGY:
+                v = num(r.get(col))
+                shares.append(f"{100 * v / energy:.1f}" if v is not None and energy else "")
+            lines.append(f"| {c.label} | {r['_pes']} | " +
+                         " | ".join(fmt(num(r.get(col)))
+                                    for col in ("area_mm2", "energy_j", "power_w", "frames_per_s_per_mm2", "frames_per_j")) +
+                         " | " + " | ".join(shares) + " |")
+    path = os.path.join(out.folder, "cost.md")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    written.append(path)
+    return "\n".join(lines) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="plot-sweep", description="Plots a scripts/sweep results.csv.")
     ap.add_argument("csv", help="results.csv written by scripts/sweep")
     ap.add_argument("outdir", help="folder for the plots (created)")
     ap.add_argument("--format", choices=FORMATS, default="png", help="the plots' file format (default png)")
     ap.add_argument("--quiet", "-q", action="store_true", help="print only problems")
-    ap.add_argument("--page", help="the study page (docs/studies/*.md) whose generated part to rewrite with scaling.md")
+    ap.add_argument("--page", help="the study page (docs/studies/*.md) whose generated part to rewrite with "
+                    "scaling.md (and cost.md)")
     ap.add_argument("--part", default="scaling", help="the page's part: its markers name `scripts/plot-sweep PART`")
     ap.add_argument("--rtm", help="the rtm that made the CSV: the page's stamp says what `RTM --version` prints")
     args = ap.parse_args(argv)
@@ -433,6 +463,11 @@ def main(argv=None):
     if not plot_energy(configs, out, written):
         notes.append(out.file("energy") + ": skipped, no energy columns")
     table = write_table(configs, out, written)
+    cost = write_cost_table(configs, out, written)
+    if cost:
+        table += ("\nWhat each frame costs (docs/cost.md): the chip's area, the frame's energy and power, "
+                  "frames per second per mm² and per joule (the same as per second per watt), and each "
+                  "part's share of the frame's energy.\n\n" + cost)
     if args.page:
         build = page.build_of(args.rtm) if args.rtm else page.NOT_RECORDED
         try:

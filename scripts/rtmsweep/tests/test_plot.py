@@ -52,6 +52,11 @@ def test_plot_sweep_writes_its_png_files_and_table(tmp_path, csv_rows):
     assert table.count("\n") == 2 + ok
     assert "| balls-4 scanlines | 2 | 725,000 | 1.7 | 0.84 |" in table
     assert "| rings-7 scanlines | 2 |" in table and "| rings-7 scanlines | 1 |" not in table
+    # The cost table: one line per successful run, each part's share of the frame's energy (the
+    # eight parts 1e-4 · (1 + 0.01 · 2) J each of 1.02e-3 J on 2 PEs: 10.0 %).
+    cost = (tmp_path / "plots" / "cost.md").read_text()
+    assert cost.count("\n") == 2 + ok
+    assert "| balls-4 scanlines | 2 |  | 0.00102 |  | 41.7 |  | " + " | ".join(["10.0"] * 8) + " |" in cost
 
 
 def test_the_lines_are_named_by_the_settings_that_vary(tmp_path, csv_rows):
@@ -96,7 +101,7 @@ def test_the_plots_can_be_pdf_or_svg(tmp_path, csv_rows, fmt, magic):
     r = sh(PLOT_SWEEP, tmp_path / "results.csv", tmp_path / "plots", "--format", fmt, "--quiet")
     assert r.returncode == 0, r.stdout + r.stderr
     written = sorted(p.name for p in (tmp_path / "plots").iterdir())
-    assert written == sorted([p.replace(".png", "." + fmt) for p in PLOTS] + ["scaling.md"])
+    assert written == sorted([p.replace(".png", "." + fmt) for p in PLOTS] + ["scaling.md", "cost.md"])
     for p in PLOTS:
         data = (tmp_path / "plots" / p.replace(".png", "." + fmt)).read_bytes()
         assert data.startswith(magic) and len(data) > 5000, p
