@@ -1,6 +1,6 @@
 // `rtm render` of mesh files: a small OBJ on the reference and the machine, bad files (exit 1, the
 // file and the problem named, no image), and every OBJ, PLY, STL, OFF and glTF file of Debian's
-// assimp-testmodels (docs/mesh-corpus.md).
+// assimp-testmodels (docs/studies/mesh-corpus.md).
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -34,13 +34,11 @@ import subprocess
 import sys
 import time
 
-from . import columns, results
+from . import checkout, columns, results
 
 # Top-level spec axes: the rtm render option of each.
 AXIS_OPTIONS = {"pes": "--pes", "partition": "--partition", "search_units": "--search-units",
                 "timing": "--timing", "precision": "--precision"}
-# The checkout this file is in: scene files inside it are recorded relative to it.
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 # rtm exits with this on a deadlocked simulation.
 EXIT_DEADLOCK = 3
 # A run killed by one of these was interrupted, not broken: no row, so a resume runs it again.
@@ -65,14 +63,6 @@ def rtm_command(rtm, job, out_png, out_json):
     return cmd + ["--sim-threads", "1", "--out", out_png, "--stats", out_json, "-q"]
 
 
-def recorded_path(path):
-    """PATH as the CSV records it: relative to the checkout when it is inside it (so the rows of
-    any checkout name the same file, and a committed CSV no folder of the machine that made it),
-    else as it is."""
-    rel = os.path.relpath(path, ROOT)
-    return path if rel == os.pardir or rel.startswith(os.pardir + os.sep) else rel
-
-
 def error_line(stderr_text):
     """rtm's error message: the last stderr line starting with 'rtm:', else the last non-empty one."""
     lines = [line.strip() for line in stderr_text.splitlines() if line.strip()]
@@ -88,7 +78,7 @@ def build_row(job, status, error, exit_code, stats=None, host=None):
     s = stats or {}
     cfg = s.get("config") if isinstance(s.get("config"), dict) else {}
     row = {"run_id": job["id"], "status": status, "error": error, "exit_code": exit_code,
-           "host": host or socket.gethostname(), "scene_file": recorded_path(job["scene"])}
+           "host": host or socket.gethostname(), "scene_file": checkout.relative(job["scene"])}
     row["scene"] = s.get("scene") or os.path.splitext(os.path.basename(job["scene"]))[0]
     if job.get("size"):
         row["width"], row["height"] = (int(x) for x in job["size"].split("x"))

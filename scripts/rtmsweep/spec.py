@@ -15,6 +15,8 @@ import re
 
 import yaml
 
+from . import checkout
+
 # Top-level spec axes, each an rtm render option (run.AXIS_OPTIONS).
 AXES = ["pes", "partition", "search_units", "timing", "precision"]
 SPEC_KEYS = {"name", "description", "scene_dir", "scenes", "sizes", "set", "variants", "preset", "config",
@@ -95,8 +97,11 @@ class Spec:
 
 def run_id(identity):
     """SCENE[-WxH][-pN]-HASH: HASH is 8 hex digits of a hash over every setting, so the same
-    configuration gets the same id whatever the order of the spec's lists (resuming relies on it)."""
-    digest = hashlib.sha1(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:8]
+    configuration gets the same id whatever the order of the spec's lists (resuming relies on it).
+    The scene and config files in the checkout count by their paths in it, so that a copy of the
+    checkout elsewhere resumes the same runs."""
+    files = {k: checkout.relative(identity[k]) for k in ("scene", "config") if identity.get(k)}
+    digest = hashlib.sha1(json.dumps({**identity, **files}, sort_keys=True).encode()).hexdigest()[:8]
     stem = re.sub(r"[^A-Za-z0-9._-]", "_", os.path.splitext(os.path.basename(identity["scene"]))[0])
     size, pes = identity.get("size"), identity.get("pes")
     return "-".join([stem] + ([size] if size else []) + ([f"p{pes}"] if pes else []) + [digest])

@@ -1,6 +1,6 @@
 """Each study script on a tiny case, so a study page's command still runs and writes its page:
-error-study (spd, remedies, position), error-vs-runtime, compare-povray, bench-reference and the
-leave-out table. scripts/memory-study, scripts/bench-model and scripts/sweep --page have tests of
+error-study (spd, remedies, position), error-vs-runtime, compare-povray, bench-reference, the
+leave-out table and mesh-corpus. scripts/memory-study, scripts/bench-model and scripts/sweep --page have tests of
 their own (test_memory_study.py, test_bench_model.py, rtmsweep/tests)."""
 
 import csv
@@ -142,3 +142,21 @@ def test_leave_out_table_from_a_tiny_leave_out_sweep(tmp_path, rtm):
             "--rtm", rtm)
     assert "balls-1" in r.stdout
     assert "balls-1" in stamped(p, rtm)
+
+
+def test_mesh_corpus_lists_what_does_not_render(tmp_path, rtm):
+    """A folder of two mesh files, one good and one empty: one renders, the other is listed with
+    rtm's message, and the page gets the table with its stamp."""
+    models = tmp_path / "models"
+    models.mkdir()
+    shutil.copy(os.path.join(ROOT, "scenes", "meshes", "icosahedron.obj"), models)
+    (models / "empty.obj").write_text("")
+    p = page(tmp_path, "scripts/mesh-corpus")
+    r = run(os.path.join(SCRIPTS, "mesh-corpus"), "--models", str(models), "--dir", str(tmp_path / "out"),
+            "--page", str(p), os.path.dirname(rtm))
+    assert "mesh-corpus: 1 of 2 render, 1 refused, 0 broken" in r.stdout
+    text = stamped(p, rtm)
+    assert "- runs: 2 files, " in text
+    assert "**1 of 2 files render**; 1 are refused" in text
+    assert "| `empty.obj` | 1 | " in text and "icosahedron" not in text
+    assert (tmp_path / "out" / "table.md").read_text() in text

@@ -52,6 +52,10 @@ def test_plot_sweep_writes_its_png_files_and_table(tmp_path, csv_rows):
     assert table.count("\n") == 2 + ok
     assert "| balls-4 scanlines | 2 | 725,000 | 1.7 | 0.84 |" in table
     assert "| rings-7 scanlines | 2 |" in table and "| rings-7 scanlines | 1 |" not in table
+    # The cost table: one line per successful run, then each scene's best.
+    cost = (tmp_path / "plots" / "cost.md").read_text()
+    assert cost.count("\n") == 2 + ok + 1 + 2 + 2
+    assert "| balls-4 scanlines | 2 |  | 1,020 |  | 41.67 |  |" in cost
 
 
 def test_the_cost_table_has_a_line_per_run_and_each_scenes_best(tmp_path, csv_rows):

@@ -2,6 +2,7 @@
 
 import hashlib
 import json
+import os
 import random
 
 import pytest
@@ -180,3 +181,36 @@ def test_run_ids_and_jobs_are_those_of_earlier_sweeps():
         '"pes": 1, "scene": "/scenes/a.nff", "set": {"broadcast": "true", "loop_credits": "0"}, '
         '"set_keys": ["variant", "loop_credits", "broadcast"], "size": "16x16", "timeout": 30, "variant": "paper"}')
     assert hashlib.sha1(sweep.jobs_tsv(jobs).encode()).hexdigest() == "399822078e7ae751a62feb708d80460f8319b6ad"
+
+
+def test_two_copies_of_a_checkout_give_the_same_run_ids(tmp_path):
+    """A scene and a config in the checkout count by their paths in it: the same spec in two
+    copies of the tree (each with its own rtmsweep) gives the same ids, and a sweep started in one
+    resumes in the other."""
+    import shutil
+    import subprocess
+    import sys
+    from support import SCRIPTS, SCENES
+
+    ids = []
+    for copy in (tmp_path / "one", tmp_path / "elsewhere" / "two"):
+        shutil.copytree(os.path.join(SCRIPTS, "rtmsweep"), copy / "scripts" / "rtmsweep",
+                        ignore=shutil.ignore_patterns("tests", "__pycache__"))
+        (copy / "scenes").mkdir()
+        shutil.copy(os.path.join(SCENES, "balls-1.nff"), copy / "scenes")
+        (copy / "base.yaml").write_text("loop_credits: 4\n")
+        (copy / "spec.yaml").write_text("scenes: [scenes/balls-1.nff]\nsizes: [16x16]\npes: [1, 2]\n"
+                                        "config: base.yaml\nvariants: {a: {}, b: {broadcast: true}}\n")
+        r = subprocess.run([sys.executable, "-B", "-c",
+                            "import sys; sys.path.insert(0, sys.argv[1]); from rtmsweep import spec\n"
+                            "print(' '.join(j['id'] for j in spec.load(sys.argv[2], {'broadcast'}).jobs()))",
+                            str(copy / "scripts"), str(copy / "spec.yaml")], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        ids.append(r.stdout.split())
+    assert len(ids[0]) == 4 and len(set(ids[0])) == 4
+    assert ids[0] == ids[1]
+    # Outside the checkout a file counts by its absolute path: other folders, other ids.
+    outside = [j["id"] for j in parse("scenes: [balls-1.nff]\nsizes: [16x16]\npes: [1, 2]\n", base=str(tmp_path)).jobs()]
+    other = [j["id"] for j in parse("scenes: [balls-1.nff]\nsizes: [16x16]\npes: [1, 2]\n",
+                                    base=str(tmp_path / "elsewhere")).jobs()]
+    assert outside != other
