@@ -380,6 +380,6 @@ def test_page_writes_the_study_page_with_the_scaling_table_and_the_build(sweep, 
     assert f"- build: `{version}" in text
     assert "- runs: 6, " in text and "min of run time in all" in text
     assert "| balls-1 | 1 | " in text and "| rings-1 | 4 | " in text  # the scaling table, one row per run
-    assert "| configuration | PEs | area mm² | energy per frame (J) |" in text  # and the cost table
+    assert "| configuration | PEs | area, mm² | energy per frame, µJ |" in text  # and the cost table
     assert text.count("| balls-1 | 1 | ") == 2
     assert text.startswith("# Tiny\n\nThe question.\n") and text.endswith("\n\nThe findings.\n")
