@@ -372,6 +372,16 @@ def plot_energy(configs, out, written):
                           4, 0.1)
 
 
+def write_markdown(out, written, name, lines):
+    """Writes the table's lines as NAME in the plots' folder and returns its text."""
+    text = "\n".join(lines) + "\n"
+    path = os.path.join(out.folder, name)
+    with open(path, "w") as f:
+        f.write(text)
+    written.append(path)
+    return text
+
+
 def write_table(configs, out, written):
     """scaling.md: per configuration and PE count, cycles, speedup and parallel efficiency, where
     the frame went, and the bottleneck."""
@@ -391,11 +401,7 @@ def write_table(configs, out, written):
             lines.append(f"| {c.label} | {p} | {int(cyc):,} | {fmt(speed, '%.1f')} | {fmt(eff, '%.2f')} | " +
                          " | ".join(shares) +
                          f" | {fmt(num(r.get('load_imbalance')), '%.3f')} | {r.get('bottleneck', '')} |")
-    path = os.path.join(out.folder, "scaling.md")
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    written.append(path)
-    return "\n".join(lines) + "\n"
+    return write_markdown(out, written, "scaling.md", lines)
 
 
 def write_cost_table(configs, out, written):
@@ -423,11 +429,7 @@ def write_cost_table(configs, out, written):
         rows = [(c, r) for c in configs if c.scene == scene for r in c.rows]
         lines.append(f"| {scene} | {cell(best(rows, 'frames_per_s_per_mm2'), 'frames_per_s_per_mm2')} | "
                      f"{cell(best(rows, 'frames_per_j'), 'frames_per_j')} |")
-    path = os.path.join(out.folder, "cost.md")
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    written.append(path)
-    return "\n".join(lines) + "\n"
+    return write_markdown(out, written, "cost.md", lines)
 
 
 def main(argv=None):
