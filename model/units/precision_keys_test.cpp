@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "geom/test_grid.h"
 #include "render/glass_sphere_test_scene.h"
 #include "units/intersection.h"
 #include "units/search_unit.h"
@@ -15,16 +16,7 @@
 namespace rtm {
 namespace {
 
-/// A grid of unit voxels from the origin, n[0] x n[1] x n[2], whose voxels list `items`.
-Grid unit_grid(std::array<int, 3> n, std::vector<uint32_t> items = {}) {
-  Grid g;
-  g.n = n;
-  g.box = {{0, 0, 0}, {double(n[0]), double(n[1]), double(n[2])}};
-  g.start.assign(size_t(n[0] * n[1] * n[2] + 1), 0);
-  for (size_t v = 1; v < g.start.size(); ++v) g.start[v] = uint32_t(items.size());
-  g.items = std::move(items);
-  return g;
-}
+using test::unit_grid;
 
 struct Pe {
   Scene scene = test::glass_sphere_scene();
