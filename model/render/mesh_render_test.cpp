@@ -9,6 +9,7 @@
 
 #include "geom/grid.h"
 #include "render/reference.h"
+#include "scene/mesh_test_files.h"
 #include "scene/scene.h"
 
 namespace rtm {
@@ -16,26 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class MeshRender : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rtm-mesh-render-" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p.string();
-  }
-  fs::path dir_;
-};
-
-/// A unit square in z = 0 as two triangles, and one more triangle behind it.
-const std::string kObj =
-    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 -1\nv 1 0 -1\nv 0 1 -1\n"
-    "f 1 2 3 4\n"
-    "f 5 6 7\n";
+class MeshRender : public test::MeshFileTest {};
+using test::kObj;
 
 TEST_F(MeshRender, ObjRendersAsTheSameNffPolygons) {
   // A concave-free mesh of two quads and a triangle, as OBJ (faces in the same order) and as NFF
