@@ -424,13 +424,21 @@ Primitive make_polygon(const std::vector<Vec3>& in) {
   return finish(p);
 }
 
-std::vector<Vec3> unit_normals(const std::vector<Vec3>& normals) {
+std::vector<Vec3> vertex_normals(const Primitive& triangle, const std::vector<Vec3>& normals) {
+  const std::vector<Vec3>& v = triangle.vertices;
+  if (v.size() != 3 || normals.size() != 3) return {};
+  const Vec3 face = cross(v[1] - v[0], v[2] - v[0]);
   std::vector<Vec3> out;
+  int above = 0, below = 0;
   for (const Vec3& n : normals) {
     const double len = length(n);
     if (!(len > 0) || !std::isfinite(len)) return {};
     out.push_back(n / len);
+    const double side = dot(face, n);
+    above += side > 0;
+    below += side < 0;
   }
+  if (above != 3 && below != 3) return {};
   return out;
 }
 

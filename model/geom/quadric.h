@@ -145,9 +145,14 @@ struct PolygonOutline {
   double size() const { return length(box.extent()); }  ///< the scale of its tolerances
 };
 PolygonOutline polygon_outline(const std::vector<Vec3>& vertices);
-/// Vertex normals as a triangle keeps them (Primitive::normals): each made unit length; empty
-/// (the plane's normal, flat) when any is zero or not finite.
-std::vector<Vec3> unit_normals(const std::vector<Vec3>& normals);
+/// Vertex normals as `triangle` keeps them (Primitive::normals): each made unit length; empty
+/// (the plane's normal, flat) when any is zero or not finite, or when they do not all lie strictly
+/// on one side of the face, where their blend can vanish or turn edge-on inside the triangle
+/// (POV-Ray drops such a smooth_triangle as degenerate).
+std::vector<Vec3> vertex_normals(const Primitive& triangle, const std::vector<Vec3>& normals);
+/// What a reader says of a triangle whose normals vertex_normals() left out.
+constexpr const char* kFlatNormalsReason =
+    "a normal is zero, or they are not all on one side of the face: shaded flat";
 /// Raw coefficients, clipped to `box` and the given half-spaces.
 Primitive make_raw_quadric(const std::array<double, 10>& coef, const Aabb& box,
                            std::vector<HalfSpace> clips);

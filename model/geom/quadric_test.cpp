@@ -934,6 +934,23 @@ TEST(QuadricFrame, AlongIsOrthonormalForEveryAxis) {
   }
 }
 
+TEST(VertexNormals, KeptUnitLengthWhenAllLieOnOneSideOfTheFace) {
+  const Primitive t = make_polygon({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}});  // the face's normal is +z
+  const std::vector<Vec3> up = vertex_normals(t, {{-1, 0, 1}, {1, 0, 1}, {0, 3, 3}});
+  ASSERT_EQ(up.size(), 3u);
+  EXPECT_NEAR(length(up[2]), 1, 1e-15);
+  EXPECT_EQ(vertex_normals(t, {{0, 0, -1}, {1, 0, -1}, {0, 1, -1}}).size(), 3u);  // all below
+}
+
+TEST(VertexNormals, FlatWhenTheyStraddleOrLieInTheFace) {
+  // SPD teapot's rim: normals on both sides of the face, whose blend vanishes inside it.
+  const Primitive t = make_polygon({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}});
+  EXPECT_TRUE(vertex_normals(t, {{0, 0, 1}, {0, 0, 1}, {0, 0, -1}}).empty());
+  EXPECT_TRUE(vertex_normals(t, {{0, 0, 1}, {0, 0, 1}, {1, 0, 0}}).empty());  // one edge-on
+  EXPECT_TRUE(vertex_normals(t, {{0, 0, 1}, {0, 0, 0}, {0, 0, 1}}).empty());  // one zero
+  EXPECT_TRUE(vertex_normals(t, {{0, 0, 1}, {0, 0, 1}}).empty());             // too few
+}
+
 TEST(QuadricNames, EveryKindHasAName) {
   for (ShapeKind k : {ShapeKind::Sphere, ShapeKind::Ellipsoid, ShapeKind::Cylinder, ShapeKind::Cone,
                       ShapeKind::Plane, ShapeKind::Paraboloid, ShapeKind::Hyperboloid1,

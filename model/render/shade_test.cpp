@@ -102,7 +102,7 @@ struct SmoothTriangle {
   Scene s;
   SmoothTriangle() {
     Primitive p = make_polygon({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}});
-    p.normals = unit_normals({{-1, 0, 1}, {1, 0, 1}, {0, 1, 1}});
+    p.normals = vertex_normals(p, {{-1, 0, 1}, {1, 0, 1}, {0, 1, 1}});
     s.primitives = {p};
     s.materials = {Material{}};
     s.materials[0].ambient = 0;

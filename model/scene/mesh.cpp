@@ -254,6 +254,7 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
     fail("the mesh has not one normal per vertex");
   const size_t kept_materials = placement.material ? 0 : std::max<size_t>(1, m.materials.size());
   SkippedRecords degenerate{"degenerate triangle", "", 0, {}};
+  SkippedRecords flat{"vertex normal", "", 0, {}};
   // Reserved: growing a million primitives by doubling would hold half again as many for a moment.
   s.primitives.reserve(s.primitives.size() + m.triangles.size());
   s.origins.reserve(s.origins.size() + m.triangles.size());
@@ -284,9 +285,13 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
       fail(name + ": " + e.what());
     }
     // A uniform scale and a translation keep the normals' directions.
-    if (!m.normals.empty())
-      prim.normals = unit_normals({m.normals[m.triangles[i][0]], m.normals[m.triangles[i][1]],
-                                   m.normals[m.triangles[i][2]]});
+    if (!m.normals.empty()) {
+      prim.normals =
+          vertex_normals(prim, {m.normals[m.triangles[i][0]], m.normals[m.triangles[i][1]],
+                                m.normals[m.triangles[i][2]]});
+      if (prim.normals.empty() && flat.count++ == 0)
+        flat.reason = std::string(kFlatNormalsReason) + "; the first is " + name + " of " + file;
+    }
     if (placement.material) {
       prim.material = *placement.material;
     } else {
@@ -300,6 +305,7 @@ void add_mesh(Scene& s, const MeshData& m, const std::string& file, const MeshPl
     s.origins.push_back({file, 0});
   }
   if (degenerate.count) s.skipped.push_back(std::move(degenerate));
+  if (flat.count) s.skipped.push_back(std::move(flat));
   if (m.points_and_lines)
     s.skipped.push_back({"point or line face",
                          "it has no area to render",

@@ -377,7 +377,11 @@ class NffParser {
     add(kw, [&] {
       std::vector<Primitive> ps = make_polygon_pieces(v);
       // A triangle's vertex normals, for smooth shading (docs/scene-format.md, "Vertex normals").
-      if (patch && n == 3 && ps.size() == 1) ps[0].normals = unit_normals(normals);
+      if (patch && n == 3 && ps.size() == 1) {
+        ps[0].normals = vertex_normals(ps[0], normals);
+        if (ps[0].normals.empty())
+          note_skipped(quote(kw.text) + " vertex normal", kFlatNormalsReason, kw.line);
+      }
       return ps;
     });
   }

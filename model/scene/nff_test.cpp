@@ -275,12 +275,21 @@ TEST(NffSpd, GearsAndTeapotLoad) {
   EXPECT_EQ(gears.primitives.size(), 145u + 2 * 37);
   EXPECT_TRUE(gears.skipped.empty());
   const Scene teapot = load_scene(kSpdDir + "/teapot-1.nff");
-  ASSERT_EQ(teapot.skipped.size(), 1u);
-  EXPECT_EQ(teapot.skipped[0].kind, "degenerate 'pp'");
-  EXPECT_EQ(teapot.skipped[0].reason, "polygon has zero area");
-  EXPECT_EQ(teapot.skipped[0].count, 4);
-  EXPECT_EQ(teapot.skipped[0].lines, (std::vector<int>{163, 167, 171, 175}));
+  ASSERT_EQ(teapot.skipped.size(), 2u);
+  // Eight patches on the lid's rim have normals on both sides of the face, twelve in the plane
+  // y = 0 normals in their plane: shaded flat.
+  EXPECT_EQ(teapot.skipped[0].kind, "'pp' vertex normal");
+  EXPECT_EQ(teapot.skipped[0].reason, kFlatNormalsReason);
+  EXPECT_EQ(teapot.skipped[0].count, 20);
+  EXPECT_EQ(teapot.skipped[0].lines, (std::vector<int>{19, 23, 27, 31, 35}));
+  EXPECT_EQ(teapot.skipped[1].kind, "degenerate 'pp'");
+  EXPECT_EQ(teapot.skipped[1].reason, "polygon has zero area");
+  EXPECT_EQ(teapot.skipped[1].count, 4);
+  EXPECT_EQ(teapot.skipped[1].lines, (std::vector<int>{163, 167, 171, 175}));
   EXPECT_EQ(teapot.primitives.size(), 1u + 56 - 4);
+  size_t smooth = 0;
+  for (const Primitive& p : teapot.primitives) smooth += !p.normals.empty();
+  EXPECT_EQ(smooth, 56u - 4 - 20);
   try {
     load_scene(kSpdDir + "/teapot-1.nff", {/*strict=*/true, false});
     ADD_FAILURE() << "strict reading accepted a degenerate patch";
