@@ -404,6 +404,20 @@ def write_table(configs, out, written):
     return write_markdown(out, written, "scaling.md", lines)
 
 
+def energy_shares(row):
+    """Leakage's share of the row's energy, and the dynamic part (a unit, the local memories or the
+    link) that takes most of the rest, with its share of it: ("58 %", "MAC 41 %")."""
+    parts = {col: num(row.get(col)) for col, _, _ in ENERGY if num(row.get(col)) is not None}
+    total = sum(parts.values())
+    leakage = parts.pop("energy_leakage_j", 0)
+    dynamic = total - leakage
+    if not parts or total <= 0 or dynamic <= 0:
+        return "", ""
+    col = max(parts, key=parts.get)
+    name = next(n for c, n, _ in ENERGY if c == col)
+    return f"{100 * leakage / total:.0f} %", f"{name} {100 * parts[col] / dynamic:.0f} %"
+
+
 def write_cost_table(configs, out, written):
     """cost.md (docs/cost.md): per configuration and PE count, area, energy per frame, frames per
     second, per mm² and per joule; then per scene the configurations of most frames/s/mm² and most
@@ -412,18 +426,21 @@ def write_cost_table(configs, out, written):
         return None
     fmt = lambda v, f: (f % v) if v is not None else ""
     micro = lambda j: "" if j is None else f"{j * 1e6:,.0f}" if j >= 1e-4 else f"{j * 1e6:.4g}"
-    lines = ["| configuration | PEs | area, mm² | energy per frame, µJ | frames/s | frames/s/mm² | frames/J |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| configuration | PEs | area, mm² | energy per frame, µJ | power, W | frames/s | frames/s/mm² | frames/J "
+             "| leakage | largest dynamic part |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for c in configs:
         for r in c.rows:
             area, per_mm2, energy = (num(r.get(k)) for k in ("area_mm2", "frames_per_s_per_mm2", "energy_j"))
             fps = per_mm2 * area if per_mm2 is not None and area is not None else None
             lines.append(f"| {c.label} | {r['_pes']} | {fmt(area, '%.3f')} | "
-                         f"{micro(energy)} | {fmt(fps, '%.4g')} | "
-                         f"{fmt(per_mm2, '%.4g')} | {fmt(num(r.get('frames_per_j')), '%.4g')} |")
+                         f"{micro(energy)} | {fmt(num(r.get('power_w')), '%.3g')} | {fmt(fps, '%.4g')} | "
+                         f"{fmt(per_mm2, '%.4g')} | {fmt(num(r.get('frames_per_j')), '%.4g')} | "
+                         f"{' | '.join(energy_shares(r))} |")
     best = lambda rows, key: max((r for r in rows if num(r[1].get(key)) is not None),
                                  key=lambda r: num(r[1].get(key)), default=None)
-    cell = lambda b, key: f"{b[0].label}, {b[1]['_pes']} PEs ({num(b[1].get(key)):.4g})" if b else ""
+    pes = lambda n: f"{n} PE" if int(n) == 1 else f"{n} PEs"
+    cell = lambda b, key: f"{b[0].label}, {pes(b[1]['_pes'])} ({num(b[1].get(key)):.4g})" if b else ""
     lines += ["", "| scene | most frames/s/mm² | most frames/J |", "|---|---|---|"]
     for scene in sorted({c.scene for c in configs}):
         rows = [(c, r) for c in configs if c.scene == scene for r in c.rows]

@@ -3,6 +3,7 @@ then the CSV, the per-run files, resuming after a kill, failed runs, variants an
 
 import json
 import os
+import re
 import signal
 import subprocess
 import time
@@ -382,4 +383,7 @@ def test_page_writes_the_study_page_with_the_scaling_table_and_the_build(sweep, 
     assert "| balls-1 | 1 | " in text and "| rings-1 | 4 | " in text  # the scaling table, one row per run
     assert "| configuration | PEs | area, mm² | energy per frame, µJ |" in text  # and the cost table
     assert text.count("| balls-1 | 1 | ") == 2
+    # Each cost row ends in leakage's share and the dynamic part that takes most of the rest.
+    cost_rows = [line for line in text.splitlines() if line.startswith("| balls-1 | 1 | ")][1:]
+    assert re.search(r"\| \d+ % \| [a-zA-Z() ]+ \d+ % \|$", cost_rows[0]), cost_rows
     assert text.startswith("# Tiny\n\nThe question.\n") and text.endswith("\n\nThe findings.\n")
