@@ -76,6 +76,10 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
           " --set ray_block=10 --set gather=as_finished"),
       net("tree-streamed-as-finished", "tree", 1, 3, true,
           " --set ray_block=10 --set gather=as_finished"),
+      net("tree-2-cut-through", "tree", 1, 2, false, " --set tree_forwarding=cut_through"),
+      net("tree-broadcast-cut-through", "tree", 1, 2, true, " --set tree_forwarding=cut_through"),
+      net("tree-chain-cut-through-streamed", "tree", 1, 1, true,
+          " --set tree_forwarding=cut_through --set ray_block=10 --set gather=as_finished"),
   };
   const json serial = render(tmp, "serial", frame + nets[0].args);
   ASSERT_FALSE(serial.is_null());
@@ -140,6 +144,57 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
             .get<uint64_t>(),
         serial_transfer)
         << faster;
+}
+
+// Cut-through moves only times: the same work on every PE, the links busy as long.
+TEST(InterconnectRender, CutThroughOnATreeMovesOnlyTheTimes) {
+  Tmp tmp;
+  const std::string args = kScene + " --size " + std::to_string(kWidth) + "x" +
+                           std::to_string(kHeight) + " --pes " + std::to_string(kPes) +
+                           " --set link_topology=tree --set broadcast=true";
+  const json stored = render(tmp, "stored", args);
+  const json cut = render(tmp, "cut", args + " --set tree_forwarding=cut_through");
+  ASSERT_FALSE(stored.is_null() || cut.is_null());
+  EXPECT_EQ(rtm::read_image(tmp / "cut.exr").rgb, rtm::read_image(tmp / "stored.exr").rgb);
+  for (const char* key : {"rays", "intersection_tests", "voxel_steps"})
+    EXPECT_EQ(cut[key], stored[key]) << key;
+  ASSERT_EQ(cut["per_pe"].size(), stored["per_pe"].size());
+  for (size_t pe = 0; pe < cut["per_pe"].size(); ++pe) {
+    const json &c = cut["per_pe"][pe], &s = stored["per_pe"][pe];
+    for (const char* key : {"rays", "busy_cycles", "issue_cycles", "memory_access"})
+      EXPECT_EQ(c[key], s[key]) << "PE " << pe << " " << key;
+    EXPECT_EQ(c["cycles"].get<int64_t>() - c["start_cycle"].get<int64_t>(),
+              s["cycles"].get<int64_t>() - s["start_cycle"].get<int64_t>())
+        << "PE " << pe << "'s working window";
+    if (pe == 0)  // one link deep: nothing to forward
+      EXPECT_EQ(c["start_cycle"], s["start_cycle"]);
+    else
+      EXPECT_LT(c["start_cycle"].get<uint64_t>(), s["start_cycle"].get<uint64_t>()) << "PE " << pe;
+  }
+  EXPECT_EQ(cut["interconnect"]["bytes"], stored["interconnect"]["bytes"]);
+  EXPECT_EQ(cut["interconnect"]["busy_cycles"], stored["interconnect"]["busy_cycles"]);
+  EXPECT_LT(cut["cycles"].get<uint64_t>(), stored["cycles"].get<uint64_t>());
+}
+
+// By hand, on a chain of 2 PEs with rays made on the PEs (each hop L = 100 cycles of latency and
+// 4 bytes a cycle: the scene S, a camera record C = L + 16). Store-and-forward: the scene holds
+// link 0 over [0, S) and link 1 over [S, 2S); PE 1's camera follows PE 0's on link 0 to S + 2C,
+// then waits for link 1 until 2S. Cut-through: the scene holds link 1 over [L, L + S); PE 1's
+// camera leaves link 0 at S + C and goes on L later, at S + C + L, link 1 being free by then. So
+// PE 1 starts S - C - L sooner, and PE 0, one link deep, at the same cycle.
+TEST(InterconnectRender, CutThroughOnAChainByHand) {
+  Tmp tmp;
+  const std::string args = kScene +
+                           " --size 8x8 --pes 2 --set link_topology=tree --set "
+                           "tree_fanout=1 --set broadcast=true --set ray_generation=pe";
+  const json stored = render(tmp, "stored", args);
+  const json cut = render(tmp, "cut", args + " --set tree_forwarding=cut_through");
+  ASSERT_FALSE(stored.is_null() || cut.is_null());
+  const double L = 100, S = L + stored["host"]["scene_bytes"].get<double>() / 4, C = L + 16;
+  EXPECT_EQ(cut["per_pe"][0]["start_cycle"], stored["per_pe"][0]["start_cycle"]);
+  EXPECT_NEAR(stored["per_pe"][1]["start_cycle"].get<double>() -
+                  cut["per_pe"][1]["start_cycle"].get<double>(),
+              S - C - L, 1.0);
 }
 
 // A PE-engine frame and a modules frame agree on every topology (engine_test.cpp compares two

@@ -116,6 +116,12 @@ struct EnumNames<M::LinkTopology> {
       {M::LinkTopology::Tree, "tree"}};
 };
 template <>
+struct EnumNames<M::TreeForwarding> {
+  static constexpr std::pair<M::TreeForwarding, const char*> all[] = {
+      {M::TreeForwarding::StoreAndForward, "store_and_forward"},
+      {M::TreeForwarding::CutThrough, "cut_through"}};
+};
+template <>
 struct EnumNames<M::Gather> {
   static constexpr std::pair<M::Gather, const char*> all[] = {
       {M::Gather::AfterAll, "after_all"}, {M::Gather::AsFinished, "as_finished"}};
@@ -289,6 +295,7 @@ const char* to_string(MachineConfig::SearchWalk w) { return name_of(w); }
 const char* to_string(MachineConfig::RayGeneration g) { return name_of(g); }
 const char* to_string(MachineConfig::Gather g) { return name_of(g); }
 const char* to_string(MachineConfig::LinkTopology t) { return name_of(t); }
+const char* to_string(MachineConfig::TreeForwarding f) { return name_of(f); }
 const char* to_string(MachineConfig::Arbitration a) { return name_of(a); }
 const char* to_string(MachineConfig::PeSimulation p) { return name_of(p); }
 
@@ -597,7 +604,7 @@ const std::vector<ConfigKey>& config_keys() {
                "original link), bus (one shared medium: one transfer at a time, a broadcast "
                "reaches every PE), star (a link per PE, the host drives host_ports of them at "
                "once) or tree (a link from each PE to its parent: the host drives host_ports "
-               "children, each PE forwards to tree_fanout children, store-and-forward)",
+               "children, each PE forwards to tree_fanout children as tree_forwarding says)",
                &M::link_topology),
       int_key("host_ports",
               "links the host drives at once: on a star its ports onto the PEs' links, on a tree "
@@ -605,6 +612,11 @@ const std::vector<ConfigKey>& config_keys() {
               &M::host_ports, from(1, kMaxPes)),
       int_key("tree_fanout", "children of each PE on a tree (link_topology = tree; 1: a chain)",
               &M::tree_fanout, from(1, kMaxPes)),
+      enum_key("tree_forwarding",
+               "how a tree's PE passes a transfer on (link_topology = tree): store_and_forward "
+               "(once it holds all of it) or cut_through (once the header is in: each further hop "
+               "starts link_latency_ns after the one before)",
+               &M::tree_forwarding),
       bool_key("broadcast",
                "one scene transfer reaches every PE (else one transfer per PE): on serial and bus "
                "one transfer on the medium, on a tree forwarded from parent to children, on a star "
@@ -703,6 +715,9 @@ const std::vector<Preset>& presets() {
             "to each PE): one link, PE after PE"},
            {"host_ports", "1",
             "silent (no interconnect is described): the host drives one transfer at a time"},
+           {"tree_forwarding", "store_and_forward",
+            "silent (no interconnect is described): a PE passes on what its local memory holds, "
+            "as a processor or DMA engine would"},
            {"broadcast", "false",
             "§3.1-3.2: the host transfers the data to every PE, each into its own local memory"},
            {"ray_block", "0",

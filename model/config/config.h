@@ -140,6 +140,9 @@ struct MachineConfig {
   LinkTopology link_topology = LinkTopology::Serial;
   int host_ports = 1;
   int tree_fanout = 2;
+  /// How a tree's PE passes a transfer on: once it holds all of it, or once its header is in.
+  enum class TreeForwarding { StoreAndForward, CutThrough };
+  TreeForwarding tree_forwarding = TreeForwarding::StoreAndForward;
   bool broadcast = false;
   int ray_block = 0;
   enum class Gather { AfterAll, AsFinished };
@@ -277,6 +280,7 @@ const char* to_string(MemoryArbitration a);
 const char* to_string(MachineConfig::RayGeneration g);
 const char* to_string(MachineConfig::Gather g);
 const char* to_string(MachineConfig::LinkTopology t);
+const char* to_string(MachineConfig::TreeForwarding f);
 const char* to_string(MachineConfig::Arbitration a);
 const char* to_string(MachineConfig::PeSimulation p);
 const char* to_string(MachineConfig::SearchWalk w);
