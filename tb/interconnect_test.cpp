@@ -197,6 +197,48 @@ TEST(InterconnectRender, CutThroughOnAChainByHand) {
               S - C - L, 1.0);
 }
 
+// A streamed gather moves only the gather: the same image and work on every PE, the frame buffers
+// carried once more with a 4-byte header a block, and the frame's tail after the last PE a block's
+// hop rather than a whole frame buffer's (each hop 100 cycles of latency and 4 bytes a cycle).
+TEST(InterconnectRender, AStreamedGatherOverlapsTheGatherWithTheRendering) {
+  Tmp tmp;
+  constexpr int kBlock = 12;  // divides each PE's pixels: 144 on 1 PE, 36 or 24 of 12x12 on 5
+  for (int pes : {1, kPes}) {
+    const std::string args = kScene + " --size " + std::to_string(kWidth) + "x" +
+                             std::to_string(kHeight) + " --pes " + std::to_string(pes);
+    const std::string after = "after" + std::to_string(pes),
+                      streamed = "streamed" + std::to_string(pes);
+    const json a = render(tmp, after, args);
+    const json s =
+        render(tmp, streamed,
+               args + " --set gather=streamed --set gather_block=" + std::to_string(kBlock));
+    ASSERT_FALSE(a.is_null() || s.is_null());
+    EXPECT_EQ(rtm::read_image(tmp / (streamed + ".exr")).rgb,
+              rtm::read_image(tmp / (after + ".exr")).rgb);
+    EXPECT_EQ(rtm::read_id_map(tmp / (streamed + "-id.exr")).ids,
+              rtm::read_id_map(tmp / (after + "-id.exr")).ids);
+    EXPECT_EQ(s["rays"], a["rays"]);
+    EXPECT_EQ(s["per_pe"], a["per_pe"]) << "the PEs' work and times are the same";
+    EXPECT_EQ(s["host"]["pes_done_cycle"], a["host"]["pes_done_cycle"]);
+    uint64_t blocks = 0;
+    for (int pe = 0; pe < pes; ++pe) {
+      const uint64_t pixels = uint64_t(kWidth) * uint64_t((kHeight - pe + pes - 1) / pes);
+      blocks += (pixels + kBlock - 1) / kBlock;
+    }
+    EXPECT_EQ(s["interconnect"]["bytes"].get<uint64_t>(),
+              a["interconnect"]["bytes"].get<uint64_t>() + 4 * blocks);
+    EXPECT_EQ(s["interconnect"]["links"][0]["transfers"].get<uint64_t>(),
+              a["interconnect"]["links"][0]["transfers"].get<uint64_t>() + blocks - pes);
+    const double tail = s["phases"]["gather_cycles"], after_tail = a["phases"]["gather_cycles"];
+    const double block_hop = 100 + (4 + 16.0 * kBlock) / 4;
+    EXPECT_GE(tail, block_hop - 1) << pes << " PEs: the last block goes after the last pixel";
+    EXPECT_LT(tail, after_tail) << pes << " PEs";
+    EXPECT_LT(s["cycles"].get<uint64_t>(), a["cycles"].get<uint64_t>()) << pes << " PEs";
+    if (pes == 1)  // after all: one frame buffer of 144 pixels after the PE
+      EXPECT_NEAR(after_tail, 100 + 144 * 16 / 4.0, 1.0);
+  }
+}
+
 // A PE-engine frame and a modules frame agree on every topology (engine_test.cpp compares two
 // streamed ones event by event); so do fast and clocked timing.
 TEST(InterconnectRender, FastAndClockedTimingAgreeOnATreeAndAStar) {

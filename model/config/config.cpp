@@ -124,7 +124,9 @@ struct EnumNames<M::TreeForwarding> {
 template <>
 struct EnumNames<M::Gather> {
   static constexpr std::pair<M::Gather, const char*> all[] = {
-      {M::Gather::AfterAll, "after_all"}, {M::Gather::AsFinished, "as_finished"}};
+      {M::Gather::AfterAll, "after_all"},
+      {M::Gather::AsFinished, "as_finished"},
+      {M::Gather::Streamed, "streamed"}};
 };
 template <>
 struct EnumNames<M::Arbitration> {
@@ -635,8 +637,14 @@ const std::vector<ConfigKey>& config_keys() {
                &M::pe_simulation),
       enum_key("gather",
                "after_all (the host reads the frame buffers once every PE is done, as in the "
-               "paper) or as_finished (each PE's as soon as it is done)",
+               "paper), as_finished (each PE's as soon as it is done) or streamed (each PE sends "
+               "its frame buffer while it renders, gather_block pixels a transfer, each block once "
+               "its pixels are finished)",
                &M::gather),
+      int_key("gather_block",
+              "pixel slots per transfer of a streamed gather (gather = streamed), with a 4-byte "
+              "header naming the block",
+              &M::gather_block, from(1, kMaxPixels)),
       text_key("tech",
                "the technology the cost is figured in: 45nm (built in) or a technology file "
                "(docs/cost.md)",

@@ -145,8 +145,9 @@ struct MachineConfig {
   TreeForwarding tree_forwarding = TreeForwarding::StoreAndForward;
   bool broadcast = false;
   int ray_block = 0;
-  enum class Gather { AfterAll, AsFinished };
+  enum class Gather { AfterAll, AsFinished, Streamed };
   Gather gather = Gather::AfterAll;
+  int gather_block = 256;  ///< pixels per transfer of a streamed gather
 
   enum class Arbitration { Kernel, Ranked };
   Arbitration arbitration = Arbitration::Ranked;  ///< machine/timekeeper.h

@@ -35,7 +35,10 @@ Bottleneck bottleneck(const FrameProfile& p) {
   const double link = p.total > 0 ? (p.transfer + p.gather) / p.total : 0;
   const char* host_or_link = host >= link ? "host_preprocessing" : "interconnect";
   const std::string host_and_link =
-      "host pre-processing " + percent(host) + " and the link " + percent(link) + " of the frame";
+      "host pre-processing " + percent(host) + " and the link " + percent(link) + " of the frame" +
+      (p.gather_streamed && p.total > 0
+           ? " (the streamed gather's tail after the last PE " + percent(p.gather / p.total) + ")"
+           : "");
   if (host + link >= 0.5) return {host_or_link, host_and_link};
   if (p.memory_access >= 0.5 || p.memory_wait >= 0.5)
     return {"memory",

@@ -22,7 +22,8 @@ struct FrameProfile {
   double host_preprocess = 0;  ///< the host's voxel and primary-ray generation (HostTimes::work)
   double transfer = 0;  ///< until the transfer is done, the rest: the host waiting for the link
   double pe = 0;        ///< the PEs' work: transfer done to the last PE done
-  double gather = 0;    ///< frame buffers back to the host
+  double gather = 0;    ///< frame buffers back to the host, after the last PE is done
+  bool gather_streamed = false;  ///< gather = streamed: the rest of the gather overlapped the PEs
   // Of the PEs' working windows, per unit (units/pipeline.h's UnitStats):
   UnitShares busy;       ///< holding any item
   UnitShares issue;      ///< its entry taken by an item's interval: how close it is to saturated
@@ -54,7 +55,8 @@ struct Bottleneck {
 };
 
 /// The unit or phase that limits the frame. Rules, in order: host pre-processing and the link
-/// together taking half the frame (the larger of the two is named); the units' reads of local
+/// together taking half the frame (the larger of the two is named; with a streamed gather the
+/// reason gives its tail apart); the units' reads of local
 /// memory taking half their item-cycles, or results waiting for it half the working window
 /// (summed over the units); a PE unit whose entry is taken
 /// (`issue`) >= 60% of the working window (for an unpipelined unit the same as busy; a pipelined

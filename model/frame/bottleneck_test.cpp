@@ -36,6 +36,18 @@ TEST(Bottleneck, HostOrLinkTakingHalfTheFrame) {
   EXPECT_EQ(bottleneck(p).name, "interconnect");
 }
 
+TEST(Bottleneck, AStreamedGatherIsNamedWithItsTail) {
+  FrameProfile p = busy_pes();
+  p.transfer = 300;
+  p.gather = 250;
+  EXPECT_EQ(bottleneck(p).reason, "host pre-processing 5.0% and the link 55.0% of the frame");
+  p.gather_streamed = true;
+  EXPECT_EQ(bottleneck(p).name, "interconnect");
+  EXPECT_EQ(bottleneck(p).reason,
+            "host pre-processing 5.0% and the link 55.0% of the frame (the streamed gather's tail "
+            "after the last PE 25.0%)");
+}
+
 TEST(Bottleneck, TheBusiestUnitWhenItIsSaturated) {
   FrameProfile p = busy_pes();
   p.issue[UnitKind::Mac] = 0.92;

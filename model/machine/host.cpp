@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "machine/sim_time.h"
+#include "memory/records.h"
 #include "render/camera.h"
 
 namespace rtm {
@@ -218,17 +219,12 @@ void Host::distribute() {
   times.rays = now();
 }
 
-void Host::gather(int pe) {
+void Host::read_frame(int pe, sc_time delay) {
   const auto& px = parts_[size_t(pe)];
   std::vector<PixelSum> frame(px.size());
   std::vector<int32_t> ids(px.size());
-  const TransferTimes t =
-      timed([&] { return net_.gather(pe, px.size() * kPixelRecordBytes, now()); });
-  // The PE is done, so its frame buffer no longer changes: read at once, the interconnect timing
-  // the transfer. The ids travel in the same 16 bytes a pixel.
-  const sc_time d = sc_time::from_value(t.end - t.arrive);
   transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase,
-            reinterpret_cast<unsigned char*>(frame.data()), frame.size() * sizeof(PixelSum), d);
+            reinterpret_cast<unsigned char*>(frame.data()), frame.size() * sizeof(PixelSum), delay);
   transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase,
             reinterpret_cast<unsigned char*>(ids.data()), ids.size() * sizeof(int32_t),
             sc_core::SC_ZERO_TIME);
@@ -236,11 +232,58 @@ void Host::gather(int pe) {
     image.rgb[px[i]] = frame[i].value();
     image.ids[px[i]] = ids[i];
   }
+}
+
+void Host::gather(int pe) {
+  const TransferTimes t =
+      timed([&] { return net_.gather(pe, parts_[size_t(pe)].size() * kPixelRecordBytes, now()); });
+  // The PE is done, so its frame buffer no longer changes: read at once, the interconnect timing
+  // the transfer. The ids travel in the same 16 bytes a pixel.
+  read_frame(pe, sc_time::from_value(t.end - t.arrive));
   wait_for_a_port();
+}
+
+void Host::gather_streamed() {
+  for (Pe* pe : pes_)
+    if (!pe->finished()) sc_core::wait(pe->finished_event);
+  for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
+  // Each PE's frame buffer in blocks of gather_block slots, each ready once its last pixel is
+  // done and the host has issued its last transfer to the PEs. The host takes them first come,
+  // first served (of equal times, by PE, then block): asked for in that order, each no earlier
+  // than it is ready, the interconnect gives the times an online host would get, nothing else
+  // asking for a link meanwhile. The frame buffers no longer change, so they are read at the end.
+  struct Block {
+    uint64_t ready;
+    int pe;
+    size_t pixels;
+  };
+  std::vector<Block> blocks;
+  const size_t per_block = size_t(config_.gather_block);
+  for (int pe = 0; pe < int(pes_.size()); ++pe) {
+    const size_t n = parts_[size_t(pe)].size();
+    const std::vector<uint64_t>& done = pes_[size_t(pe)]->ctx.pixel_done;
+    if (done.size() != n)
+      throw std::logic_error("PE " + std::to_string(pe) + " finished " +
+                             std::to_string(done.size()) + " pixels of " + std::to_string(n));
+    for (size_t first = 0; first < n; first += per_block) {
+      const size_t last = std::min(n, first + per_block);
+      const uint64_t ready = *std::max_element(done.begin() + std::ptrdiff_t(first),
+                                               done.begin() + std::ptrdiff_t(last));
+      blocks.push_back({std::max(ready, times.transfer), pe, last - first});
+    }
+  }
+  std::stable_sort(blocks.begin(), blocks.end(),
+                   [](const Block& a, const Block& b) { return a.ready < b.ready; });
+  for (const Block& b : blocks)
+    timed([&] {
+      return net_.gather(b.pe, kGatherBlockHeaderBytes + b.pixels * kPixelRecordBytes, b.ready);
+    });
+  for (int pe = 0; pe < int(pes_.size()); ++pe) read_frame(pe, sc_core::SC_ZERO_TIME);
 }
 
 void Host::gather_all() {
   const int n = int(pes_.size());
+  if (config_.gather == MachineConfig::Gather::Streamed) return gather_streamed();
   if (config_.gather == MachineConfig::Gather::AfterAll) {
     for (Pe* pe : pes_)
       if (!pe->finished()) sc_core::wait(pe->finished_event);

@@ -1,7 +1,7 @@
 // The host (paper §3.2): voxel-data generation and primary-ray generation, then the transfer of
 // the scene and each PE's primary rays into the PEs' local memories over the interconnect
 // (TLM-2.0 b_transport, timed by net/interconnect.h: topology, bytes, bandwidth, latency), and
-// at the end the gathering of the PEs' frame buffers.
+// the gathering of the PEs' frame buffers.
 #pragma once
 
 #include <functional>
@@ -64,9 +64,14 @@ class Host : public sc_core::sc_module {
   void deliver_scene(int pe, const TransferTimes& t);
   void send_scene(int pe);
   void send_scene_to_all();
-  /// Reads PE `pe`'s frame buffer into the image.
+  /// Reads PE `pe`'s frame buffer into the image, the transport taking `delay`.
+  void read_frame(int pe, sc_core::sc_time delay);
+  /// Gathers PE `pe`'s frame buffer in one transfer.
   void gather(int pe);
-  /// Gathers every PE's frame buffer: after all are done, or each as it finishes (gather).
+  /// Every PE's frame buffer in blocks sent as their pixels finish (gather = streamed).
+  void gather_streamed();
+  /// Gathers every PE's frame buffer: after all are done, each as it finishes, or streamed
+  /// (gather).
   void gather_all();
 
   MachineConfig config_;

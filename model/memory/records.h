@@ -70,6 +70,9 @@ constexpr uint64_t kBrightnessBytes = kPixelRecordBytes - kPrimitiveIdBytes;
 /// What the PE's network interface writes into local memory at once of a transfer coming in: a
 /// burst of 16 beats at the default port width (units/pe_memory.h, "The host's traffic").
 constexpr uint64_t kHostBurstBytes = 64;
+/// A streamed gather's transfer (gather = streamed): this header, the block's first pixel slot,
+/// then the block's frame-buffer entries (kPixelRecordBytes each).
+constexpr uint64_t kGatherBlockHeaderBytes = 4;
 
 // ---- Where each record starts ----
 
