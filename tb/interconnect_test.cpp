@@ -317,3 +317,61 @@ TEST(InterconnectRender, StreamedRaysNameTheSlowLinkOrTheSlowHost) {
   EXPECT_GT(host["phases"]["host_preprocess_cycles"].get<double>(),
             host["phases"]["transfer_cycles"].get<double>());
 }
+
+// voxelisation = pe: the scene crosses the link without its voxel data and each PE builds its own
+// before its first ray. Only times and the link's bytes move: worked out by hand on 1 PE (rays
+// made on the PE, so a camera record follows the scene), the grid's V voxels and R references
+// from the statistics: the host saves host_voxel_cycles (40) a reference, the link 4 (V + 1 + R)
+// bytes at 4 a cycle, and the PE spends pe_voxel_cycles (2) a reference and 4 (V + 1) bytes of
+// offsets written 16 a cycle, before its first ray.
+TEST(InterconnectRender, PeVoxelisationMovesTheGridBuildOntoThePes) {
+  Tmp tmp;
+  for (int pes : {1, 3}) {
+    const std::string args = kScene + " --size 8x8 --pes " + std::to_string(pes) +
+                             " --set ray_generation=pe --set broadcast=true";
+    const std::string host = "host" + std::to_string(pes), pe = "pe" + std::to_string(pes);
+    const json h = render(tmp, host, args);
+    const json p = render(tmp, pe, args + " --set voxelisation=pe");
+    ASSERT_FALSE(h.is_null() || p.is_null());
+    EXPECT_EQ(rtm::read_image(tmp / (pe + ".exr")).rgb, rtm::read_image(tmp / (host + ".exr")).rgb);
+    EXPECT_EQ(rtm::read_id_map(tmp / (pe + "-id.exr")).ids,
+              rtm::read_id_map(tmp / (host + "-id.exr")).ids);
+    EXPECT_EQ(p["rays"], h["rays"]);
+    ASSERT_EQ(p["per_pe"].size(), size_t(pes));
+    for (int i = 0; i < pes; ++i) {
+      const json &a = p["per_pe"][i], &b = h["per_pe"][i];
+      for (const char* key : {"rays", "busy_cycles", "issue_cycles", "memory_access"})
+        EXPECT_EQ(a[key], b[key]) << "PE " << i << " " << key;
+      EXPECT_EQ(a["cycles"].get<int64_t>() - a["start_cycle"].get<int64_t>(),
+                b["cycles"].get<int64_t>() - b["start_cycle"].get<int64_t>())
+          << "PE " << i << "'s working window";
+    }
+    const uint64_t refs = h["grid"]["references"];
+    uint64_t voxels = 1;
+    for (const json& n : h["grid"]["resolution"]) voxels *= n.get<uint64_t>();
+    const uint64_t voxel_bytes = 4 * (voxels + 1 + refs),
+                   build = 2 * refs + (4 * (voxels + 1) + 15) / 16;
+    EXPECT_EQ(h["host"]["pe_voxelisation_cycles"], 0u);
+    EXPECT_EQ(p["host"]["pe_voxelisation_cycles"], build);
+    EXPECT_EQ(h["host"]["work_cycles"].get<uint64_t>() - p["host"]["work_cycles"].get<uint64_t>(),
+              40 * refs);
+    EXPECT_EQ(h["host"]["scene_bytes"].get<uint64_t>() - p["host"]["scene_bytes"].get<uint64_t>(),
+              voxel_bytes);
+    EXPECT_EQ(
+        h["interconnect"]["bytes"].get<uint64_t>() - p["interconnect"]["bytes"].get<uint64_t>(),
+        voxel_bytes)
+        << "one broadcast";
+    if (pes == 1)
+      EXPECT_NEAR(
+          p["per_pe"][0]["start_cycle"].get<double>() - h["per_pe"][0]["start_cycle"].get<double>(),
+          double(build) - 40.0 * double(refs) - double(voxel_bytes) / 4, 1.0);
+    EXPECT_EQ(h["cost"]["voxelisation_dynamic_j"], 0.0);
+    const double voxelising = p["cost"]["voxelisation_dynamic_j"];
+    EXPECT_GT(voxelising, 0.0);
+    EXPECT_NEAR(p["cost"]["units"]["search"]["dynamic_j"].get<double>() -
+                    h["cost"]["units"]["search"]["dynamic_j"].get<double>(),
+                voxelising, 1e-9 * voxelising)
+        << "the search units' steppers build it";
+    EXPECT_LT(p["cycles"].get<uint64_t>(), h["cycles"].get<uint64_t>());
+  }
+}

@@ -108,6 +108,11 @@ struct EnumNames<M::RayGeneration> {
       {M::RayGeneration::Host, "host"}, {M::RayGeneration::Pe, "pe"}};
 };
 template <>
+struct EnumNames<M::Voxelisation> {
+  static constexpr std::pair<M::Voxelisation, const char*> all[] = {{M::Voxelisation::Host, "host"},
+                                                                    {M::Voxelisation::Pe, "pe"}};
+};
+template <>
 struct EnumNames<M::LinkTopology> {
   static constexpr std::pair<M::LinkTopology, const char*> all[] = {
       {M::LinkTopology::Serial, "serial"},
@@ -297,6 +302,7 @@ const char* to_string(MachineConfig::SearchWalk w) { return name_of(w); }
 const char* to_string(MachineConfig::RayGeneration g) { return name_of(g); }
 const char* to_string(MachineConfig::Gather g) { return name_of(g); }
 const char* to_string(MachineConfig::LinkTopology t) { return name_of(t); }
+const char* to_string(MachineConfig::Voxelisation v) { return name_of(v); }
 const char* to_string(MachineConfig::TreeForwarding f) { return name_of(f); }
 const char* to_string(MachineConfig::Arbitration a) { return name_of(a); }
 const char* to_string(MachineConfig::PeSimulation p) { return name_of(p); }
@@ -590,6 +596,16 @@ const std::vector<ConfigKey>& config_keys() {
                  from(kMinClockNs, kMaxClockNs, kTickNs)),
       int_key("host_voxel_cycles", "host cycles per primitive reference registered in a voxel",
               &M::host_voxel_cycles, from(0, kMaxOpCycles)),
+      enum_key(
+          "voxelisation",
+          "who builds the voxel data: host (the paper: the host builds it, host_voxel_cycles a "
+          "reference, and sends it with the scene) or pe (the scene goes without it and each "
+          "PE builds its own copy once the scene is in, pe_voxel_cycles a reference and the "
+          "voxel offsets written at memory_bytes_per_cycle, before its first ray)",
+          &M::voxelisation),
+      int_key("pe_voxel_cycles",
+              "PE cycles per primitive reference registered in a voxel (voxelisation = pe)",
+              &M::pe_voxel_cycles, from(0, kMaxOpCycles)),
       int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles,
               from(0, kMaxOpCycles)),
       int_key("host_frame_cycles",
@@ -718,6 +734,8 @@ const std::vector<Preset>& presets() {
             "silent (what keeps the feedback loop from deadlocking is left open): credits, which "
             "change no ray's work; without them gears-1 at 64x64 deadlocks"},
            {"ray_generation", "host", "§3.2: the host generates one primary ray per pixel"},
+           {"voxelisation", "host",
+            "§3.2: the host generates the voxel data and transfers it to the PEs"},
            {"link_topology", "serial",
             "silent (§3.1: the PEs are the host's back-end; §3.2: the host transfers the results "
             "to each PE): one link, PE after PE"},

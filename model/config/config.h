@@ -130,6 +130,11 @@ struct MachineConfig {
 
   double host_clock_ns = 10;
   int host_voxel_cycles = 40;
+  /// Who builds the voxel data: the host, sending it with the scene (the paper), or each PE its
+  /// own.
+  enum class Voxelisation { Host, Pe };
+  Voxelisation voxelisation = Voxelisation::Host;
+  int pe_voxel_cycles = 2;
   int host_ray_cycles = 20;
   int host_frame_cycles = 40;
   double link_bandwidth_mb_s = 400;
@@ -279,6 +284,7 @@ const char* to_string(Precision p);
 const char* to_string(FlowControl f);
 const char* to_string(MemoryArbitration a);
 const char* to_string(MachineConfig::RayGeneration g);
+const char* to_string(MachineConfig::Voxelisation v);
 const char* to_string(MachineConfig::Gather g);
 const char* to_string(MachineConfig::LinkTopology t);
 const char* to_string(MachineConfig::TreeForwarding f);

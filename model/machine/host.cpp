@@ -42,6 +42,7 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       image_(std::move(image)),
       parts_(std::move(parts)),
       pes_(std::move(pes)),
+      scene_ready_(pes_.size(), 0),
       sleep_(keeper, 0),
       net_(c, kTimeHorizonTicks) {
   for (size_t i = 0; i < pes_.size(); ++i)
@@ -103,6 +104,8 @@ void Host::run() {
   distribute();
   host_sleep_until(net_.idle_at());  // every transfer over
   times.transfer = now();
+  // Rays held back until their PE has built its voxel data (voxelisation = pe).
+  if (!pending_.empty()) host_sleep_until(pending_.rbegin()->first);
   gather_all();
   host_sleep_until(net_.idle_at());
   times.gathered = now();
@@ -120,10 +123,19 @@ void Host::preprocess() {
                                      (scene_.primitives.size() + scene_.lights.size() + 1)),
                               "the host's change of frame"));
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
-  // host is charged per primitive reference it registers).
-  host_work(checked_periods(host_cycle(),
-                            double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
-                            "the host's voxel-data generation"));
+  // host is charged per primitive reference it registers), unless each PE builds its own.
+  if (config_.voxelisation == MachineConfig::Voxelisation::Host)
+    host_work(checked_periods(host_cycle(),
+                              double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+                              "the host's voxel-data generation"));
+  else
+    times.pe_voxelisation =
+        checked_periods(sc_time(config_.clock_ns, sc_core::SC_NS),
+                        double(pe_voxelisation_cycles(uint64_t(config_.pe_voxel_cycles),
+                                                      uint64_t(config_.memory_bytes_per_cycle),
+                                                      grid_.start.size() - 1, grid_.items.size())),
+                        "a PE's voxel-data generation")
+            .value();
   times.voxels = now();
 }
 
@@ -149,7 +161,9 @@ void Host::send_rays(int pe, std::vector<Ray> rays) {
   const uint64_t bytes = pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes;
   const TransferTimes t = timed([&] { return net_.send(pe, bytes, now()); });
   auto data = std::make_shared<std::vector<Ray>>(std::move(rays));
-  deliver_at(t.arrive, [this, pe, data, d = t.end - t.arrive] {
+  // Not before the PE has its scene (and, voxelising, its voxel data): then what is left of it.
+  const uint64_t at = std::max(t.arrive, scene_ready_[size_t(pe)]);
+  deliver_at(at, [this, pe, data, d = t.end - std::min(t.end, at)] {
     transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase,
               reinterpret_cast<unsigned char*>(data->data()), data->size() * sizeof(Ray),
               sc_time::from_value(d));
@@ -157,7 +171,18 @@ void Host::send_rays(int pe, std::vector<Ray> rays) {
   wait_for_a_port();
 }
 
+uint64_t Host::scene_link_bytes() const {
+  return image_->bytes -
+         (config_.voxelisation == MachineConfig::Voxelisation::Pe ? image_->voxel_bytes : 0);
+}
+
 void Host::deliver_scene(int pe, const TransferTimes& t) {
+  // Voxelising, the PE builds its voxel data once the scene is in: its copy is whole, and ready
+  // for its rays, that long after. The voxel data's bytes are written into its memory with the
+  // scene's, as when they crossed the link.
+  scene_ready_[size_t(pe)] = config_.voxelisation == MachineConfig::Voxelisation::Pe
+                                 ? t.end + times.pe_voxelisation
+                                 : t.arrive;
   deliver_at(t.arrive, [this, pe, d = t.end - t.arrive] {
     SceneImageExtension ext;
     ext.image = image_;
@@ -168,7 +193,7 @@ void Host::deliver_scene(int pe, const TransferTimes& t) {
 }
 
 void Host::send_scene(int pe) {
-  deliver_scene(pe, timed([&] { return net_.send(pe, image_->bytes, now()); }));
+  deliver_scene(pe, timed([&] { return net_.send(pe, scene_link_bytes(), now()); }));
   wait_for_a_port();
 }
 
@@ -178,7 +203,8 @@ void Host::send_scene_to_all() {
     for (int pe = 0; pe < n; ++pe) send_scene(pe);
     return;
   }
-  const std::vector<TransferTimes> t = timed([&] { return net_.broadcast(image_->bytes, now()); });
+  const std::vector<TransferTimes> t =
+      timed([&] { return net_.broadcast(scene_link_bytes(), now()); });
   for (int pe = 0; pe < n; ++pe) deliver_scene(pe, t[size_t(pe)]);
   wait_for_a_port();
 }

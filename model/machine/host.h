@@ -38,6 +38,9 @@ class Host : public sc_core::sc_module {
       sc_core::SC_ZERO_TIME;  ///< the host's current work ends then (for stall detection)
   /// The links' use over the frame (topology's names, busy times and bytes).
   const std::vector<LinkUse>& link_use() const { return net_.links(); }
+  /// One PE's copy of the scene as the link carries it: without the voxel data when the PEs build
+  /// it (voxelisation = pe).
+  uint64_t scene_link_bytes() const;
 
  private:
   /// A b_transport into PE `pe`'s local memory, at once.
@@ -80,7 +83,8 @@ class Host : public sc_core::sc_module {
   std::shared_ptr<const SceneImage> image_;
   std::vector<std::vector<uint32_t>> parts_;
   std::vector<Pe*> pes_;
-  Sleeper sleep_;  ///< rank 0: the host goes first in its cycle
+  std::vector<uint64_t> scene_ready_;  ///< per PE: its scene copy whole in local memory from then
+  Sleeper sleep_;                      ///< rank 0: the host goes first in its cycle
   Interconnect net_;
   /// Writes issued for later (a star's or a tree's link still busy), by arrival, then issue order.
   std::multimap<uint64_t, std::function<void()>> pending_;
