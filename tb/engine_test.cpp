@@ -150,6 +150,15 @@ INSTANTIATE_TEST_SUITE_P(
              "balls-2.nff --size 24x24 --pes 5 --set link_topology=tree --set broadcast=true --set "
              "ray_block=20"
              " --set gather=as_finished"},
+        Case{"TreeCutThroughStreamedRays",
+             "balls-2.nff --size 24x24 --pes 5 --set link_topology=tree --set "
+             "tree_forwarding=cut_through --set ray_block=20 --set gather=as_finished"},
+        Case{"StreamedGatherOnAStar",
+             "rings-1.nff --size 24x24 --pes 3 --set link_topology=star --set host_ports=2 --set "
+             "gather=streamed --set gather_block=7"},
+        Case{"PeVoxelisationOnATree",
+             "rings-1.nff --size 24x24 --pes 4 --set voxelisation=pe --set link_topology=tree "
+             "--set broadcast=true --set ray_block=50"},
         Case{"SlowLinkNoLeaveOut",
              "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false "
              "--set clock_ns=7"},

@@ -76,6 +76,10 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
           " --set ray_block=10 --set gather=as_finished"),
       net("tree-streamed-as-finished", "tree", 1, 3, true,
           " --set ray_block=10 --set gather=as_finished"),
+      net("tree-2-cut-through", "tree", 1, 2, false, " --set tree_forwarding=cut_through"),
+      net("tree-broadcast-cut-through", "tree", 1, 2, true, " --set tree_forwarding=cut_through"),
+      net("tree-chain-cut-through-streamed", "tree", 1, 1, true,
+          " --set tree_forwarding=cut_through --set ray_block=10 --set gather=as_finished"),
   };
   const json serial = render(tmp, "serial", frame + nets[0].args);
   ASSERT_FALSE(serial.is_null());
@@ -140,6 +144,99 @@ TEST(InterconnectRender, EveryTopologyGivesTheSameImageAndItsLinksAddUp) {
             .get<uint64_t>(),
         serial_transfer)
         << faster;
+}
+
+// Cut-through moves only times: the same work on every PE, the links busy as long.
+TEST(InterconnectRender, CutThroughOnATreeMovesOnlyTheTimes) {
+  Tmp tmp;
+  const std::string args = kScene + " --size " + std::to_string(kWidth) + "x" +
+                           std::to_string(kHeight) + " --pes " + std::to_string(kPes) +
+                           " --set link_topology=tree --set broadcast=true";
+  const json stored = render(tmp, "stored", args);
+  const json cut = render(tmp, "cut", args + " --set tree_forwarding=cut_through");
+  ASSERT_FALSE(stored.is_null() || cut.is_null());
+  EXPECT_EQ(rtm::read_image(tmp / "cut.exr").rgb, rtm::read_image(tmp / "stored.exr").rgb);
+  for (const char* key : {"rays", "intersection_tests", "voxel_steps"})
+    EXPECT_EQ(cut[key], stored[key]) << key;
+  ASSERT_EQ(cut["per_pe"].size(), stored["per_pe"].size());
+  for (size_t pe = 0; pe < cut["per_pe"].size(); ++pe) {
+    const json &c = cut["per_pe"][pe], &s = stored["per_pe"][pe];
+    for (const char* key : {"rays", "busy_cycles", "issue_cycles", "memory_access"})
+      EXPECT_EQ(c[key], s[key]) << "PE " << pe << " " << key;
+    EXPECT_EQ(c["cycles"].get<int64_t>() - c["start_cycle"].get<int64_t>(),
+              s["cycles"].get<int64_t>() - s["start_cycle"].get<int64_t>())
+        << "PE " << pe << "'s working window";
+    if (pe == 0)  // one link deep: nothing to forward
+      EXPECT_EQ(c["start_cycle"], s["start_cycle"]);
+    else
+      EXPECT_LT(c["start_cycle"].get<uint64_t>(), s["start_cycle"].get<uint64_t>()) << "PE " << pe;
+  }
+  EXPECT_EQ(cut["interconnect"]["bytes"], stored["interconnect"]["bytes"]);
+  EXPECT_EQ(cut["interconnect"]["busy_cycles"], stored["interconnect"]["busy_cycles"]);
+  EXPECT_LT(cut["cycles"].get<uint64_t>(), stored["cycles"].get<uint64_t>());
+}
+
+// By hand, on a chain of 2 PEs with rays made on the PEs (each hop L = 100 cycles of latency and
+// 4 bytes a cycle: the scene S, a camera record C = L + 16). Store-and-forward: the scene holds
+// link 0 over [0, S) and link 1 over [S, 2S); PE 1's camera follows PE 0's on link 0 to S + 2C,
+// then waits for link 1 until 2S. Cut-through: the scene holds link 1 over [L, L + S); PE 1's
+// camera leaves link 0 at S + C and goes on L later, at S + C + L, link 1 being free by then. So
+// PE 1 starts S - C - L sooner, and PE 0, one link deep, at the same cycle.
+TEST(InterconnectRender, CutThroughOnAChainByHand) {
+  Tmp tmp;
+  const std::string args = kScene +
+                           " --size 8x8 --pes 2 --set link_topology=tree --set "
+                           "tree_fanout=1 --set broadcast=true --set ray_generation=pe";
+  const json stored = render(tmp, "stored", args);
+  const json cut = render(tmp, "cut", args + " --set tree_forwarding=cut_through");
+  ASSERT_FALSE(stored.is_null() || cut.is_null());
+  const double L = 100, S = L + stored["host"]["scene_bytes"].get<double>() / 4, C = L + 16;
+  EXPECT_EQ(cut["per_pe"][0]["start_cycle"], stored["per_pe"][0]["start_cycle"]);
+  EXPECT_NEAR(stored["per_pe"][1]["start_cycle"].get<double>() -
+                  cut["per_pe"][1]["start_cycle"].get<double>(),
+              S - C - L, 1.0);
+}
+
+// A streamed gather moves only the gather: the same image and work on every PE, the frame buffers
+// carried once more with a 4-byte header a block, and the frame's tail after the last PE a block's
+// hop rather than a whole frame buffer's (each hop 100 cycles of latency and 4 bytes a cycle).
+TEST(InterconnectRender, AStreamedGatherOverlapsTheGatherWithTheRendering) {
+  Tmp tmp;
+  constexpr int kBlock = 12;  // divides each PE's pixels: 144 on 1 PE, 36 or 24 of 12x12 on 5
+  for (int pes : {1, kPes}) {
+    const std::string args = kScene + " --size " + std::to_string(kWidth) + "x" +
+                             std::to_string(kHeight) + " --pes " + std::to_string(pes);
+    const std::string after = "after" + std::to_string(pes),
+                      streamed = "streamed" + std::to_string(pes);
+    const json a = render(tmp, after, args);
+    const json s =
+        render(tmp, streamed,
+               args + " --set gather=streamed --set gather_block=" + std::to_string(kBlock));
+    ASSERT_FALSE(a.is_null() || s.is_null());
+    EXPECT_EQ(rtm::read_image(tmp / (streamed + ".exr")).rgb,
+              rtm::read_image(tmp / (after + ".exr")).rgb);
+    EXPECT_EQ(rtm::read_id_map(tmp / (streamed + "-id.exr")).ids,
+              rtm::read_id_map(tmp / (after + "-id.exr")).ids);
+    EXPECT_EQ(s["rays"], a["rays"]);
+    EXPECT_EQ(s["per_pe"], a["per_pe"]) << "the PEs' work and times are the same";
+    EXPECT_EQ(s["host"]["pes_done_cycle"], a["host"]["pes_done_cycle"]);
+    uint64_t blocks = 0;
+    for (int pe = 0; pe < pes; ++pe) {
+      const uint64_t pixels = uint64_t(kWidth) * uint64_t((kHeight - pe + pes - 1) / pes);
+      blocks += (pixels + kBlock - 1) / kBlock;
+    }
+    EXPECT_EQ(s["interconnect"]["bytes"].get<uint64_t>(),
+              a["interconnect"]["bytes"].get<uint64_t>() + 4 * blocks);
+    EXPECT_EQ(s["interconnect"]["links"][0]["transfers"].get<uint64_t>(),
+              a["interconnect"]["links"][0]["transfers"].get<uint64_t>() + blocks - pes);
+    const double tail = s["phases"]["gather_cycles"], after_tail = a["phases"]["gather_cycles"];
+    const double block_hop = 100 + (4 + 16.0 * kBlock) / 4;
+    EXPECT_GE(tail, block_hop - 1) << pes << " PEs: the last block goes after the last pixel";
+    EXPECT_LT(tail, after_tail) << pes << " PEs";
+    EXPECT_LT(s["cycles"].get<uint64_t>(), a["cycles"].get<uint64_t>()) << pes << " PEs";
+    if (pes == 1)  // after all: one frame buffer of 144 pixels after the PE
+      EXPECT_NEAR(after_tail, 100 + 144 * 16 / 4.0, 1.0);
+  }
 }
 
 // A PE-engine frame and a modules frame agree on every topology (engine_test.cpp compares two
@@ -219,4 +316,62 @@ TEST(InterconnectRender, StreamedRaysNameTheSlowLinkOrTheSlowHost) {
             link["phases"]["transfer_cycles"].get<double>());
   EXPECT_GT(host["phases"]["host_preprocess_cycles"].get<double>(),
             host["phases"]["transfer_cycles"].get<double>());
+}
+
+// voxelisation = pe: the scene crosses the link without its voxel data and each PE builds its own
+// before its first ray. Only times and the link's bytes move: worked out by hand on 1 PE (rays
+// made on the PE, so a camera record follows the scene), the grid's V voxels and R references
+// from the statistics: the host saves host_voxel_cycles (40) a reference, the link 4 (V + 1 + R)
+// bytes at 4 a cycle, and the PE spends pe_voxel_cycles (2) a reference and 4 (V + 1) bytes of
+// offsets written 16 a cycle, before its first ray.
+TEST(InterconnectRender, PeVoxelisationMovesTheGridBuildOntoThePes) {
+  Tmp tmp;
+  for (int pes : {1, 3}) {
+    const std::string args = kScene + " --size 8x8 --pes " + std::to_string(pes) +
+                             " --set ray_generation=pe --set broadcast=true";
+    const std::string host = "host" + std::to_string(pes), pe = "pe" + std::to_string(pes);
+    const json h = render(tmp, host, args);
+    const json p = render(tmp, pe, args + " --set voxelisation=pe");
+    ASSERT_FALSE(h.is_null() || p.is_null());
+    EXPECT_EQ(rtm::read_image(tmp / (pe + ".exr")).rgb, rtm::read_image(tmp / (host + ".exr")).rgb);
+    EXPECT_EQ(rtm::read_id_map(tmp / (pe + "-id.exr")).ids,
+              rtm::read_id_map(tmp / (host + "-id.exr")).ids);
+    EXPECT_EQ(p["rays"], h["rays"]);
+    ASSERT_EQ(p["per_pe"].size(), size_t(pes));
+    for (int i = 0; i < pes; ++i) {
+      const json &a = p["per_pe"][i], &b = h["per_pe"][i];
+      for (const char* key : {"rays", "busy_cycles", "issue_cycles", "memory_access"})
+        EXPECT_EQ(a[key], b[key]) << "PE " << i << " " << key;
+      EXPECT_EQ(a["cycles"].get<int64_t>() - a["start_cycle"].get<int64_t>(),
+                b["cycles"].get<int64_t>() - b["start_cycle"].get<int64_t>())
+          << "PE " << i << "'s working window";
+    }
+    const uint64_t refs = h["grid"]["references"];
+    uint64_t voxels = 1;
+    for (const json& n : h["grid"]["resolution"]) voxels *= n.get<uint64_t>();
+    const uint64_t voxel_bytes = 4 * (voxels + 1 + refs),
+                   build = 2 * refs + (4 * (voxels + 1) + 15) / 16;
+    EXPECT_EQ(h["host"]["pe_voxelisation_cycles"], 0u);
+    EXPECT_EQ(p["host"]["pe_voxelisation_cycles"], build);
+    EXPECT_EQ(h["host"]["work_cycles"].get<uint64_t>() - p["host"]["work_cycles"].get<uint64_t>(),
+              40 * refs);
+    EXPECT_EQ(h["host"]["scene_bytes"].get<uint64_t>() - p["host"]["scene_bytes"].get<uint64_t>(),
+              voxel_bytes);
+    EXPECT_EQ(
+        h["interconnect"]["bytes"].get<uint64_t>() - p["interconnect"]["bytes"].get<uint64_t>(),
+        voxel_bytes)
+        << "one broadcast";
+    if (pes == 1)
+      EXPECT_NEAR(
+          p["per_pe"][0]["start_cycle"].get<double>() - h["per_pe"][0]["start_cycle"].get<double>(),
+          double(build) - 40.0 * double(refs) - double(voxel_bytes) / 4, 1.0);
+    EXPECT_EQ(h["cost"]["voxelisation_dynamic_j"], 0.0);
+    const double voxelising = p["cost"]["voxelisation_dynamic_j"];
+    EXPECT_GT(voxelising, 0.0);
+    EXPECT_NEAR(p["cost"]["units"]["search"]["dynamic_j"].get<double>() -
+                    h["cost"]["units"]["search"]["dynamic_j"].get<double>(),
+                voxelising, 1e-9 * voxelising)
+        << "the search units' steppers build it";
+    EXPECT_LT(p["cycles"].get<uint64_t>(), h["cycles"].get<uint64_t>());
+  }
 }

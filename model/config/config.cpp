@@ -108,6 +108,11 @@ struct EnumNames<M::RayGeneration> {
       {M::RayGeneration::Host, "host"}, {M::RayGeneration::Pe, "pe"}};
 };
 template <>
+struct EnumNames<M::Voxelisation> {
+  static constexpr std::pair<M::Voxelisation, const char*> all[] = {{M::Voxelisation::Host, "host"},
+                                                                    {M::Voxelisation::Pe, "pe"}};
+};
+template <>
 struct EnumNames<M::LinkTopology> {
   static constexpr std::pair<M::LinkTopology, const char*> all[] = {
       {M::LinkTopology::Serial, "serial"},
@@ -116,9 +121,17 @@ struct EnumNames<M::LinkTopology> {
       {M::LinkTopology::Tree, "tree"}};
 };
 template <>
+struct EnumNames<M::TreeForwarding> {
+  static constexpr std::pair<M::TreeForwarding, const char*> all[] = {
+      {M::TreeForwarding::StoreAndForward, "store_and_forward"},
+      {M::TreeForwarding::CutThrough, "cut_through"}};
+};
+template <>
 struct EnumNames<M::Gather> {
   static constexpr std::pair<M::Gather, const char*> all[] = {
-      {M::Gather::AfterAll, "after_all"}, {M::Gather::AsFinished, "as_finished"}};
+      {M::Gather::AfterAll, "after_all"},
+      {M::Gather::AsFinished, "as_finished"},
+      {M::Gather::Streamed, "streamed"}};
 };
 template <>
 struct EnumNames<M::Arbitration> {
@@ -289,6 +302,8 @@ const char* to_string(MachineConfig::SearchWalk w) { return name_of(w); }
 const char* to_string(MachineConfig::RayGeneration g) { return name_of(g); }
 const char* to_string(MachineConfig::Gather g) { return name_of(g); }
 const char* to_string(MachineConfig::LinkTopology t) { return name_of(t); }
+const char* to_string(MachineConfig::Voxelisation v) { return name_of(v); }
+const char* to_string(MachineConfig::TreeForwarding f) { return name_of(f); }
 const char* to_string(MachineConfig::Arbitration a) { return name_of(a); }
 const char* to_string(MachineConfig::PeSimulation p) { return name_of(p); }
 
@@ -581,6 +596,16 @@ const std::vector<ConfigKey>& config_keys() {
                  from(kMinClockNs, kMaxClockNs, kTickNs)),
       int_key("host_voxel_cycles", "host cycles per primitive reference registered in a voxel",
               &M::host_voxel_cycles, from(0, kMaxOpCycles)),
+      enum_key(
+          "voxelisation",
+          "who builds the voxel data: host (the paper: the host builds it, host_voxel_cycles a "
+          "reference, and sends it with the scene) or pe (the scene goes without it and each "
+          "PE builds its own copy once the scene is in, pe_voxel_cycles a reference and the "
+          "voxel offsets written at memory_bytes_per_cycle, before its first ray)",
+          &M::voxelisation),
+      int_key("pe_voxel_cycles",
+              "PE cycles per primitive reference registered in a voxel (voxelisation = pe)",
+              &M::pe_voxel_cycles, from(0, kMaxOpCycles)),
       int_key("host_ray_cycles", "host cycles per primary ray generated", &M::host_ray_cycles,
               from(0, kMaxOpCycles)),
       int_key("host_frame_cycles",
@@ -597,7 +622,7 @@ const std::vector<ConfigKey>& config_keys() {
                "original link), bus (one shared medium: one transfer at a time, a broadcast "
                "reaches every PE), star (a link per PE, the host drives host_ports of them at "
                "once) or tree (a link from each PE to its parent: the host drives host_ports "
-               "children, each PE forwards to tree_fanout children, store-and-forward)",
+               "children, each PE forwards to tree_fanout children as tree_forwarding says)",
                &M::link_topology),
       int_key("host_ports",
               "links the host drives at once: on a star its ports onto the PEs' links, on a tree "
@@ -605,6 +630,11 @@ const std::vector<ConfigKey>& config_keys() {
               &M::host_ports, from(1, kMaxPes)),
       int_key("tree_fanout", "children of each PE on a tree (link_topology = tree; 1: a chain)",
               &M::tree_fanout, from(1, kMaxPes)),
+      enum_key("tree_forwarding",
+               "how a tree's PE passes a transfer on (link_topology = tree): store_and_forward "
+               "(once it holds all of it) or cut_through (once the header is in: each further hop "
+               "starts link_latency_ns after the one before)",
+               &M::tree_forwarding),
       bool_key("broadcast",
                "one scene transfer reaches every PE (else one transfer per PE): on serial and bus "
                "one transfer on the medium, on a tree forwarded from parent to children, on a star "
@@ -623,8 +653,14 @@ const std::vector<ConfigKey>& config_keys() {
                &M::pe_simulation),
       enum_key("gather",
                "after_all (the host reads the frame buffers once every PE is done, as in the "
-               "paper) or as_finished (each PE's as soon as it is done)",
+               "paper), as_finished (each PE's as soon as it is done) or streamed (each PE sends "
+               "its frame buffer while it renders, gather_block pixels a transfer, each block once "
+               "its pixels are finished)",
                &M::gather),
+      int_key("gather_block",
+              "pixel slots per transfer of a streamed gather (gather = streamed), with a 4-byte "
+              "header naming the block",
+              &M::gather_block, from(1, kMaxPixels)),
       text_key("tech",
                "the technology the cost is figured in: 45nm (built in) or a technology file "
                "(docs/cost.md)",
@@ -698,11 +734,16 @@ const std::vector<Preset>& presets() {
             "silent (what keeps the feedback loop from deadlocking is left open): credits, which "
             "change no ray's work; without them gears-1 at 64x64 deadlocks"},
            {"ray_generation", "host", "§3.2: the host generates one primary ray per pixel"},
+           {"voxelisation", "host",
+            "§3.2: the host generates the voxel data and transfers it to the PEs"},
            {"link_topology", "serial",
             "silent (§3.1: the PEs are the host's back-end; §3.2: the host transfers the results "
             "to each PE): one link, PE after PE"},
            {"host_ports", "1",
             "silent (no interconnect is described): the host drives one transfer at a time"},
+           {"tree_forwarding", "store_and_forward",
+            "silent (no interconnect is described): a PE passes on what its local memory holds, "
+            "as a processor or DMA engine would"},
            {"broadcast", "false",
             "§3.1-3.2: the host transfers the data to every PE, each into its own local memory"},
            {"ray_block", "0",

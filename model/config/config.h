@@ -130,6 +130,11 @@ struct MachineConfig {
 
   double host_clock_ns = 10;
   int host_voxel_cycles = 40;
+  /// Who builds the voxel data: the host, sending it with the scene (the paper), or each PE its
+  /// own.
+  enum class Voxelisation { Host, Pe };
+  Voxelisation voxelisation = Voxelisation::Host;
+  int pe_voxel_cycles = 2;
   int host_ray_cycles = 20;
   int host_frame_cycles = 40;
   double link_bandwidth_mb_s = 400;
@@ -140,10 +145,14 @@ struct MachineConfig {
   LinkTopology link_topology = LinkTopology::Serial;
   int host_ports = 1;
   int tree_fanout = 2;
+  /// How a tree's PE passes a transfer on: once it holds all of it, or once its header is in.
+  enum class TreeForwarding { StoreAndForward, CutThrough };
+  TreeForwarding tree_forwarding = TreeForwarding::StoreAndForward;
   bool broadcast = false;
   int ray_block = 0;
-  enum class Gather { AfterAll, AsFinished };
+  enum class Gather { AfterAll, AsFinished, Streamed };
   Gather gather = Gather::AfterAll;
+  int gather_block = 256;  ///< pixels per transfer of a streamed gather
 
   enum class Arbitration { Kernel, Ranked };
   Arbitration arbitration = Arbitration::Ranked;  ///< machine/timekeeper.h
@@ -275,8 +284,10 @@ const char* to_string(Precision p);
 const char* to_string(FlowControl f);
 const char* to_string(MemoryArbitration a);
 const char* to_string(MachineConfig::RayGeneration g);
+const char* to_string(MachineConfig::Voxelisation v);
 const char* to_string(MachineConfig::Gather g);
 const char* to_string(MachineConfig::LinkTopology t);
+const char* to_string(MachineConfig::TreeForwarding f);
 const char* to_string(MachineConfig::Arbitration a);
 const char* to_string(MachineConfig::PeSimulation p);
 const char* to_string(MachineConfig::SearchWalk w);

@@ -311,14 +311,29 @@ double unit_dynamic_pj(UnitKind k, const MachineConfig& c, const PeUnits& units,
   return e;
 }
 
+double voxelisation_dynamic_pj(const MachineConfig& c, const FrameActivity& a,
+                               const Technology& t) {
+  const Precision p = c.dda_precision_in_force();
+  Elements primitive, reference;
+  primitive.add(Op::FpMul, p, 6);
+  primitive.add(Op::FpAdd, p, 6);
+  reference.add(Op::IntAdd, Precision::Fp32, 3);
+  reference.add(Op::IntCompare, Precision::Fp32, 3);
+  return double(a.voxel_primitives) * energy_pj(primitive, t) +
+         double(a.voxel_references) * energy_pj(reference, t);
+}
+
 MachineCost machine_cost(const MachineConfig& c, const PeUnits& units, uint64_t primitives,
                          const FrameActivity& a, const Technology& t) {
   MachineCost m;
   m.technology = t.name;
+  m.voxelisation_dynamic_pj = voxelisation_dynamic_pj(c, a, t);
   double sram_bits = 0;
   for (const UnitSpec& s : unit_table()) {
     UnitCost u{unit_inventory(s.kind, c, units, primitives, t)};
     u.dynamic_pj = unit_dynamic_pj(s.kind, c, units, primitives, a, t);
+    // The search units' 3DDDA steppers build the voxel data: theirs.
+    if (s.kind == UnitKind::Search) u.dynamic_pj += m.voxelisation_dynamic_pj;
     m.pe_logic_mm2 += u.inventory.logic_um2 * 1e-6;
     m.pe_sram_mm2 += u.inventory.sram_um2 * 1e-6;
     for (const Sram& r : u.inventory.srams) sram_bits += r.bytes * 8;

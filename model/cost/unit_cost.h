@@ -78,6 +78,9 @@ struct FrameActivity {
   uint64_t cache_accesses = 0, cache_line_fills = 0;
   uint64_t memory_bytes = 0;  ///< local-memory bytes moved by every requester, host writes included
   uint64_t link_bytes = 0;    ///< over every link of the interconnect
+  /// voxelisation = pe: the primitives each PE placed in its grid and the references it
+  /// registered, summed over the PEs.
+  uint64_t voxel_primitives = 0, voxel_references = 0;
 };
 
 struct UnitCost {
@@ -94,6 +97,8 @@ struct MachineCost {
   double memory_mm2 = 0;                     ///< all PEs' local memory as DRAM, apart from the chip
   double memory_capacity_bytes = 0;          ///< per PE
   double memory_dynamic_pj = 0, link_dynamic_pj = 0;
+  /// Of the search units' dynamic energy: the PEs building their voxel data (voxelisation = pe).
+  double voxelisation_dynamic_pj = 0;
   double dynamic_pj = 0;     ///< units, local memory and link
   double leakage_pj = 0;     ///< on-chip logic and SRAM over the frame
   double energy_pj = 0;      ///< dynamic and leakage
@@ -108,6 +113,13 @@ struct MachineCost {
 /// SRAM accesses (unit_cost.cpp says what an action is per kind).
 double unit_dynamic_pj(UnitKind k, const MachineConfig& c, const PeUnits& units,
                        uint64_t primitives, const FrameActivity& a, const Technology& t);
+
+/// The PEs' build of their voxel data (voxelisation = pe), the search units' 3DDDA steppers', an
+/// assumption (docs/cost.md): a
+/// primitive's bounds into voxel indices, 6 multiplies and 6 adds in the 3DDDA's precision; a
+/// reference, 3 integer adds and 3 compares stepping the indices over those bounds. The bytes it
+/// writes are counted in the local memory's.
+double voxelisation_dynamic_pj(const MachineConfig& c, const FrameActivity& a, const Technology& t);
 
 MachineCost machine_cost(const MachineConfig& c, const PeUnits& units, uint64_t primitives,
                          const FrameActivity& a, const Technology& t);

@@ -156,7 +156,7 @@ class CycleDriver {
     const std::vector<UnitKind>& readers = fifo_spec(o.fifo).readers;
     front_written_ =
         front_written_ || std::count(readers.begin(), readers.end(), UnitKind::FrontBuffer);
-    record_put(pe_, now, u.kind, u.index, v.r.id, o);
+    record_put(pe_, now, u.kind, u.index, v.r, o);
     return true;
   }
   static MacResult of(const MachineRay& r) {

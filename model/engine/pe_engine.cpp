@@ -184,7 +184,7 @@ uint32_t PeEngine::new_ray(const MachineRay& r) {
   } else {
     f.write(slot != kNoSlot ? slot : new_ray(r), now);
   }
-  record_put(pe_, now, kind, index, id, o);
+  record_put(pe_, now, kind, index, r, o);
   return true;
 }
 
@@ -224,7 +224,7 @@ struct PeEngine::Ops {
       Fifo& out = e.fifo(FifoId::Root, size_t(index()));
       if (out.full()) return false;
       out.write(h.item, now);
-      record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r.id, h.out);
+      record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r, h.out);
       return true;
     } else if constexpr (K == UnitKind::Root) {
       return e.emit(h.out, e.results_[h.item].r, kNoSlot, UnitKind::Root, index(), now);

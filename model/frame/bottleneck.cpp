@@ -11,7 +11,8 @@ namespace rtm {
 
 const std::vector<std::string>& bottleneck_names() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> n = {"host_preprocessing", "interconnect", "memory"};
+    std::vector<std::string> n = {"host_preprocessing", "interconnect", "pe_voxelisation",
+                                  "memory"};
     for (const UnitSpec& u : unit_table())
       if (u.in_utilisation) n.push_back(u.name);
     for (const char* verdict : {"loop_credits", "load_imbalance", "latency"}) n.push_back(verdict);
@@ -33,10 +34,19 @@ std::string percent(double share) {
 Bottleneck bottleneck(const FrameProfile& p) {
   const double host = p.total > 0 ? p.host_preprocess / p.total : 0;
   const double link = p.total > 0 ? (p.transfer + p.gather) / p.total : 0;
-  const char* host_or_link = host >= link ? "host_preprocessing" : "interconnect";
+  const double voxels = p.total > 0 ? p.pe_voxelisation / p.total : 0;
+  const char* host_or_link = voxels > std::max(host, link) ? "pe_voxelisation"
+                             : host >= link                ? "host_preprocessing"
+                                                           : "interconnect";
   const std::string host_and_link =
-      "host pre-processing " + percent(host) + " and the link " + percent(link) + " of the frame";
-  if (host + link >= 0.5) return {host_or_link, host_and_link};
+      "host pre-processing " + percent(host) +
+      (voxels > 0 ? ", the link " + percent(link) + " and the PEs' voxelisation " + percent(voxels)
+                  : " and the link " + percent(link)) +
+      " of the frame" +
+      (p.gather_streamed && p.total > 0
+           ? " (the streamed gather's tail after the last PE " + percent(p.gather / p.total) + ")"
+           : "");
+  if (host + link + voxels >= 0.5) return {host_or_link, host_and_link};
   if (p.memory_access >= 0.5 || p.memory_wait >= 0.5)
     return {"memory",
             "reads of local memory " + percent(p.memory_access) +
@@ -63,7 +73,7 @@ Bottleneck bottleneck(const FrameProfile& p) {
     std::snprintf(s, sizeof s, "the longest PE works %.2f x the mean; ", p.imbalance);
     return {"load_imbalance", s + busiest};
   }
-  if (std::max(host, link) >= 0.25) return {host_or_link, host_and_link + "; " + busiest};
+  if (std::max({host, link, voxels}) >= 0.25) return {host_or_link, host_and_link + "; " + busiest};
   return {"latency", busiest};
 }
 

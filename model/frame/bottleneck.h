@@ -22,7 +22,11 @@ struct FrameProfile {
   double host_preprocess = 0;  ///< the host's voxel and primary-ray generation (HostTimes::work)
   double transfer = 0;  ///< until the transfer is done, the rest: the host waiting for the link
   double pe = 0;        ///< the PEs' work: transfer done to the last PE done
-  double gather = 0;    ///< frame buffers back to the host
+  double gather = 0;    ///< frame buffers back to the host, after the last PE is done
+  bool gather_streamed = false;  ///< gather = streamed: the rest of the gather overlapped the PEs
+  /// voxelisation = pe: each PE's build of its voxel data before its first ray (part of the
+  /// transfer and PE phases, not a phase of its own).
+  double pe_voxelisation = 0;
   // Of the PEs' working windows, per unit (units/pipeline.h's UnitStats):
   UnitShares busy;       ///< holding any item
   UnitShares issue;      ///< its entry taken by an item's interval: how close it is to saturated
@@ -40,7 +44,8 @@ struct FrameProfile {
 };
 
 /// Every verdict bottleneck() gives: host_preprocessing (voxel and primary-ray generation on the
-/// host), interconnect (the link: the scene and rays to the PEs, frame buffers back), memory (the
+/// host), interconnect (the link: the scene and rays to the PEs, frame buffers back),
+/// pe_voxelisation (the PEs building their voxel data, voxelisation = pe), memory (the
 /// PEs' local memory: results waiting for their data), each unit of the unit table that counts
 /// towards utilisation (a PE unit whose entry is nearly always taken), loop_credits (too few rays
 /// allowed in flight: back-pressure), load_imbalance (one PE works much longer than the mean),
@@ -53,13 +58,14 @@ struct Bottleneck {
   std::string reason;  ///< one line: the figures that decided it
 };
 
-/// The unit or phase that limits the frame. Rules, in order: host pre-processing and the link
-/// together taking half the frame (the larger of the two is named); the units' reads of local
+/// The unit or phase that limits the frame. Rules, in order: host pre-processing, the link and the
+/// PEs' voxelisation together taking half the frame (the largest is named; with a streamed gather
+/// the reason gives its tail apart); the units' reads of local
 /// memory taking half their item-cycles, or results waiting for it half the working window
 /// (summed over the units); a PE unit whose entry is taken
 /// (`issue`) >= 60% of the working window (for an unpipelined unit the same as busy; a pipelined
 /// one can hold items all the time and still take more); credit stalls >= 30%; imbalance >= 1.3;
-/// the larger host/link share if >= 25%; else latency.
+/// the largest host/link/voxelisation share if >= 25%; else latency.
 Bottleneck bottleneck(const FrameProfile& p);
 
 }  // namespace rtm

@@ -36,6 +36,33 @@ TEST(Bottleneck, HostOrLinkTakingHalfTheFrame) {
   EXPECT_EQ(bottleneck(p).name, "interconnect");
 }
 
+TEST(Bottleneck, AStreamedGatherIsNamedWithItsTail) {
+  FrameProfile p = busy_pes();
+  p.transfer = 300;
+  p.gather = 250;
+  EXPECT_EQ(bottleneck(p).reason, "host pre-processing 5.0% and the link 55.0% of the frame");
+  p.gather_streamed = true;
+  EXPECT_EQ(bottleneck(p).name, "interconnect");
+  EXPECT_EQ(bottleneck(p).reason,
+            "host pre-processing 5.0% and the link 55.0% of the frame (the streamed gather's tail "
+            "after the last PE 25.0%)");
+}
+
+TEST(Bottleneck, ThePesVoxelisationWhenItTakesTheMost) {
+  FrameProfile p = busy_pes();
+  p.pe_voxelisation = 450;
+  EXPECT_EQ(bottleneck(p).name, "pe_voxelisation");
+  EXPECT_EQ(bottleneck(p).reason,
+            "host pre-processing 5.0%, the link 3.0% and the PEs' voxelisation 45.0% of the frame");
+  p.pe_voxelisation = 100;
+  p.transfer = 400;
+  EXPECT_EQ(bottleneck(p).name, "interconnect");
+  p.pe_voxelisation = 300;  // none of them half the frame alone, the largest >= 25%
+  p.transfer = 20;
+  p.issue[UnitKind::Mac] = 0.3;
+  EXPECT_EQ(bottleneck(p).name, "pe_voxelisation");
+}
+
 TEST(Bottleneck, TheBusiestUnitWhenItIsSaturated) {
   FrameProfile p = busy_pes();
   p.issue[UnitKind::Mac] = 0.92;
@@ -133,6 +160,9 @@ TEST(Bottleneck, EveryDeclaredNameIsAVerdict) {
   profiles.push_back(p);
   p = busy_pes();
   p.memory_access = 0.7;
+  profiles.push_back(p);
+  p = busy_pes();
+  p.pe_voxelisation = 600;
   profiles.push_back(p);
   std::set<std::string> verdicts;
   for (const FrameProfile& q : profiles) verdicts.insert(bottleneck(q).name);

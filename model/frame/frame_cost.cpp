@@ -22,6 +22,8 @@ FrameActivity frame_activity(const MachineResult& m, const MachineConfig& c, uin
     a.cache_line_fills += u.cache_line_fills;
   }
   for (const LinkUse& l : m.links) a.link_bytes += l.bytes;
+  a.voxel_primitives = m.voxel_primitives;
+  a.voxel_references = m.voxel_references;
   return a;
 }
 

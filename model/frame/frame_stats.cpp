@@ -52,6 +52,8 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.transfer = in_cycles(m.host.transfer - m.host.work, period);
   f.pe = in_cycles(m.host.pes_done - m.host.transfer, period);
   f.gather = in_cycles(m.host.gathered - m.host.pes_done, period);
+  f.gather_streamed = c.gather == MachineConfig::Gather::Streamed;
+  f.pe_voxelisation = in_cycles(m.host.pe_voxelisation, period);
   double window = 0, longest = 0, stall = 0, memory_wait = 0, memory_access = 0, held = 0;
   for (size_t i = 0; i < m.per_pe.size(); ++i) {
     const PeCounters& p = m.per_pe[i];

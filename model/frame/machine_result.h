@@ -26,6 +26,9 @@ struct HostTimes {
   /// The host's own work (voxel and primary-ray generation) before `transfer`; the rest of that
   /// time it waited for the link. The two differ from `rays` when the rays stream (ray_block > 0).
   uint64_t work = 0;
+  /// voxelisation = pe: each PE's build of its voxel data, between its scene's arrival and its
+  /// first ray (0: the host built it).
+  uint64_t pe_voxelisation = 0;
 };
 
 /// Per FIFO kind, over all PEs.
@@ -48,7 +51,10 @@ struct MachineResult {
   uint64_t clock_ticks = 0;  ///< the PE clock period, in ticks of simulated time (1 ps)
   std::vector<LinkUse>
       links;  ///< the interconnect's links: busy time and bytes of each (net/interconnect.h)
-  uint64_t scene_bytes = 0;           ///< one PE's copy of the scene as the link carries it
+  uint64_t scene_bytes = 0;  ///< one PE's copy of the scene as the link carries it
+  /// voxelisation = pe: the primitives placed in the grids and the references registered, over
+  /// all PEs (0: the host built the voxel data).
+  uint64_t voxel_primitives = 0, voxel_references = 0;
   std::vector<MemoryLayout> memory;   ///< each PE's local memory (memory/memory_layout.h)
   std::vector<MemoryUse> memory_use;  ///< what each PE's local memory did (units/pe_memory.h)
   uint64_t end = 0;                   ///< the frame's simulated time, in ticks

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "machine/sim_time.h"
+#include "memory/records.h"
 #include "render/camera.h"
 
 namespace rtm {
@@ -41,6 +42,7 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       image_(std::move(image)),
       parts_(std::move(parts)),
       pes_(std::move(pes)),
+      scene_ready_(pes_.size(), 0),
       sleep_(keeper, 0),
       net_(c, kTimeHorizonTicks) {
   for (size_t i = 0; i < pes_.size(); ++i)
@@ -102,6 +104,8 @@ void Host::run() {
   distribute();
   host_sleep_until(net_.idle_at());  // every transfer over
   times.transfer = now();
+  // Rays held back until their PE has built its voxel data (voxelisation = pe).
+  if (!pending_.empty()) host_sleep_until(pending_.rbegin()->first);
   gather_all();
   host_sleep_until(net_.idle_at());
   times.gathered = now();
@@ -119,10 +123,19 @@ void Host::preprocess() {
                                      (scene_.primitives.size() + scene_.lights.size() + 1)),
                               "the host's change of frame"));
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
-  // host is charged per primitive reference it registers).
-  host_work(checked_periods(host_cycle(),
-                            double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
-                            "the host's voxel-data generation"));
+  // host is charged per primitive reference it registers), unless each PE builds its own.
+  if (config_.voxelisation == MachineConfig::Voxelisation::Host)
+    host_work(checked_periods(host_cycle(),
+                              double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+                              "the host's voxel-data generation"));
+  else
+    times.pe_voxelisation =
+        checked_periods(sc_time(config_.clock_ns, sc_core::SC_NS),
+                        double(pe_voxelisation_cycles(uint64_t(config_.pe_voxel_cycles),
+                                                      uint64_t(config_.memory_bytes_per_cycle),
+                                                      grid_.start.size() - 1, grid_.items.size())),
+                        "a PE's voxel-data generation")
+            .value();
   times.voxels = now();
 }
 
@@ -148,7 +161,9 @@ void Host::send_rays(int pe, std::vector<Ray> rays) {
   const uint64_t bytes = pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes;
   const TransferTimes t = timed([&] { return net_.send(pe, bytes, now()); });
   auto data = std::make_shared<std::vector<Ray>>(std::move(rays));
-  deliver_at(t.arrive, [this, pe, data, d = t.end - t.arrive] {
+  // Not before the PE has its scene (and, voxelising, its voxel data): then what is left of it.
+  const uint64_t at = std::max(t.arrive, scene_ready_[size_t(pe)]);
+  deliver_at(at, [this, pe, data, d = t.end - std::min(t.end, at)] {
     transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase,
               reinterpret_cast<unsigned char*>(data->data()), data->size() * sizeof(Ray),
               sc_time::from_value(d));
@@ -156,7 +171,18 @@ void Host::send_rays(int pe, std::vector<Ray> rays) {
   wait_for_a_port();
 }
 
+uint64_t Host::scene_link_bytes() const {
+  return image_->bytes -
+         (config_.voxelisation == MachineConfig::Voxelisation::Pe ? image_->voxel_bytes : 0);
+}
+
 void Host::deliver_scene(int pe, const TransferTimes& t) {
+  // Voxelising, the PE builds its voxel data once the scene is in: its copy is whole, and ready
+  // for its rays, that long after. The voxel data's bytes are written into its memory with the
+  // scene's, as when they crossed the link.
+  scene_ready_[size_t(pe)] = config_.voxelisation == MachineConfig::Voxelisation::Pe
+                                 ? t.end + times.pe_voxelisation
+                                 : t.arrive;
   deliver_at(t.arrive, [this, pe, d = t.end - t.arrive] {
     SceneImageExtension ext;
     ext.image = image_;
@@ -167,7 +193,7 @@ void Host::deliver_scene(int pe, const TransferTimes& t) {
 }
 
 void Host::send_scene(int pe) {
-  deliver_scene(pe, timed([&] { return net_.send(pe, image_->bytes, now()); }));
+  deliver_scene(pe, timed([&] { return net_.send(pe, scene_link_bytes(), now()); }));
   wait_for_a_port();
 }
 
@@ -177,7 +203,8 @@ void Host::send_scene_to_all() {
     for (int pe = 0; pe < n; ++pe) send_scene(pe);
     return;
   }
-  const std::vector<TransferTimes> t = timed([&] { return net_.broadcast(image_->bytes, now()); });
+  const std::vector<TransferTimes> t =
+      timed([&] { return net_.broadcast(scene_link_bytes(), now()); });
   for (int pe = 0; pe < n; ++pe) deliver_scene(pe, t[size_t(pe)]);
   wait_for_a_port();
 }
@@ -218,17 +245,12 @@ void Host::distribute() {
   times.rays = now();
 }
 
-void Host::gather(int pe) {
+void Host::read_frame(int pe, sc_time delay) {
   const auto& px = parts_[size_t(pe)];
   std::vector<PixelSum> frame(px.size());
   std::vector<int32_t> ids(px.size());
-  const TransferTimes t =
-      timed([&] { return net_.gather(pe, px.size() * kPixelRecordBytes, now()); });
-  // The PE is done, so its frame buffer no longer changes: read at once, the interconnect timing
-  // the transfer. The ids travel in the same 16 bytes a pixel.
-  const sc_time d = sc_time::from_value(t.end - t.arrive);
   transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase,
-            reinterpret_cast<unsigned char*>(frame.data()), frame.size() * sizeof(PixelSum), d);
+            reinterpret_cast<unsigned char*>(frame.data()), frame.size() * sizeof(PixelSum), delay);
   transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase,
             reinterpret_cast<unsigned char*>(ids.data()), ids.size() * sizeof(int32_t),
             sc_core::SC_ZERO_TIME);
@@ -236,11 +258,58 @@ void Host::gather(int pe) {
     image.rgb[px[i]] = frame[i].value();
     image.ids[px[i]] = ids[i];
   }
+}
+
+void Host::gather(int pe) {
+  const TransferTimes t =
+      timed([&] { return net_.gather(pe, parts_[size_t(pe)].size() * kPixelRecordBytes, now()); });
+  // The PE is done, so its frame buffer no longer changes: read at once, the interconnect timing
+  // the transfer. The ids travel in the same 16 bytes a pixel.
+  read_frame(pe, sc_time::from_value(t.end - t.arrive));
   wait_for_a_port();
+}
+
+void Host::gather_streamed() {
+  for (Pe* pe : pes_)
+    if (!pe->finished()) sc_core::wait(pe->finished_event);
+  for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
+  // Each PE's frame buffer in blocks of gather_block slots, each ready once its last pixel is
+  // done and the host has issued its last transfer to the PEs. The host takes them first come,
+  // first served (of equal times, by PE, then block): asked for in that order, each no earlier
+  // than it is ready, the interconnect gives the times an online host would get, nothing else
+  // asking for a link meanwhile. The frame buffers no longer change, so they are read at the end.
+  struct Block {
+    uint64_t ready;
+    int pe;
+    size_t pixels;
+  };
+  std::vector<Block> blocks;
+  const size_t per_block = size_t(config_.gather_block);
+  for (int pe = 0; pe < int(pes_.size()); ++pe) {
+    const size_t n = parts_[size_t(pe)].size();
+    const std::vector<uint64_t>& done = pes_[size_t(pe)]->ctx.pixel_done;
+    if (done.size() != n)
+      throw std::logic_error("PE " + std::to_string(pe) + " finished " +
+                             std::to_string(done.size()) + " pixels of " + std::to_string(n));
+    for (size_t first = 0; first < n; first += per_block) {
+      const size_t last = std::min(n, first + per_block);
+      const uint64_t ready = *std::max_element(done.begin() + std::ptrdiff_t(first),
+                                               done.begin() + std::ptrdiff_t(last));
+      blocks.push_back({std::max(ready, times.transfer), pe, last - first});
+    }
+  }
+  std::stable_sort(blocks.begin(), blocks.end(),
+                   [](const Block& a, const Block& b) { return a.ready < b.ready; });
+  for (const Block& b : blocks)
+    timed([&] {
+      return net_.gather(b.pe, kGatherBlockHeaderBytes + b.pixels * kPixelRecordBytes, b.ready);
+    });
+  for (int pe = 0; pe < int(pes_.size()); ++pe) read_frame(pe, sc_core::SC_ZERO_TIME);
 }
 
 void Host::gather_all() {
   const int n = int(pes_.size());
+  if (config_.gather == MachineConfig::Gather::Streamed) return gather_streamed();
   if (config_.gather == MachineConfig::Gather::AfterAll) {
     for (Pe* pe : pes_)
       if (!pe->finished()) sc_core::wait(pe->finished_event);

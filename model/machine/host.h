@@ -1,7 +1,7 @@
 // The host (paper §3.2): voxel-data generation and primary-ray generation, then the transfer of
 // the scene and each PE's primary rays into the PEs' local memories over the interconnect
 // (TLM-2.0 b_transport, timed by net/interconnect.h: topology, bytes, bandwidth, latency), and
-// at the end the gathering of the PEs' frame buffers.
+// the gathering of the PEs' frame buffers.
 #pragma once
 
 #include <functional>
@@ -38,6 +38,9 @@ class Host : public sc_core::sc_module {
       sc_core::SC_ZERO_TIME;  ///< the host's current work ends then (for stall detection)
   /// The links' use over the frame (topology's names, busy times and bytes).
   const std::vector<LinkUse>& link_use() const { return net_.links(); }
+  /// One PE's copy of the scene as the link carries it: without the voxel data when the PEs build
+  /// it (voxelisation = pe).
+  uint64_t scene_link_bytes() const;
 
  private:
   /// A b_transport into PE `pe`'s local memory, at once.
@@ -64,9 +67,14 @@ class Host : public sc_core::sc_module {
   void deliver_scene(int pe, const TransferTimes& t);
   void send_scene(int pe);
   void send_scene_to_all();
-  /// Reads PE `pe`'s frame buffer into the image.
+  /// Reads PE `pe`'s frame buffer into the image, the transport taking `delay`.
+  void read_frame(int pe, sc_core::sc_time delay);
+  /// Gathers PE `pe`'s frame buffer in one transfer.
   void gather(int pe);
-  /// Gathers every PE's frame buffer: after all are done, or each as it finishes (gather).
+  /// Every PE's frame buffer in blocks sent as their pixels finish (gather = streamed).
+  void gather_streamed();
+  /// Gathers every PE's frame buffer: after all are done, each as it finishes, or streamed
+  /// (gather).
   void gather_all();
 
   MachineConfig config_;
@@ -75,7 +83,8 @@ class Host : public sc_core::sc_module {
   std::shared_ptr<const SceneImage> image_;
   std::vector<std::vector<uint32_t>> parts_;
   std::vector<Pe*> pes_;
-  Sleeper sleep_;  ///< rank 0: the host goes first in its cycle
+  std::vector<uint64_t> scene_ready_;  ///< per PE: its scene copy whole in local memory from then
+  Sleeper sleep_;                      ///< rank 0: the host goes first in its cycle
   Interconnect net_;
   /// Writes issued for later (a star's or a tree's link still busy), by arrival, then issue order.
   std::multimap<uint64_t, std::function<void()>> pending_;

@@ -40,7 +40,6 @@ class Machine : public sc_core::sc_module {
   std::unique_ptr<Host> host;
   SceneNeeds needs;
   PeUnits units;
-  uint64_t scene_bytes = 0;
   std::vector<MemoryLayout> memory;                   ///< per PE
   std::unique_ptr<ProgressDisplay> progress_display;  ///< null: none
   std::unique_ptr<Watchdog> watchdog;
@@ -60,7 +59,6 @@ class Machine : public sc_core::sc_module {
     auto parts = partition_screen(s.camera.width, s.camera.height, c);
     auto image = std::make_shared<SceneImage>(s, g, c);
     needs = image->visit([&](const auto& mem) { return analyse_scene(s, mem.rams); });
-    scene_bytes = image->bytes;
     check_local_memory(*image, parts, c);
     if (c.leave_out) {
       units.shadow_rays = needs.shadow_rays;
@@ -422,7 +420,7 @@ MachineResult collect_result(Machine& top, const MachineConfig& c) {
   r.fifos = summarise_fifos(top.pes, end);
   r.needs = top.needs;
   r.engine_unsupported = top.engine_unsupported;
-  r.scene_bytes = top.scene_bytes;
+  r.scene_bytes = top.host->scene_link_bytes();
   r.memory = top.memory;
   r.units = top.units;
   for (auto [kept, name] :
@@ -491,6 +489,10 @@ MachineResult run_machine(const Scene& s, const Grid& g, const MachineConfig& c,
   if (const std::string why = budget_stop(top, s, c, opt); !why.empty()) throw BudgetExceeded(why);
   check_finished(top, c);
   MachineResult r = collect_result(top, c);
+  if (c.voxelisation == MachineConfig::Voxelisation::Pe) {
+    r.voxel_primitives = uint64_t(pe_view.scene.primitives.size()) * uint64_t(c.pes);
+    r.voxel_references = uint64_t(pe_view.grid.items.size()) * uint64_t(c.pes);
+  }
   write_recordings(top, rec, logs, r, c, opt);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -33,6 +33,14 @@ constexpr uint64_t voxel_list_bytes(uint64_t count) { return count * kPrimitiveI
 constexpr uint64_t voxel_data_bytes(uint64_t voxels, uint64_t references) {
   return kVoxelOffsetBytes * (voxels + 1) + kPrimitiveIdBytes * references;
 }
+/// PE cycles to build the voxel data itself (voxelisation = pe): `per_reference` cycles a
+/// primitive reference registered (its voxel found and its id written), and the voxel offsets
+/// written `bytes_per_cycle` at a time.
+constexpr uint64_t pe_voxelisation_cycles(uint64_t per_reference, uint64_t bytes_per_cycle,
+                                          uint64_t voxels, uint64_t references) {
+  return per_reference * references +
+         (kVoxelOffsetBytes * (voxels + 1) + bytes_per_cycle - 1) / bytes_per_cycle;
+}
 
 // ---- Primitive, light and material data ----
 
@@ -70,6 +78,9 @@ constexpr uint64_t kBrightnessBytes = kPixelRecordBytes - kPrimitiveIdBytes;
 /// What the PE's network interface writes into local memory at once of a transfer coming in: a
 /// burst of 16 beats at the default port width (units/pe_memory.h, "The host's traffic").
 constexpr uint64_t kHostBurstBytes = 64;
+/// A streamed gather's transfer (gather = streamed): this header, the block's first pixel slot,
+/// then the block's frame-buffer entries (kPixelRecordBytes each).
+constexpr uint64_t kGatherBlockHeaderBytes = 4;
 
 // ---- Where each record starts ----
 

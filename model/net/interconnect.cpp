@@ -22,6 +22,7 @@ Interconnect::Interconnect(const MachineConfig& c, uint64_t horizon_ticks)
       pes_(c.pes),
       host_ports_(c.host_ports),
       fanout_(c.tree_fanout),
+      cut_through_(c.tree_forwarding == MachineConfig::TreeForwarding::CutThrough),
       latency_ticks_(ticks(c.link_latency_ns, 1e3)),
       bytes_per_second_(c.link_bandwidth_mb_s * 1e6),
       horizon_(horizon_ticks) {
@@ -95,15 +96,22 @@ std::vector<size_t> Interconnect::path(int pe) const {
   return down;
 }
 
+uint64_t Interconnect::forwardable(const Hop& h) const {
+  // Cut-through: every link has the same bandwidth, so a hop started once the header is in never
+  // outruns the data still arriving on the link before it.
+  return cut_through_ ? h.start + latency_ticks_ : h.end;
+}
+
 TransferTimes Interconnect::along(const std::vector<size_t>& route, uint64_t bytes,
                                   uint64_t ready) {
-  // Store-and-forward: each PE on the way holds the whole transfer before it passes it on.
   TransferTimes t{0, 0, ready};
+  uint64_t earliest = ready;
   for (size_t i = 0; i < route.size(); ++i) {
-    const Hop h = hop(route[i], bytes, t.end);
+    const Hop h = hop(route[i], bytes, earliest);
     if (i == 0) t.start = h.start;
     t.arrive = h.start;
     t.end = h.end;
+    earliest = forwardable(h);
   }
   return t;
 }
@@ -156,11 +164,13 @@ std::vector<TransferTimes> Interconnect::broadcast(uint64_t bytes, uint64_t read
       break;
     }
     case Topology::Tree:
-      // Parents come before their children in PE order: each forwards once it holds the whole
-      // scene.
+      // Parents come before their children in PE order: each forwards as tree_forwarding says,
+      // from the hop that reached it (its arrive and end).
       for (int i = 0; i < pes_; ++i) {
         const int p = parent(i);
-        const Hop h = hop(size_t(i), bytes, p < 0 ? ready : t[size_t(p)].end);
+        const uint64_t earliest =
+            p < 0 ? ready : forwardable({t[size_t(p)].arrive, t[size_t(p)].end});
+        const Hop h = hop(size_t(i), bytes, earliest);
         t[size_t(i)] = {p < 0 ? h.start : t[size_t(p)].start, h.start, h.end};
       }
       break;

@@ -42,7 +42,8 @@ struct InterconnectTimeError : std::range_error {
 
 class Interconnect {
  public:
-  /// Reads link_topology, pes, host_ports, tree_fanout, link_bandwidth_mb_s and link_latency_ns.
+  /// Reads link_topology, pes, host_ports, tree_fanout, tree_forwarding, link_bandwidth_mb_s and
+  /// link_latency_ns.
   /// A transfer ending at or past `horizon_ticks` throws InterconnectTimeError.
   Interconnect(const MachineConfig& c, uint64_t horizon_ticks);
 
@@ -75,6 +76,9 @@ class Interconnect {
     uint64_t start, end;
   };
   Hop hop(size_t link, uint64_t bytes, uint64_t earliest);
+  /// The earliest a PE may pass on a hop `h` it receives: when all of it is in
+  /// (store-and-forward), or when its header is (cut-through: the latency after the hop starts).
+  uint64_t forwardable(const Hop& h) const;
   /// Hop after hop over `route`, the first no earlier than `ready`.
   TransferTimes along(const std::vector<size_t>& route, uint64_t bytes, uint64_t ready);
   /// The port of a star taking a transfer on `link`: the one letting it start first.
@@ -84,6 +88,7 @@ class Interconnect {
 
   MachineConfig::LinkTopology topology_;
   int pes_, host_ports_, fanout_;
+  bool cut_through_;
   uint64_t latency_ticks_;
   double bytes_per_second_;
   uint64_t horizon_;

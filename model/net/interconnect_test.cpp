@@ -185,6 +185,55 @@ TEST(Interconnect, ATreeForwardsABroadcastStoreAndForward) {
   EXPECT_EQ(n.parent(15), 3);
 }
 
+// Cut-through: a PE passes a transfer on once its header is in, the latency L after the hop
+// before began. On an idle tree a transfer over d links then takes d·L + its serialisation, the
+// store-and-forward time less (d - 1)·(t(b) - L).
+TEST(Interconnect, ATreeCutThroughForwardsOnceTheHeaderIsIn) {
+  constexpr uint64_t L = 1'000'000;
+  for (int fanout : {1, 2, 3}) {
+    MachineConfig c = net(Topology::Tree, 16, 1, fanout);
+    c.tree_forwarding = MachineConfig::TreeForwarding::CutThrough;
+    Interconnect cut(c, kHorizon);
+    const auto t = cut.broadcast(kScene, 0);
+    uint64_t deepest = 0;
+    for (int i = 0; i < 16; ++i) {
+      const uint64_t d = uint64_t(cut.depth(i));
+      EXPECT_EQ(t[size_t(i)].arrive, (d - 1) * L) << "fan-out " << fanout << ", PE " << i;
+      EXPECT_EQ(t[size_t(i)].end, (d - 1) * L + S);
+      EXPECT_EQ(cut.links()[size_t(i)].bytes, kScene) << "each link carries it once, as before";
+      deepest = std::max(deepest, d);
+    }
+    EXPECT_EQ(cut.idle_at(), deepest * S - (deepest - 1) * (S - L));
+    EXPECT_EQ(total_busy(cut), 16 * S) << "the links' busy time is the same";
+  }
+  for (int pes : {1, 2, 5, 16}) {  // a chain: PE k is k + 1 links from the host
+    MachineConfig c = net(Topology::Tree, pes, 1, 1);
+    c.tree_forwarding = MachineConfig::TreeForwarding::CutThrough;
+    for (int k = 0; k < pes; ++k) {
+      Interconnect cut(c, kHorizon), stored(net(Topology::Tree, pes, 1, 1), kHorizon);
+      const uint64_t d = uint64_t(k) + 1;
+      const TransferTimes down = cut.send(k, kRays, 0);
+      EXPECT_EQ(down.arrive, (d - 1) * L) << pes << " PEs, PE " << k;
+      EXPECT_EQ(down.end, d * L + (R - L));
+      EXPECT_EQ(stored.send(k, kRays, 0).end - down.end, (d - 1) * (R - L));
+      const TransferTimes up = cut.gather(k, kFrame, down.end);
+      EXPECT_EQ(up.end - up.start, d * L + (G - L));
+      EXPECT_EQ(stored.gather(k, kFrame, down.end + (d - 1) * (R - L)).end -
+                    (down.end + (d - 1) * (R - L)),
+                d * G);
+    }
+  }
+  // A busy link down the path holds the transfer in the PE before it, as store-and-forward would.
+  MachineConfig c = net(Topology::Tree, 3, 1, 1);
+  c.tree_forwarding = MachineConfig::TreeForwarding::CutThrough;
+  Interconnect cut(c, kHorizon);
+  cut.send(1, kScene, 0);  // links 0 and 1: [0, S) and [L, L + S)
+  const TransferTimes t = cut.send(2, kRays, 0);
+  EXPECT_EQ(t.start, S);           // link 0 once the scene has left it
+  EXPECT_EQ(t.arrive, 2 * L + S);  // link 1 once the scene has left it (L + S), link 2 L later
+  EXPECT_EQ(t.end, 2 * L + S + R);
+}
+
 // Without broadcast a tree routes each PE's copy through its ancestors, hop after hop. On a chain
 // the host's link frees after each first hop: PE k's rays start on the host's link at k·R and
 // reach it at 2k·R.

@@ -33,10 +33,11 @@ inline uint64_t pipeline_interval(int key, uint64_t latency, uint64_t beats = 1)
 }
 
 /// Records that unit (kind, index) wrote `out` for ray `ray` at `now`: every scheduler calls it
-/// after each write, so their event logs agree.
-inline void record_put(PeState& pe, uint64_t now, UnitKind kind, int index, uint32_t ray,
+/// after each write, so their event logs, and the times the pixels are done, agree.
+inline void record_put(PeState& pe, uint64_t now, UnitKind kind, int index, const MachineRay& ray,
                        const Output& out) {
-  if (pe.log) pe.log->put(now, kind, index, ray, out.fifo);
+  if (out.what == Output::What::End) pe.ray_ended(ray.slot, now);
+  if (pe.log) pe.log->put(now, kind, index, ray.id, out.fifo);
 }
 
 /// The front buffer's next primary ray (pixel slot `slot`), numbered and counted.
@@ -46,6 +47,7 @@ inline MachineRay primary_ray(PeState& pe, const std::vector<Ray>& rays, size_t 
   m.slot = uint32_t(slot);
   m.id = pe.next_ray_id++;
   ++pe.counters.counts.rays[size_t(RayKind::Primary)];
+  pe.rays_made(m.slot, 1);
   return m;
 }
 

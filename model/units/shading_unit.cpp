@@ -46,6 +46,8 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
   for (const Ray& child : out.rays)
     if (!pe_.units.generates(child.kind))
       throw std::logic_error("a left-out ray generator was needed: the scene analysis is wrong");
+  // Counted now, before the ray's end (its first output) could leave its pixel without rays.
+  pe_.rays_made(r.slot, out.rays.size());
   Work w{cycles, pipeline_interval(c.shade_interval, cycles), output(0), {}};
   if (PeMemory* m = pe_.memory.get()) {
     // The pixel's brightness is read, added to and written back within the unit's cycles.
