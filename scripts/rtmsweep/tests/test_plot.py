@@ -1,5 +1,6 @@
 """scripts/plot-sweep on a hand-written CSV: all eight plots and the table, failed rows left out."""
 
+import re
 import pytest
 
 from support import PLOT_SWEEP, PLOTS, check_png, sh
@@ -55,7 +56,9 @@ def test_plot_sweep_writes_its_png_files_and_table(tmp_path, csv_rows):
     # The cost table: one line per successful run, then each scene's best.
     cost = (tmp_path / "plots" / "cost.md").read_text()
     assert cost.count("\n") == 2 + ok + 1 + 2 + 2
-    assert "| balls-4 scanlines | 2 |  | 1,020 |  | 41.67 |  |" in cost
+    # Eight equal parts of the energy: leakage an eighth, the first of the seven others a seventh.
+    assert re.search(r"\| balls-4 scanlines \| 2 \|  \| 1,020 \|  \|  \| 41\.67 \|  \| 1[23] % \| front buffer 14 % \|",
+                     cost), cost
 
 
 def test_the_cost_table_has_a_line_per_run_and_each_scenes_best(tmp_path, csv_rows):
@@ -71,9 +74,9 @@ def test_the_cost_table_has_a_line_per_run_and_each_scenes_best(tmp_path, csv_ro
     table = (tmp_path / "plots" / "cost.md").read_text()
     ok = sum(row["status"] == "ok" for row in csv_rows)
     # balls-4 scanlines on 2 PEs: 4 mm², 1.02 mJ, 50 / 1.2 = 41.67 frames/s/mm², so 166.7 frames/s.
-    assert "| balls-4 scanlines | 2 | 4.000 | 1,020 | 166.7 | 41.67 | 980.4 |" in table
+    assert "| balls-4 scanlines | 2 | 4.000 | 1,020 |  | 166.7 | 41.67 | 980.4 | " in table
     # The most frames/s/mm² is the fewest PEs (50 / (1 + 0.1 p)); rings-7 has no 1-PE run.
-    assert "| balls-4 | balls-4 blocks, 1 PEs (45.45) | balls-4 blocks, 1 PEs (990.1) |" in table
+    assert "| balls-4 | balls-4 blocks, 1 PE (45.45) | balls-4 blocks, 1 PE (990.1) |" in table
     assert "| rings-7 | rings-7 scanlines, 2 PEs (41.67) |" in table
     assert table.count("\n") == 2 + ok + 1 + 2 + 2
     assert table in page.read_text()
