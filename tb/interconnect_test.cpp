@@ -32,6 +32,16 @@ struct Net {
 /// children PEs h + f·i ... h + f·i + f - 1 (docs/machine.md).
 int tree_depth(int pe, int h, int f) { return pe < h ? 1 : 1 + tree_depth((pe - h) / f, h, f); }
 
+/// A mechanism that moves only times leaves each PE's work as it was: its rays, busy and issue
+/// cycles, memory accesses and the length of its working window (its start may move).
+void expect_same_pe_work(const json& moved, const json& base, size_t pe) {
+  for (const char* key : {"rays", "busy_cycles", "issue_cycles", "memory_access"})
+    EXPECT_EQ(moved[key], base[key]) << "PE " << pe << " " << key;
+  EXPECT_EQ(moved["cycles"].get<int64_t>() - moved["start_cycle"].get<int64_t>(),
+            base["cycles"].get<int64_t>() - base["start_cycle"].get<int64_t>())
+      << "PE " << pe << "'s working window";
+}
+
 /// What every link together carries: the scene once (a broadcast on one medium), once per link
 /// (a broadcast on a star or a tree), or once per PE and hop; each PE's rays and frame buffer
 /// once per hop. Scanlines: PE i renders the rows y with y mod N = i.
@@ -161,11 +171,7 @@ TEST(InterconnectRender, CutThroughOnATreeMovesOnlyTheTimes) {
   ASSERT_EQ(cut["per_pe"].size(), stored["per_pe"].size());
   for (size_t pe = 0; pe < cut["per_pe"].size(); ++pe) {
     const json &c = cut["per_pe"][pe], &s = stored["per_pe"][pe];
-    for (const char* key : {"rays", "busy_cycles", "issue_cycles", "memory_access"})
-      EXPECT_EQ(c[key], s[key]) << "PE " << pe << " " << key;
-    EXPECT_EQ(c["cycles"].get<int64_t>() - c["start_cycle"].get<int64_t>(),
-              s["cycles"].get<int64_t>() - s["start_cycle"].get<int64_t>())
-        << "PE " << pe << "'s working window";
+    expect_same_pe_work(c, s, pe);
     if (pe == 0)  // one link deep: nothing to forward
       EXPECT_EQ(c["start_cycle"], s["start_cycle"]);
     else
@@ -234,8 +240,9 @@ TEST(InterconnectRender, AStreamedGatherOverlapsTheGatherWithTheRendering) {
     EXPECT_GE(tail, block_hop - 1) << pes << " PEs: the last block goes after the last pixel";
     EXPECT_LT(tail, after_tail) << pes << " PEs";
     EXPECT_LT(s["cycles"].get<uint64_t>(), a["cycles"].get<uint64_t>()) << pes << " PEs";
-    if (pes == 1)  // after all: one frame buffer of 144 pixels after the PE
+    if (pes == 1) {  // after all: one frame buffer of 144 pixels after the PE
       EXPECT_NEAR(after_tail, 100 + 144 * 16 / 4.0, 1.0);
+    }
   }
 }
 
@@ -338,14 +345,7 @@ TEST(InterconnectRender, PeVoxelisationMovesTheGridBuildOntoThePes) {
               rtm::read_id_map(tmp / (host + "-id.exr")).ids);
     EXPECT_EQ(p["rays"], h["rays"]);
     ASSERT_EQ(p["per_pe"].size(), size_t(pes));
-    for (int i = 0; i < pes; ++i) {
-      const json &a = p["per_pe"][i], &b = h["per_pe"][i];
-      for (const char* key : {"rays", "busy_cycles", "issue_cycles", "memory_access"})
-        EXPECT_EQ(a[key], b[key]) << "PE " << i << " " << key;
-      EXPECT_EQ(a["cycles"].get<int64_t>() - a["start_cycle"].get<int64_t>(),
-                b["cycles"].get<int64_t>() - b["start_cycle"].get<int64_t>())
-          << "PE " << i << "'s working window";
-    }
+    for (int i = 0; i < pes; ++i) expect_same_pe_work(p["per_pe"][i], h["per_pe"][i], size_t(i));
     const uint64_t refs = h["grid"]["references"];
     uint64_t voxels = 1;
     for (const json& n : h["grid"]["resolution"]) voxels *= n.get<uint64_t>();
@@ -361,10 +361,11 @@ TEST(InterconnectRender, PeVoxelisationMovesTheGridBuildOntoThePes) {
         h["interconnect"]["bytes"].get<uint64_t>() - p["interconnect"]["bytes"].get<uint64_t>(),
         voxel_bytes)
         << "one broadcast";
-    if (pes == 1)
+    if (pes == 1) {
       EXPECT_NEAR(
           p["per_pe"][0]["start_cycle"].get<double>() - h["per_pe"][0]["start_cycle"].get<double>(),
           double(build) - 40.0 * double(refs) - double(voxel_bytes) / 4, 1.0);
+    }
     EXPECT_EQ(h["cost"]["voxelisation_dynamic_j"], 0.0);
     const double voxelising = p["cost"]["voxelisation_dynamic_j"];
     EXPECT_GT(voxelising, 0.0);
