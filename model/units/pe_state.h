@@ -93,11 +93,14 @@ struct PeState {
   uint64_t cycles(uint64_t ticks) const { return ticks / cycle; }
 
   /// Per pixel slot of the PE: its rays made and not yet ended, and when the last one ended (the
-  /// pixel's final brightness is in the frame buffer from then: gather = streamed sends it).
+  /// pixel's final brightness is in the frame buffer from then: gather = streamed sends it). Kept
+  /// only for a streamed gather, the one reader: every ray's put passes here.
   std::vector<uint32_t> pixel_rays;
   std::vector<uint64_t> pixel_done;
+  bool tracks_pixels() const { return config.gather == MachineConfig::Gather::Streamed; }
   /// `n` more rays of pixel `slot` are made (a primary ray; the rays a shaded one spawns).
   void rays_made(uint32_t slot, size_t n) {
+    if (!tracks_pixels()) return;
     if (slot >= pixel_rays.size()) {
       pixel_rays.resize(size_t(slot) + 1, 0);
       pixel_done.resize(size_t(slot) + 1, 0);
@@ -106,7 +109,8 @@ struct PeState {
   }
   /// A ray of pixel `slot` left the loop at `now`.
   void ray_ended(uint32_t slot, uint64_t now) {
-    if (slot < pixel_rays.size() && pixel_rays[slot] > 0 && --pixel_rays[slot] == 0)
+    if (tracks_pixels() && slot < pixel_rays.size() && pixel_rays[slot] > 0 &&
+        --pixel_rays[slot] == 0)
       pixel_done[slot] = now;
   }
 };
