@@ -89,7 +89,7 @@ struct IntersectionModule::MacOps {
     if (x.clocked_) x.clocked_->stall(full);  // a result that cannot leave holds the whole MAC
     if (full) return false;
     x.root_fifo_.write(h.m);
-    record_put(x.ctx_, x.ctx_.log_time(), UnitKind::Mac, x.mac_.lane(), h.m.r, h.out);
+    record_put(x.ctx_, x.ctx_.put_time(), UnitKind::Mac, x.mac_.lane(), h.m.r, h.out);
     return true;
   }
   void retired(const Held&) {

@@ -21,9 +21,9 @@ struct PeContext : PeState {
   Timekeeper* keeper = nullptr;  ///< arbitration = ranked: every timed wait goes through it
 
   static uint64_t now() { return sc_core::sc_time_stamp().value(); }
-  /// The time a unit's take or put is logged at: only the event log reads it, so without one the
-  /// kernel is not asked.
-  uint64_t log_time() const { return log ? now() : 0; }
+  /// The time of a unit's put (record_put): only the event log and a streamed gather's pixel times
+  /// read it, so without them the kernel is not asked.
+  uint64_t put_time() const { return log || tracks_pixels() ? now() : 0; }
   /// A sleeper for one more process of this PE (`lane`: a root unit's).
   std::unique_ptr<Sleeper> sleeper(UnitKind kind, int lane = 0) const {
     return std::make_unique<Sleeper>(keeper, kRanksPerPe * (pe + 1) + int(kind) + lane);

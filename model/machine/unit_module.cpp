@@ -47,7 +47,7 @@ bool UnitModule::try_write(const Output& o, const MachineRay& r, UnitKind kind, 
     if (out->num_free() == 0) return false;
     out->write(r);
   }
-  record_put(ctx_, ctx_.log_time(), kind, index, r, o);
+  record_put(ctx_, ctx_.put_time(), kind, index, r, o);
   return true;
 }
 
