@@ -42,6 +42,12 @@ def random_config(rng, scenes):
                  "dda_precision": rng.choice(["precision", "fp32", "fp64"]),
                  "shading_precision": rng.choice(["precision", "fp32", "fp64"]),
                  "hit_refine": rng.choice(["none", "newton"]), "refine_cycles": rng.randint(0, 10)})
+    # The mechanisms of a machine that scales (docs/machine.md), drawn after the arithmetic.
+    sets.update({"voxelisation": rng.choice(["host", "pe"]),
+                 "tree_forwarding": rng.choice(["store_and_forward", "cut_through"]),
+                 "scene_block": rng.choice([0, 0, 1, 3, 50]), "gather_block": rng.randint(1, 40)})
+    if rng.random() < 0.3:
+        sets["gather"] = "streamed"
     if sets["link_topology"] == "star" and sets["broadcast"] == "true":
         sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():

@@ -159,6 +159,10 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"PeVoxelisationOnATree",
              "rings-1.nff --size 24x24 --pes 4 --set voxelisation=pe --set link_topology=tree "
              "--set broadcast=true --set ray_block=50"},
+        Case{"StreamedSceneOnACutThroughTree",
+             "rings-1.nff --size 24x24 --pes 4 --set voxelisation=pe --set link_topology=tree "
+             "--set tree_forwarding=cut_through --set broadcast=true --set scene_block=3 --set "
+             "gather=streamed"},
         Case{"SlowLinkNoLeaveOut",
              "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false "
              "--set clock_ns=7"},

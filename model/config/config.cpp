@@ -355,7 +355,8 @@ std::string ConfigKey::accepted() const {
 //   (vm.max_map_count) holds about 32000 threads. rtm render refuses, before simulating, a
 //   configuration whose threads the host's limit cannot hold.
 // - tile and ray_block need not exceed the largest image (16384 a side); host_ports and
-//   tree_fanout need not exceed the most PEs.
+//   tree_fanout need not exceed the most PEs; scene_block need not exceed the most primitives
+//   (2^24, the MAC's coefficient RAM's bound below).
 // - Local memory timing (model/memory/, docs/memory.md): ports and banks at most 1024, each a
 //   table of booked cycles (a PE has at most 323 requesters: 256 search units, 64 lanes, the front
 //   buffer, shading, the host). The granule and the port width: at most 64 KiB. The latency, like
@@ -642,6 +643,13 @@ const std::vector<ConfigKey>& config_keys() {
                &M::broadcast),
       int_key("ray_block", "primary rays per host -> PE transfer (0: all of a PE's rays at once)",
               &M::ray_block, from(0, kMaxPixels)),
+      int_key("scene_block",
+              "primitives per host -> PE scene transfer (0: the whole scene in one transfer once "
+              "it is prepared): the host frames a block (pe_frame = grid) and sends it while it "
+              "frames the next, and a PE voxelising (voxelisation = pe) registers each block's "
+              "references as the block arrives; lights and materials go with the first block, the "
+              "host's voxel data after the last",
+              &M::scene_block, from(0, kMaxMacRamPrimitives)),
       enum_key("arbitration",
                "same-cycle order: ranked (a fixed order by unit, independent of the kernel: "
                "clocked and fast timing give the same cycles on any frame) or kernel (SystemC's "
@@ -749,6 +757,9 @@ const std::vector<Preset>& presets() {
            {"ray_block", "0",
             "§3.2: pre-processing first, then the transfer: every ray is generated before any is "
             "sent"},
+           {"scene_block", "0",
+            "§3.2: pre-processing first, then the transfer: the whole scene is prepared before any "
+            "of it is sent"},
            {"gather", "after_all",
             "silent (frame-buffer gathering is left open): the host reads the frame buffers once "
             "every PE is done"},

@@ -150,6 +150,7 @@ struct MachineConfig {
   TreeForwarding tree_forwarding = TreeForwarding::StoreAndForward;
   bool broadcast = false;
   int ray_block = 0;
+  int scene_block = 0;  ///< primitives per scene transfer, framed and sent in turn (0: at once)
   enum class Gather { AfterAll, AsFinished, Streamed };
   Gather gather = Gather::AfterAll;
   int gather_block = 256;  ///< pixels per transfer of a streamed gather

@@ -27,7 +27,8 @@ struct HostTimes {
   /// time it waited for the link. The two differ from `rays` when the rays stream (ray_block > 0).
   uint64_t work = 0;
   /// voxelisation = pe: each PE's build of its voxel data, between its scene's arrival and its
-  /// first ray (0: the host built it).
+  /// first ray (0: the host built it); with a streamed scene (scene_block > 0) the most any PE's
+  /// build adds after its last block is in.
   uint64_t pe_voxelisation = 0;
 };
 

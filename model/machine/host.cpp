@@ -100,7 +100,10 @@ void Host::host_work(sc_time t) {
 sc_time Host::host_cycle() const { return sc_time(config_.host_clock_ns, sc_core::SC_NS); }
 
 void Host::run() {
-  preprocess();
+  if (config_.scene_block > 0)
+    stream_scene();
+  else
+    preprocess();
   distribute();
   host_sleep_until(net_.idle_at());  // every transfer over
   times.transfer = now();
@@ -137,6 +140,74 @@ void Host::preprocess() {
                         "a PE's voxel-data generation")
             .value();
   times.voxels = now();
+}
+
+std::vector<TransferTimes> Host::send_scene_block(uint64_t bytes) {
+  if (config_.broadcast) return timed([&] { return net_.broadcast(bytes, now()); });
+  std::vector<TransferTimes> t;
+  for (int pe = 0; pe < int(pes_.size()); ++pe)
+    t.push_back(timed([&] { return net_.send(pe, bytes, now()); }));
+  return t;
+}
+
+void Host::stream_scene() {
+  const size_t n = scene_.primitives.size(), block = size_t(config_.scene_block);
+  const bool framing = config_.pe_frame == PeFrame::Grid;
+  const bool pe_voxels = config_.voxelisation == MachineConfig::Voxelisation::Pe;
+  auto frame_work = [&](size_t items) {
+    if (framing)
+      host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_frame_cycles) * items),
+                                "the host's change of frame"));
+  };
+  std::vector<uint64_t> references(n, 0);
+  if (pe_voxels)
+    for (uint32_t prim : grid_.items) ++references[prim];
+  const sc_time pe_cycle(config_.clock_ns, sc_core::SC_NS);
+  // Per PE: when it has registered the references of every block in so far.
+  std::vector<uint64_t> registered(pes_.size(), 0);
+  std::vector<TransferTimes> last;
+  // The lights and the camera are framed first: the lights travel with the first block. The host
+  // issues each block and frames the next while the link carries it (the interconnect queues the
+  // transfers in turn).
+  frame_work(scene_.lights.size() + 1);
+  for (size_t first = 0; first == 0 || first < n; first += block) {
+    const size_t end = std::min(n, first + block);
+    frame_work(end - first);
+    uint64_t bytes = first == 0 ? image_->light_bytes : 0, refs = 0;
+    for (size_t i = first; i < end; ++i) {
+      bytes += image_->primitive_record_bytes[i];
+      refs += references[i];
+    }
+    last = send_scene_block(bytes);
+    const uint64_t work =
+        checked_periods(pe_cycle, double(uint64_t(config_.pe_voxel_cycles) * refs),
+                        "a PE's voxel-data generation")
+            .value();
+    for (size_t pe = 0; pe < pes_.size(); ++pe)
+      registered[pe] = std::max(registered[pe], last[pe].end) + work;
+  }
+  if (!pe_voxels) {
+    host_work(checked_periods(host_cycle(),
+                              double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+                              "the host's voxel-data generation"));
+    last = send_scene_block(image_->voxel_bytes);
+  }
+  times.voxels = now();
+  // Voxelising, a PE writes the voxel offsets once its last block's references are in: its copy
+  // is ready for rays then. What the build adds after the scene is in is on the frame's path.
+  const uint64_t offsets =
+      checked_periods(pe_cycle,
+                      double(pe_voxelisation_cycles(0, uint64_t(config_.memory_bytes_per_cycle),
+                                                    grid_.start.size() - 1, 0)),
+                      "a PE's voxel-offset writes")
+          .value();
+  for (size_t pe = 0; pe < pes_.size(); ++pe) {
+    const TransferTimes& t = last[pe];
+    scene_ready_[pe] = pe_voxels ? registered[pe] + offsets : t.arrive;
+    if (pe_voxels)
+      times.pe_voxelisation = std::max(times.pe_voxelisation, scene_ready_[pe] - t.end);
+    write_scene(int(pe), t);
+  }
 }
 
 std::vector<Ray> Host::rays_of(int pe, size_t from, size_t count) const {
@@ -183,6 +254,10 @@ void Host::deliver_scene(int pe, const TransferTimes& t) {
   scene_ready_[size_t(pe)] = config_.voxelisation == MachineConfig::Voxelisation::Pe
                                  ? t.end + times.pe_voxelisation
                                  : t.arrive;
+  write_scene(pe, t);
+}
+
+void Host::write_scene(int pe, const TransferTimes& t) {
   deliver_at(t.arrive, [this, pe, d = t.end - t.arrive] {
     SceneImageExtension ext;
     ext.image = image_;
@@ -219,16 +294,17 @@ void Host::distribute() {
       host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_ray_cycles) * pixels),
                                 "the host's primary-ray generation"));
     times.rays = now();
-    if (config_.broadcast) send_scene_to_all();
+    const bool scene_sent = config_.scene_block > 0;
+    if (config_.broadcast && !scene_sent) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {
-      if (!config_.broadcast) send_scene(pe);
+      if (!config_.broadcast && !scene_sent) send_scene(pe);
       send_rays(pe, rays_of(pe, 0, parts_[size_t(pe)].size()));
     }
     return;
   }
   // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs'
   // work.
-  send_scene_to_all();
+  if (config_.scene_block == 0) send_scene_to_all();
   for (size_t from = 0;; from += size_t(config_.ray_block)) {
     bool any = false;
     for (int pe = 0; pe < n; ++pe) {

@@ -59,12 +59,20 @@ class Host : public sc_core::sc_module {
   void run();
   sc_core::sc_time host_cycle() const;
   void preprocess();
+  /// scene_block > 0: pre-processing and the scene's transfer a block of primitives at a time,
+  /// each block sent while the host frames the next, the PEs registering each block's references
+  /// as it arrives (voxelisation = pe).
+  void stream_scene();
+  /// One block of the scene to every PE (broadcast, or a copy each): its times at each PE.
+  std::vector<TransferTimes> send_scene_block(uint64_t bytes);
   /// Sends every PE its scene and primary rays, all at once or block by block (ray_block).
   void distribute();
   /// PE `pe`'s primary rays `from`.. (`count` of them, fewer at the end of its pixels).
   std::vector<Ray> rays_of(int pe, size_t from, size_t count) const;
   void send_rays(int pe, std::vector<Ray> rays);
   void deliver_scene(int pe, const TransferTimes& t);
+  /// Writes the scene into PE `pe`'s memory as transfer `t` (its last part) arrives.
+  void write_scene(int pe, const TransferTimes& t);
   void send_scene(int pe);
   void send_scene_to_all();
   /// Reads PE `pe`'s frame buffer into the image, the transport taking `delay`.

@@ -20,25 +20,26 @@ SceneImage::SceneImage(const Scene& s, const Grid& g, const MachineConfig& c)
   // material, in the intersection unit's; the voxel data (one offset per voxel plus one id per
   // reference); per light 6 words, per material 8, in the shading unit's.
   const uint64_t word = word_bytes(c.intersection_precision_in_force());
-  primitive_bytes = word * visit([&](const auto& mem) {
-                      uint64_t words = 0;
-                      for (size_t i = 0; i < s.primitives.size(); ++i) {
-                        uint64_t ram = kRamWords;
-                        if (sparse) {
-                          ram = 1;
-                          for (int w = 0; w < kRamWords; ++w) ram += mem.rams[i][size_t(w)] != 0;
-                        }
-                        words += ram + 3 + 4 * s.primitives[i].clips.size() + 6 + 1;
-                      }
-                      return words;
-                    });
-  // With barycentric normals, a triangle with vertex normals also holds them (9 words) and the
-  // reciprocals of its clips' values at the opposite corners (3), in the shading unit's words.
-  if (c.normal_interpolation == NormalInterpolation::Barycentric) {
-    uint64_t smooth = 0;
-    for (const Primitive& p : s.primitives) smooth += !p.normals.empty();
-    primitive_bytes += word_bytes(c.shading_precision_in_force()) * 12 * smooth;
-  }
+  const uint64_t normal_bytes = c.normal_interpolation == NormalInterpolation::Barycentric
+                                    ? word_bytes(c.shading_precision_in_force()) * 12
+                                    : 0;
+  primitive_record_bytes.resize(s.primitives.size());
+  visit([&](const auto& mem) {
+    for (size_t i = 0; i < s.primitives.size(); ++i) {
+      uint64_t ram = kRamWords;
+      if (sparse) {
+        ram = 1;
+        for (int w = 0; w < kRamWords; ++w) ram += mem.rams[i][size_t(w)] != 0;
+      }
+      const Primitive& p = s.primitives[i];
+      // With barycentric normals, a triangle with vertex normals also holds them (9 words) and
+      // the reciprocals of its clips' values at the opposite corners (3), in the shading unit's
+      // words.
+      primitive_record_bytes[i] = uint32_t(word * (ram + 3 + 4 * p.clips.size() + 6 + 1) +
+                                           (p.normals.empty() ? 0 : normal_bytes));
+      primitive_bytes += primitive_record_bytes[i];
+    }
+  });
   voxel_bytes = 4 * (uint64_t(g.start.size()) + uint64_t(g.items.size()));
   light_bytes = word_bytes(c.shading_precision_in_force()) *
                 (6 * uint64_t(s.lights.size()) + 8 * uint64_t(s.materials.size()));

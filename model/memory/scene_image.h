@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "config/config.h"
 #include "render/scene_memory.h"
@@ -17,6 +18,7 @@ struct SceneImage {
   std::optional<SceneMemory<double>> mem64;  ///< precision = fp64 only
   // The bytes of each part of a PE's copy (model/memory/scene_image.cpp says what each holds).
   uint64_t primitive_bytes = 0;
+  std::vector<uint32_t> primitive_record_bytes;  ///< each primitive's share of primitive_bytes
   uint64_t voxel_bytes = 0;
   uint64_t light_bytes = 0;  ///< lights and materials
   uint64_t bytes = 0;        ///< the whole copy: the size the transfer is timed by
