@@ -42,6 +42,11 @@ def random_config(rng, scenes):
                  "dda_precision": rng.choice(["precision", "fp32", "fp64"]),
                  "shading_precision": rng.choice(["precision", "fp32", "fp64"]),
                  "hit_refine": rng.choice(["none", "newton"]), "refine_cycles": rng.randint(0, 10)})
+    # A dynamic partition (tiles on demand), drawn after the arithmetic: a tile's rays go as the PE
+    # asks, so no ray_block.
+    if rng.randrange(3) == 0:
+        args[args.index("--partition") + 1] = "dynamic"
+        sets.update({"tile": rng.randint(1, 12), "ray_block": 0})
     if sets["link_topology"] == "star" and sets["broadcast"] == "true":
         sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():
