@@ -183,8 +183,8 @@ void Host::send_rays(int pe, std::vector<Ray> rays) {
   wait_for_a_port();
 }
 
-std::pair<uint64_t, std::function<void()>> Host::send_tile(int pe, uint64_t ready, bool first) {
-  const std::optional<size_t> k = dealer_.request(pe);
+std::pair<uint64_t, std::function<void()>> Host::send_tile(int pe, std::optional<size_t> k,
+                                                           uint64_t ready, bool first) {
   if (k) {
     // The PE's frame-buffer slots go on from those it has: the host maps them back by parts_.
     std::vector<uint32_t>& px = parts_[size_t(pe)];
@@ -236,7 +236,7 @@ void Host::deal_tiles() {
     size_t answered = 0;
     for (; answered < arrived_.size() && arrived_[answered].at < t; ++answered) {
       const Ask& a = arrived_[answered];
-      auto [at, write] = send_tile(a.pe, a.at, false);
+      auto [at, write] = send_tile(a.pe, dealer_.request(a.pe), a.at, false);
       if (at <= t)
         write();
       else {
@@ -297,6 +297,11 @@ void Host::distribute() {
   const int n = int(pes_.size());
   const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
+  // A dynamic partition's first tiles, one to each PE in turn while any are left, before any PE
+  // can ask for more.
+  std::vector<std::optional<size_t>> first_tile(static_cast<size_t>(n));
+  if (config_.partition == Partition::Dynamic)
+    for (int pe = 0; pe < n; ++pe) first_tile[size_t(pe)] = dealer_.request(pe);
   if (config_.ray_block == 0 || pe_rays) {
     // The paper's flow: all pre-processing first, then every PE's data in turn.
     if (!pe_rays)
@@ -311,7 +316,7 @@ void Host::distribute() {
         continue;
       }
       // A dynamic partition's first tile, unasked, so that no PE starts idle.
-      auto [at, write] = send_tile(pe, now(), true);
+      auto [at, write] = send_tile(pe, first_tile[size_t(pe)], now(), true);
       deliver_at(at, std::move(write));
       wait_for_a_port();
     }

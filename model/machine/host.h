@@ -86,9 +86,11 @@ class Host : public sc_core::sc_module {
   /// Gathers every PE's frame buffer: after all are done, each as it finishes, or streamed
   /// (gather).
   void gather_all();
-  /// partition = dynamic: deals PE `pe` the next tile (or none) and sends it, no earlier than
-  /// `ready`; returns when it lands in the PE's memory and the write that lands it.
-  std::pair<uint64_t, std::function<void()>> send_tile(int pe, uint64_t ready, bool first);
+  /// partition = dynamic: sends PE `pe` tile `k` (its rays, or its descriptor) or, without one,
+  /// the answer that none is left, no earlier than `ready`; returns when it lands in the PE's
+  /// memory and the write that lands it.
+  std::pair<uint64_t, std::function<void()>> send_tile(int pe, std::optional<size_t> k,
+                                                       uint64_t ready, bool first);
   /// partition = dynamic: the host's tile dealer, a process of its own beside the host's thread:
   /// takes the PEs' requests as they are made, answers them in the order they arrive (of equal
   /// times, by PE), and lands the answers in the PEs' memories.
