@@ -49,10 +49,9 @@ TEST(DynamicPartition, GivesTheStaticPictureIdsAndRaysDealingEveryTileOnce) {
       {"clocked-after-all", 3, 4, " --timing clocked"},
   };
   for (const Case& c : cases) {
-    const json j =
-        render(tmp, c.name,
-               kFrame + " --pes " + std::to_string(c.pes) + " --partition dynamic --set tile=" +
-                   std::to_string(c.tile) + c.more);
+    const json j = render(tmp, c.name,
+                          kFrame + " --pes " + std::to_string(c.pes) +
+                              " --partition dynamic --set tile=" + std::to_string(c.tile) + c.more);
     ASSERT_FALSE(j.is_null()) << c.name;
     EXPECT_EQ(rtm::read_image(tmp / (std::string(c.name) + ".exr")).rgb, rgb) << c.name;
     EXPECT_EQ(rtm::read_id_map(tmp / (std::string(c.name) + "-id.exr")).ids, ids) << c.name;

@@ -58,7 +58,6 @@ class FrontBufferPolicy {
   /// A new tile (or the host's answer that none is left) answers the PE's request for one.
   void primaries_arrived(size_t n) { primaries_arrived(n, rays_expected_); }
   void primaries_arrived(size_t n, size_t expected) {
-    if (n > primaries_) newest_tile_ = primaries_;
     if (n > primaries_ || expected != rays_expected_) asked_ = false;
     primaries_ = n;
     rays_expected_ = expected;
@@ -104,9 +103,10 @@ class FrontBufferPolicy {
       m->request(m->front(), m->addresses().primary_ray(next_primary_), kRayRecordBytes,
                  now / pe_.cycle, std::max(cycles, m->unloaded(kRayRecordBytes)), wait);
     ++next_primary_;
-    // A dynamic partition asks for its next tile when it takes the first ray of its newest one: the
-    // link's round trip hides behind the tile's work.
-    if (rays_expected_ == kRaysUnknown && !asked_ && next_primary_ > newest_tile_)
+    // A dynamic partition asks for its next tile when it takes the last primary ray it holds: the
+    // link's round trip overlaps the rays still in its loop, and no PE holds a tile another could
+    // have started (asking a tile ahead was slower: docs/machine.md, "Screen partitioning").
+    if (rays_expected_ == kRaysUnknown && !asked_ && next_primary_ == primaries_)
       asked_ = ask_ = true;
     return next_primary_ - 1;
   }
@@ -317,9 +317,8 @@ class FrontBufferPolicy {
   PeState& pe_;
   const int credits_;
   size_t rays_expected_;
-  size_t newest_tile_ = 0;  ///< the first primary ray of the newest tile (partition = dynamic)
-  bool asked_ = false;      ///< a request for a tile is out, not yet answered
-  bool ask_ = false;        ///< a request to send (carry_out sends it)
+  bool asked_ = false;  ///< a request for a tile is out, not yet answered
+  bool ask_ = false;    ///< a request to send (carry_out sends it)
   uint64_t tile_wait_since_ = kNotWaiting;
   RingQueue<Item> queue_;
   size_t next_primary_ = 0, primaries_ = 0;
