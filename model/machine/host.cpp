@@ -228,7 +228,9 @@ void Host::deal_tiles() {
       const Ask& a = asked_[made];
       const TransferTimes on = timed([&] { return net_.gather(a.pe, kTileRequestBytes, a.at); });
       arrived_.push_back({on.end, a.pe});  // the host acts on a whole request
-      deal_sleep_.want(on.end + 1);        // every request arriving then is in
+      // Answered one tick after it arrives, when every request arriving then is in (now, below,
+      // if that has passed).
+      if (on.end + 1 > t) deal_sleep_.want(on.end + 1);
     }
     asked_.erase(asked_.begin(), asked_.begin() + std::ptrdiff_t(made));
     // ... and those arrived before now are answered, in arrival order.
