@@ -48,6 +48,10 @@ def random_config(rng, scenes):
                  "scene_block": rng.choice([0, 0, 1, 3, 50]), "gather_block": rng.randint(1, 40)})
     if rng.random() < 0.3:
         sets["gather"] = "streamed"
+    # A dynamic partition (tiles on demand): a tile's rays go as the PE asks, so no ray_block.
+    if rng.randrange(3) == 0:
+        args[args.index("--partition") + 1] = "dynamic"
+        sets.update({"tile": rng.randint(1, 12), "ray_block": 0})
     if sets["link_topology"] == "star" and sets["broadcast"] == "true":
         sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():

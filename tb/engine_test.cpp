@@ -156,6 +156,19 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"StreamedGatherOnAStar",
              "rings-1.nff --size 24x24 --pes 3 --set link_topology=star --set host_ports=2 --set "
              "gather=streamed --set gather_block=7"},
+        // Tiles on demand (partition = dynamic): the PEs ask as they go, the host answers over
+        // the link, each PE's frame buffer grows by the tile.
+        Case{"DynamicTiles", "balls-1.nff --size 30x26 --pes 3 --partition dynamic --set tile=7"},
+        Case{"DynamicPeRaysOnATreeGatherAsFinished",
+             "tree-2.nff --size 24x24 --pes 5 --partition dynamic --set tile=4 --set "
+             "ray_generation=pe --set link_topology=tree --set broadcast=true --set "
+             "gather=as_finished"},
+        Case{"DynamicStreamedGatherOnAStar",
+             "rings-1.nff --size 24x24 --pes 3 --partition dynamic --set tile=5 --set "
+             "link_topology=star --set host_ports=2 --set gather=streamed --set gather_block=7"},
+        Case{"DynamicMorePesThanTiles",
+             "balls-1.nff --size 9x9 --pes 6 --partition dynamic --set tile=8 --set "
+             "voxelisation=pe"},
         Case{"PeVoxelisationOnATree",
              "rings-1.nff --size 24x24 --pes 4 --set voxelisation=pe --set link_topology=tree "
              "--set broadcast=true --set ray_block=50"},
@@ -196,7 +209,8 @@ TEST(EngineOnThreads, TheFramesAreTheSameOnOneThreadAndOnSeveral) {
        {"balls-2.nff --size 48x48 --pes 16",
         "tree-2.nff --size 40x40 --pes 7 --set ray_block=23 --set gather=as_finished"
         " --set intersection_units=2",
-        "balls-1.nff --size 3x2 --pes 8 --set ray_block=1"})
+        "balls-1.nff --size 3x2 --pes 8 --set ray_block=1",
+        "balls-2.nff --size 40x40 --pes 6 --partition dynamic --set tile=5"})
     for (const char* threads : {"--sim-threads 2", "--sim-threads 3"})
       expect_same_frame(kScenes + args, "--sim-threads 1", threads);
 }

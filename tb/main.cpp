@@ -167,8 +167,9 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--precision", r.precision,
                      "Every PE unit's arithmetic: fp32 (default) or fp64 (the keys "
                      "intersection_precision, dda_precision, shading_precision set one unit's)");
-  render->add_option("--partition", r.partition,
-                     "Screen partitioning: scanlines, blocks, strips or pixels");
+  render->add_option(
+      "--partition", r.partition,
+      "Screen partitioning: scanlines, blocks, strips, pixels or dynamic (tiles on demand)");
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
   render->add_option("--mac-schedule", r.mac_schedule,
                      "MAC schedule: sparse (default) or full (the paper's 28 products)");

@@ -973,7 +973,9 @@ TEST(Machine, RandomSmallConfigurationsNeverDeadlock) {
   for (int i = 0; i < 10; ++i) {
     std::ostringstream args;
     args << kScenes << scenes[i % 3] << random_small_machine(rng, 5) << " --partition "
-         << (i % 2 ? "blocks" : "scanlines")
+         << (i % 2   ? "blocks"
+             : i % 4 ? "dynamic --set tile=5"
+                     : "scanlines")
          << " --set arbitration=" << (i % 3 ? "kernel" : "ranked");
     const json j = render(tmp, "r" + std::to_string(i), args.str());
     ASSERT_FALSE(j.is_null()) << args.str();

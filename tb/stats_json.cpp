@@ -1,5 +1,6 @@
 #include "stats_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -218,6 +219,16 @@ nlohmann::json memory_access_json(const MemoryUse& u) {
           {"coefficient_ram_misses", u.coef_misses}};
 }
 
+/// The tiles each PE got: least, mean and most (null for a static partition).
+nlohmann::json tiles_json(const std::vector<uint32_t>& tiles) {
+  if (tiles.empty()) return nullptr;
+  uint64_t sum = 0;
+  for (uint32_t t : tiles) sum += t;
+  return {{"min", *std::min_element(tiles.begin(), tiles.end())},
+          {"mean", double(sum) / double(tiles.size())},
+          {"max", *std::max_element(tiles.begin(), tiles.end())}};
+}
+
 }  // namespace
 
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
@@ -232,6 +243,8 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
     per_pe.push_back({{"cycles", cyc(p.finish)},
                       {"start_cycle", cyc(p.start)},
                       {"credit_stall_cycles", cyc(p.credit_stall)},
+                      {"tiles", i < m.tiles.size() ? m.tiles[i] : 0},
+                      {"tile_wait_cycles", cyc(p.tile_wait)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
                       {"memory_used_bytes", m.memory[i].used},
@@ -284,6 +297,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
       {"pe_starved", utilisation_json(s.profile.starved)},
       {"phases", phases_json(s.profile)},
       {"load_imbalance", s.profile.imbalance},
+      {"tiles_per_pe", tiles_json(m.tiles)},
       {"mac_bound_cycles", s.mac_bound_cycles},
       {"cycles_over_mac_bound", s.cycles_over_mac_bound},
       {"bottleneck", s.bottleneck.name},

@@ -30,7 +30,8 @@ struct EnumNames<Partition> {
   static constexpr std::pair<Partition, const char*> all[] = {{Partition::Scanlines, "scanlines"},
                                                               {Partition::Blocks, "blocks"},
                                                               {Partition::Strips, "strips"},
-                                                              {Partition::Pixels, "pixels"}};
+                                                              {Partition::Pixels, "pixels"},
+                                                              {Partition::Dynamic, "dynamic"}};
 };
 template <>
 struct EnumNames<Timing> {
@@ -387,12 +388,14 @@ constexpr int kMaxVoxelCacheBytes = 1 << 30;
 const std::vector<ConfigKey>& config_keys() {
   static const std::vector<ConfigKey> keys = {
       int_key("pes", "processing elements", &M::pes, from(1, kMaxPes)),
-      enum_key("partition",
-               "screen partitioning: scanlines (row y to PE y mod N), blocks (tile x tile tiles "
-               "dealt round robin), strips (contiguous bands), pixels (every N-th pixel of each "
-               "row, rows sheared)",
-               &M::partition),
-      int_key("tile", "block edge in pixels (partition = blocks)", &M::tile,
+      enum_key(
+          "partition",
+          "screen partitioning: scanlines (row y to PE y mod N), blocks (tile x tile tiles "
+          "dealt round robin), strips (contiguous bands), pixels (every N-th pixel of each "
+          "row, rows sheared), dynamic (tile x tile tiles handed out on demand: a PE out of work "
+          "asks the host for the next over the link)",
+          &M::partition),
+      int_key("tile", "tile edge in pixels (partition = blocks or dynamic)", &M::tile,
               from(1, kMaxImageSide)),
       enum_key("timing",
                "MAC model: fast (cycle-exact by formula) or clocked (a process on a clock)",
@@ -974,6 +977,10 @@ void MachineConfig::validate() const {
                          "when the host drives every link at once; broadcast = false sends a copy "
                          "down each link, "
                          "host_ports at a time");
+  if (partition == Partition::Dynamic && ray_block > 0)
+    bad("ray_block", std::to_string(ray_block) +
+                         " with partition = dynamic: a dynamic partition sends a tile's rays as "
+                         "the PE asks for it, so ray_block must be 0");
   if (loop_credits > safe_credits())
     bad("loop_credits", "must not exceed the smallest FIFO depth past the front buffer (" +
                             std::to_string(safe_credits()) +

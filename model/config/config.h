@@ -18,7 +18,7 @@
 
 namespace rtm {
 
-enum class Partition { Scanlines, Blocks, Strips, Pixels };
+enum class Partition { Scanlines, Blocks, Strips, Pixels, Dynamic };
 enum class Timing { Fast, Clocked };
 enum class Precision { Fp32, Fp64 };
 enum class FlowControl { Credits, None };

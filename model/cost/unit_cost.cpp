@@ -44,12 +44,15 @@ Elements ops(std::initializer_list<std::pair<Op, uint64_t>> list, P p) {
 
 // §4.2: the buffer at the head of the pipeline. Its rays sit in an SRAM of front_buffer_capacity
 // records; a counter and its limit keep the loop's credits. Each ray dispatched was written into
-// the buffer once and is read out once, through the output latch.
+// the buffer once and is read out once, through the output latch. A dynamic partition's PE asks
+// for tiles from here: a request register and a descriptor buffer (one request is out at a time).
 UnitBuild front_buffer(const MachineConfig& c, const PeUnits&, uint64_t) {
   UnitBuild b;
   const Elements credit = ops({{Op::IntAdd, 1}, {Op::IntCompare, 1}}, P::Fp32);
   b.elements = credit;
   b.register_bits = ray_bits();
+  if (c.partition == Partition::Dynamic)
+    b.register_bits += (kTileRequestBytes + kTileDescriptorBytes) * 8;
   b.srams.push_back({"front_buffer", double(c.front_buffer_capacity) * double(ray_bits()) / 8,
                      double(ray_bits())});
   b.actions.push_back(

@@ -35,6 +35,20 @@ TEST(UnitCost, AreaIsLinearInThePeCount) {
   }
 }
 
+TEST(UnitCost, ADynamicPartitionAddsTheTileRequestAndDescriptorToTheFrontBuffer) {
+  MachineConfig fixed, dynamic;
+  dynamic.partition = Partition::Dynamic;
+  const UnitInventory a = unit_inventory(UnitKind::FrontBuffer, fixed, {}, 100, tech()),
+                      b = unit_inventory(UnitKind::FrontBuffer, dynamic, {}, 100, tech());
+  EXPECT_EQ(b.register_bits - a.register_bits, (kTileRequestBytes + kTileDescriptorBytes) * 8);
+  EXPECT_GT(b.logic_um2, a.logic_um2);
+  for (const UnitSpec& s : unit_table()) {
+    if (s.kind == UnitKind::FrontBuffer) continue;
+    EXPECT_EQ(unit_inventory(s.kind, dynamic, {}, 100, tech()).register_bits,
+              unit_inventory(s.kind, fixed, {}, 100, tech()).register_bits);
+  }
+}
+
 TEST(UnitCost, TheMemoryIsItsCapacityInDramBitsApartFromLogic) {
   MachineConfig c;
   const MachineCost m = cost_of(c);

@@ -244,6 +244,7 @@ class CycleDriver {
     }
     void want(uint64_t t) { d.want(u, t); }
     void finished() {}
+    void ask_for_tile() {}  // it holds every primary ray from the start
   };
   /// Shading's operations for ShadingWriter: `ray` is the oldest shaded ray.
   struct WriteOps {

@@ -48,11 +48,15 @@ class PeEngine {
   PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_t>& ids,
            const std::vector<Ray>& rays, size_t rays_expected);
 
-  /// Simulates everything that happens before time t.
+  /// Simulates everything that happens before time t, stopping after an instant in which the PE
+  /// asked for a tile (partition = dynamic): its answer may arrive before t.
   void run_before(uint64_t t);
-  /// The first n primary rays are in local memory from time t on (no earlier than what ran).
-  void rays_arrived(uint64_t t, size_t n);
+  /// The first n primary rays, of `expected` (kRaysUnknown: more may come), are in local memory
+  /// from time t on (no earlier than what ran).
+  void rays_arrived(uint64_t t, size_t n, size_t expected);
   size_t rays_known() const { return front_.primaries_known(); }
+  /// When the PE asked for a tile in what ran last (kNever: it did not), forgetting it.
+  uint64_t take_ask() { return std::exchange(asked_at_, kNever); }
 
   bool finished() const { return front_.finished(); }
   uint64_t finish_time() const { return pe_.counters.finish; }
@@ -63,9 +67,9 @@ class PeEngine {
   FifoStatsList fifo_stats(uint64_t now, double seconds_per_tick);
   std::string occupancy_report();
 
- private:
   static constexpr uint64_t kNever = UINT64_MAX;
 
+ private:
   /// The engine's two phases of an instant, numbered on by step(): first the units due, then
   /// the units taking what was written. What is written in a phase is visible from the next on, and
   /// a place a read frees is there for writers from the next phase on, as in sc_fifo.
@@ -192,6 +196,7 @@ class PeEngine {
   uint64_t seq_ = 0;
   uint64_t pending_step_ = kNever;  ///< an instant with no unit due but rays arriving
   bool front_poked_ = false;        ///< an input of the front buffer was written in this instant
+  uint64_t asked_at_ = kNever;      ///< the PE asked for a tile then
 
   // The units.
   FrontBufferPolicy<uint32_t> front_;

@@ -57,7 +57,7 @@ struct EnginePe {
   /// Runs the frame to its end; returns the event log's lines.
   std::vector<std::string> run() {
     PeEngine engine(pe, frame, ids, rays, rays.size());
-    engine.rays_arrived(0, rays.size());
+    engine.rays_arrived(0, rays.size(), rays.size());
     engine.run_before(UINT64_MAX);
     EXPECT_TRUE(engine.finished()) << engine.occupancy_report();
     EXPECT_TRUE(engine.idle());

@@ -15,7 +15,8 @@ const std::vector<std::string>& bottleneck_names() {
                                   "memory"};
     for (const UnitSpec& u : unit_table())
       if (u.in_utilisation) n.push_back(u.name);
-    for (const char* verdict : {"loop_credits", "load_imbalance", "latency"}) n.push_back(verdict);
+    for (const char* verdict : {"loop_credits", "waiting_for_tiles", "load_imbalance", "latency"})
+      n.push_back(verdict);
     return n;
   }();
   return names;
@@ -68,6 +69,10 @@ Bottleneck bottleneck(const FrameProfile& p) {
   if (p.credit_stall >= 0.3)
     return {"loop_credits", "the front buffer had rays but no credit " + percent(p.credit_stall) +
                                 " of the PEs' working windows; " + busiest};
+  if (p.tile_wait >= 0.3)
+    return {"waiting_for_tiles", "the PEs' loops were empty, waiting for a tile, " +
+                                     percent(p.tile_wait) + " of their working windows; " +
+                                     busiest};
   if (p.imbalance >= 1.3) {
     char s[64];
     std::snprintf(s, sizeof s, "the longest PE works %.2f x the mean; ", p.imbalance);

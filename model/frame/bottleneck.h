@@ -41,6 +41,8 @@ struct FrameProfile {
   double memory_access =
       0;  ///< the units' reads' times over the item-cycles the units held: their share of the work
   double imbalance = 1;  ///< max / mean PE working window
+  double tile_wait =
+      0;  ///< fraction of the working windows a PE's loop was empty, waiting for a tile (dynamic)
 };
 
 /// Every verdict bottleneck() gives: host_preprocessing (voxel and primary-ray generation on the
@@ -48,8 +50,9 @@ struct FrameProfile {
 /// pe_voxelisation (the PEs building their voxel data, voxelisation = pe), memory (the
 /// PEs' local memory: results waiting for their data), each unit of the unit table that counts
 /// towards utilisation (a PE unit whose entry is nearly always taken), loop_credits (too few rays
-/// allowed in flight: back-pressure), load_imbalance (one PE works much longer than the mean),
-/// latency (nothing saturated: the loop's latency with the rays available).
+/// allowed in flight: back-pressure), waiting_for_tiles (partition = dynamic: the PEs idle while
+/// their requests for tiles cross the link), load_imbalance (one PE works much longer than the
+/// mean), latency (nothing saturated: the loop's latency with the rays available).
 /// docs/stats.schema.json's enum is tested against this list.
 const std::vector<std::string>& bottleneck_names();
 

@@ -88,7 +88,10 @@ TEST(Bottleneck, BackPressureImbalanceAndLatency) {
   p.credit_stall = 0.5;
   EXPECT_EQ(bottleneck(p).name, "loop_credits");
   p.credit_stall = 0;
+  p.tile_wait = 0.4;
   p.imbalance = 1.8;
+  EXPECT_EQ(bottleneck(p).name, "waiting_for_tiles");
+  p.tile_wait = 0.1;
   EXPECT_EQ(bottleneck(p).name, "load_imbalance");
   p.imbalance = 1.0;
   EXPECT_EQ(bottleneck(p).name, "latency");
@@ -163,6 +166,9 @@ TEST(Bottleneck, EveryDeclaredNameIsAVerdict) {
   profiles.push_back(p);
   p = busy_pes();
   p.pe_voxelisation = 600;
+  profiles.push_back(p);
+  p = busy_pes();
+  p.tile_wait = 0.5;
   profiles.push_back(p);
   std::set<std::string> verdicts;
   for (const FrameProfile& q : profiles) verdicts.insert(bottleneck(q).name);

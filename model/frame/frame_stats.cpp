@@ -54,13 +54,15 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.gather = in_cycles(m.host.gathered - m.host.pes_done, period);
   f.gather_streamed = c.gather == MachineConfig::Gather::Streamed;
   f.pe_voxelisation = in_cycles(m.host.pe_voxelisation, period);
-  double window = 0, longest = 0, stall = 0, memory_wait = 0, memory_access = 0, held = 0;
+  double window = 0, longest = 0, stall = 0, tile_wait = 0, memory_wait = 0, memory_access = 0,
+         held = 0;
   for (size_t i = 0; i < m.per_pe.size(); ++i) {
     const PeCounters& p = m.per_pe[i];
     const double w = working_window(p, period);
     window += w;
     longest = std::max(longest, w);
     stall += in_cycles(p.credit_stall, period);
+    tile_wait += in_cycles(p.tile_wait, period);
     held += double(p.all().held_cycles);
     if (i >= m.memory_use.size()) continue;
     memory_wait += double(m.memory_use[i].wait_cycles());
@@ -75,6 +77,7 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.starved = divided(sum(m, c, &UnitStats::starved_cycles), window);
   if (window > 0) {
     f.credit_stall = stall / window;
+    f.tile_wait = tile_wait / window;
     f.memory_wait = memory_wait / window;
     f.memory_access = held > 0 ? memory_access / held : 0;
     f.imbalance = longest / (window / double(m.per_pe.size()));

@@ -45,6 +45,7 @@ struct MachineResult {
   TraceCounts counts;
   uint64_t mac_products = 0, mac_busy_cycles = 0, mac_issue_cycles = 0, spills = 0;
   std::vector<PeCounters> per_pe;
+  std::vector<uint32_t> tiles;  ///< partition = dynamic: the tiles each PE got (else empty)
   std::vector<FifoSummary> fifos;
   std::array<uint64_t, kFifoCount>
       fifo_writes{};  ///< records written into each FIFO of the table, over all PEs

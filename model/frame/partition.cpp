@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "frame/tiles.h"
+
 namespace rtm {
 namespace {
 
@@ -22,6 +24,8 @@ void deal_pixels(int width, int height, const MachineConfig& c, Visit visit) {
         return int(int64_t(y) * n / height);
       case Partition::Pixels:
         return int((x + shear * y) % n);
+      case Partition::Dynamic:
+        break;
     }
     return 0;
   };
@@ -33,12 +37,15 @@ void deal_pixels(int width, int height, const MachineConfig& c, Visit visit) {
 
 std::vector<std::vector<uint32_t>> partition_screen(int width, int height, const MachineConfig& c) {
   std::vector<std::vector<uint32_t>> parts(static_cast<size_t>(c.pes));
+  if (c.partition == Partition::Dynamic) return parts;
   deal_pixels(width, height, c,
               [&](int pe, uint32_t pixel) { parts[size_t(pe)].push_back(pixel); });
   return parts;
 }
 
 int pes_without_pixels(int width, int height, const MachineConfig& c) {
+  if (c.partition == Partition::Dynamic)
+    return std::max(0, c.pes - int(screen_tiles(width, height, c.tile).size()));
   std::vector<bool> has(size_t(c.pes), false);
   deal_pixels(width, height, c, [&](int pe, uint32_t) { has[size_t(pe)] = true; });
   return int(std::count(has.begin(), has.end(), false));

@@ -1,8 +1,9 @@
 // Runs the PE engines of one simulated instant side by side on a WorkerPool. Once a PE holds all
-// its primary rays nothing from outside reaches it until it finishes, so its engine may run ahead
-// of SystemC time (engine_pe.cpp), and the engines of different PEs share no state: those
-// asked to advance at the same instant run in parallel, each exactly as it would alone. Every
-// figure is the same whatever the number of threads (tb/engine_test.cpp, EngineOnThreads).
+// its primary rays (of a dynamic partition: between the host's answer and the PE's next request)
+// nothing from outside reaches it, so its engine may run ahead of SystemC time (engine_pe.cpp), and
+// the engines of different PEs share no state: those asked to advance at the same instant run in
+// parallel, each exactly as it would alone. Every figure is the same whatever the number of threads
+// (tb/engine_test.cpp, EngineOnThreads).
 #pragma once
 
 #include <cstdint>

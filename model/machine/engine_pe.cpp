@@ -5,25 +5,41 @@ namespace rtm {
 EnginePe::EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c,
                    const PeUnits& units, size_t pixels, Timekeeper* keeper, EngineDriver& driver)
     : Pe(name, index, c, units, pixels, keeper),
-      engine_(ctx, memory.frame, memory.ids, memory.rays, pixels),
+      engine_(ctx, memory.frame, memory.ids, memory.rays, memory.rays_expected),
       driver_(driver) {
   SC_THREAD(run);
 }
 
 void EnginePe::run() {
-  // Only the host's rays reach a PE from outside, and they land in local memory: until all have
-  // arrived the engine keeps behind SystemC time; afterwards it runs one to two quanta ahead, on
-  // quantum boundaries shared by every PE, so that the driver runs the PEs side by side.
+  // Only the host's rays reach a PE from outside, and they land in local memory: while some may
+  // still come the engine keeps behind SystemC time; otherwise it runs one to two quanta ahead, on
+  // quantum boundaries shared by every PE, so that the driver runs the PEs side by side. A
+  // dynamic partition's rays come only as answers to the PE's requests for tiles (the first
+  // unasked): between an answer and its next request nothing can reach it, so it runs ahead until
+  // it asks, then asks at the time it did.
   const uint64_t quantum = ctx.period.value() * kQuantumCycles;
+  const bool dynamic = ctx.config.partition == Partition::Dynamic;
+  size_t expected = memory.rays_expected, answers_due = 1;
   for (bool all_in = false;;) {
     const uint64_t now = sc_core::sc_time_stamp().value();
     if (!all_in) {
       engine_.run_before(now);
-      if (memory.rays.size() > engine_.rays_known()) engine_.rays_arrived(now, memory.rays.size());
-      all_in = memory.rays.size() == memory.rays_expected;
+      if (memory.rays.size() > engine_.rays_known() || memory.rays_expected != expected) {
+        expected = memory.rays_expected;
+        engine_.rays_arrived(now, memory.rays.size(), expected);
+      }
+      all_in =
+          dynamic ? memory.transfers_in == answers_due : memory.rays.size() == memory.rays_expected;
     }
     const uint64_t boundary = (now / quantum + 1) * quantum;
     if (all_in) driver_.run_before(engine_, boundary + quantum);
+    if (const uint64_t asked = engine_.take_ask(); asked != PeEngine::kNever) {
+      if (asked > now) sc_core::wait(sc_core::sc_time::from_value(asked - now));
+      memory.ask_for_tile();
+      ++answers_due;
+      all_in = false;
+      continue;
+    }
     if (engine_.finished()) break;
     if (all_in && engine_.idle())
       return;  // rays outstanding and nothing to do: the machine reports it

@@ -24,7 +24,7 @@ struct FrontBufferModule::FrontOps {
   }
   bool read(FifoId id, MachineRay& r) { return m.rays_in(id)->nb_read(r); }
   void drained() {
-    m.policy_.primaries_arrived(m.mem_.rays.size());
+    m.policy_.primaries_arrived(m.mem_.rays.size(), m.mem_.rays_expected);
     if (m.ctx_.window.now()) m.traced_waiting_ = int(m.policy_.waiting());
   }
   MachineRay primary(size_t n) {
@@ -38,6 +38,7 @@ struct FrontBufferModule::FrontOps {
   }
   void want(uint64_t t) { m.sleep_->want(t); }
   void finished() { m.finished_event_.notify(sc_core::SC_ZERO_TIME); }
+  void ask_for_tile() { m.mem_.ask_for_tile(); }
 };
 
 struct FrontBufferModule::Ops {

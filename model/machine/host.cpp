@@ -44,11 +44,18 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       pes_(std::move(pes)),
       scene_ready_(pes_.size(), 0),
       sleep_(keeper, 0),
-      net_(c, kTimeHorizonTicks) {
+      net_(c, kTimeHorizonTicks),
+      deal_sleep_(keeper, 0) {
   for (size_t i = 0; i < pes_.size(); ++i)
     links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(
         ("link" + std::to_string(i)).c_str()));
   SC_THREAD(run);
+  if (c.partition == Partition::Dynamic) {
+    tiles_ = screen_tiles(s.camera.width, s.camera.height, c.tile);
+    dealer_ = TileDealer(tiles_.size());
+    net_.keep_busy();
+    SC_THREAD(deal_tiles);
+  }
 }
 
 void Host::transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len,
@@ -224,22 +231,101 @@ std::vector<Ray> Host::rays_of(int pe, size_t from, size_t count) const {
 // memory when the interconnect says it arrives, and the host goes on once it has a free port (on
 // one medium: once the transfer is over, as the original link had it).
 
-void Host::send_rays(int pe, std::vector<Ray> rays) {
-  if (rays.empty()) return;
-  // With ray generation on the PEs only the camera and the PE's share of the screen travel; the
-  // simulator still hands over the rays the PE will generate.
-  const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
-  const uint64_t bytes = pe_rays ? kCameraRecordBytes : rays.size() * kRayRecordBytes;
-  const TransferTimes t = timed([&] { return net_.send(pe, bytes, now()); });
+std::pair<uint64_t, std::function<void()>> Host::ray_write(int pe, std::vector<Ray> rays,
+                                                           uint64_t ready, bool first) {
+  // With ray generation on the PEs only the camera and the PE's share of the screen (or tile)
+  // travel; the simulator still hands over the rays the PE will generate.
+  const uint64_t bytes = ray_transfer_bytes(config_, rays.size(), first);
+  const TransferTimes t = timed([&] { return net_.send(pe, bytes, ready); });
   auto data = std::make_shared<std::vector<Ray>>(std::move(rays));
   // Not before the PE has its scene (and, voxelising, its voxel data): then what is left of it.
   const uint64_t at = std::max(t.arrive, scene_ready_[size_t(pe)]);
-  deliver_at(at, [this, pe, data, d = t.end - std::min(t.end, at)] {
-    transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase,
-              reinterpret_cast<unsigned char*>(data->data()), data->size() * sizeof(Ray),
-              sc_time::from_value(d));
-  });
+  return {at, [this, pe, data, d = t.end - std::min(t.end, at)] {
+            transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kRayBase,
+                      reinterpret_cast<unsigned char*>(data->data()), data->size() * sizeof(Ray),
+                      sc_time::from_value(d));
+          }};
+}
+
+void Host::send_rays(int pe, std::vector<Ray> rays) {
+  if (rays.empty()) return;
+  auto [at, write] = ray_write(pe, std::move(rays), now(), true);
+  deliver_at(at, std::move(write));
   wait_for_a_port();
+}
+
+std::pair<uint64_t, std::function<void()>> Host::send_tile(int pe, std::optional<size_t> k,
+                                                           uint64_t ready, bool first) {
+  if (k) {
+    // The PE's frame-buffer slots go on from those it has: the host maps them back by parts_.
+    std::vector<uint32_t>& px = parts_[size_t(pe)];
+    const size_t from = px.size();
+    const std::vector<uint32_t> tile = tile_pixels(tiles_[*k], scene_.camera.width);
+    px.insert(px.end(), tile.begin(), tile.end());
+    return ray_write(pe, rays_of(pe, from, tile.size()), ready, first);
+  }
+  const TransferTimes t = timed([&] { return net_.send(pe, kTileDescriptorBytes, ready); });
+  const uint64_t at = std::max(t.arrive, scene_ready_[size_t(pe)]);
+  return {at, [this, pe, d = t.end - std::min(t.end, at)] {
+            unsigned char none[kTileDescriptorBytes] = {};  // height 0
+            transport(pe, tlm::TLM_WRITE_COMMAND, LocalMemory::kNoTileBase, none, sizeof none,
+                      sc_time::from_value(d));
+          }};
+}
+
+void Host::ask_for_tile(int pe) {
+  asked_.push_back({now(), pe});
+  // Taken once every request made now is in: one tick later.
+  deal_sleep_.want(now() + 1);
+  if (config_.arbitration == MachineConfig::Arbitration::Kernel)
+    asked_event_.notify(sc_time::from_value(1));
+}
+
+void Host::deal_tiles() {
+  sc_core::sc_event_or_list either = deal_sleep_.event() | asked_event_;
+  for (;;) {
+    deal_sleep_.wait(&either);
+    const uint64_t t = now();
+    // The answers due land first, ...
+    while (!answers_.empty() && answers_.begin()->first <= t) {
+      const std::function<void()> write = std::move(answers_.begin()->second);
+      answers_.erase(answers_.begin());
+      write();
+    }
+    // ... then the requests made before now go on the link, ...
+    std::sort(asked_.begin(), asked_.end());
+    size_t made = 0;
+    for (; made < asked_.size() && asked_[made].at < t; ++made) {
+      const Ask& a = asked_[made];
+      const TransferTimes on = timed([&] { return net_.gather(a.pe, kTileRequestBytes, a.at); });
+      arrived_.push_back({on.end, a.pe});  // the host acts on a whole request
+      // Answered one tick after it arrives, when every request arriving then is in (now, below,
+      // if that has passed).
+      if (on.end + 1 > t) deal_sleep_.want(on.end + 1);
+    }
+    asked_.erase(asked_.begin(), asked_.begin() + std::ptrdiff_t(made));
+    // ... and those arrived before now are answered, in arrival order.
+    std::sort(arrived_.begin(), arrived_.end());
+    size_t answered = 0;
+    for (; answered < arrived_.size() && arrived_[answered].at < t; ++answered) {
+      const Ask& a = arrived_[answered];
+      auto [at, write] = send_tile(a.pe, dealer_.request(a.pe), a.at, false);
+      if (at <= t)
+        write();
+      else {
+        answers_.emplace(at, std::move(write));
+        deal_sleep_.want(at);
+      }
+    }
+    arrived_.erase(arrived_.begin(), arrived_.begin() + std::ptrdiff_t(answered));
+  }
+}
+
+std::vector<uint32_t> Host::tiles_per_pe() const {
+  std::vector<uint32_t> n(pes_.size(), 0);
+  for (int pe : dealer_.owners())
+    if (pe >= 0) ++n[size_t(pe)];
+  return n;
 }
 
 uint64_t Host::scene_link_bytes() const {
@@ -288,6 +374,11 @@ void Host::distribute() {
   const int n = int(pes_.size());
   const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
+  // A dynamic partition's first tiles, one to each PE in turn while any are left, before any PE
+  // can ask for more.
+  std::vector<std::optional<size_t>> first_tile(static_cast<size_t>(n));
+  if (config_.partition == Partition::Dynamic)
+    for (int pe = 0; pe < n; ++pe) first_tile[size_t(pe)] = dealer_.request(pe);
   if (config_.ray_block == 0 || pe_rays) {
     // The paper's flow: all pre-processing first, then every PE's data in turn.
     if (!pe_rays)
@@ -298,7 +389,14 @@ void Host::distribute() {
     if (config_.broadcast && !scene_sent) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {
       if (!config_.broadcast && !scene_sent) send_scene(pe);
-      send_rays(pe, rays_of(pe, 0, parts_[size_t(pe)].size()));
+      if (config_.partition != Partition::Dynamic) {
+        send_rays(pe, rays_of(pe, 0, parts_[size_t(pe)].size()));
+        continue;
+      }
+      // A dynamic partition's first tile, unasked, so that no PE starts idle.
+      auto [at, write] = send_tile(pe, first_tile[size_t(pe)], now(), true);
+      deliver_at(at, std::move(write));
+      wait_for_a_port();
     }
     return;
   }
@@ -361,6 +459,7 @@ void Host::gather_streamed() {
   };
   std::vector<Block> blocks;
   const size_t per_block = size_t(config_.gather_block);
+  const bool dynamic = config_.partition == Partition::Dynamic;
   for (int pe = 0; pe < int(pes_.size()); ++pe) {
     const size_t n = parts_[size_t(pe)].size();
     const std::vector<uint64_t>& done = pes_[size_t(pe)]->ctx.pixel_done;
@@ -371,14 +470,18 @@ void Host::gather_streamed() {
       const size_t last = std::min(n, first + per_block);
       const uint64_t ready = *std::max_element(done.begin() + std::ptrdiff_t(first),
                                                done.begin() + std::ptrdiff_t(last));
-      blocks.push_back({std::max(ready, times.transfer), pe, last - first});
+      blocks.push_back({dynamic ? ready : std::max(ready, times.transfer), pe, last - first});
     }
   }
   std::stable_sort(blocks.begin(), blocks.end(),
                    [](const Block& a, const Block& b) { return a.ready < b.ready; });
+  // A dynamic partition's tile records were on the links all along, asked for as they happened:
+  // the blocks go between them.
   for (const Block& b : blocks)
     timed([&] {
-      return net_.gather(b.pe, kGatherBlockHeaderBytes + b.pixels * kPixelRecordBytes, b.ready);
+      const uint64_t bytes = kGatherBlockHeaderBytes + b.pixels * kPixelRecordBytes;
+      return dynamic ? net_.gather_in_gaps(b.pe, bytes, b.ready)
+                     : net_.gather(b.pe, bytes, b.ready);
     });
   for (int pe = 0; pe < int(pes_.size()); ++pe) read_frame(pe, sc_core::SC_ZERO_TIME);
 }

@@ -1,7 +1,8 @@
 // The host (paper §3.2): voxel-data generation and primary-ray generation, then the transfer of
 // the scene and each PE's primary rays into the PEs' local memories over the interconnect
 // (TLM-2.0 b_transport, timed by net/interconnect.h: topology, bytes, bandwidth, latency), and
-// the gathering of the PEs' frame buffers.
+// the gathering of the PEs' frame buffers. With partition = dynamic it deals the screen's tiles
+// to the PEs as they ask for them (frame/tiles.h), one up front to each.
 #pragma once
 
 #include <functional>
@@ -14,6 +15,7 @@
 #include <tlm_utils/simple_initiator_socket.h>
 
 #include "frame/machine_result.h"
+#include "frame/tiles.h"
 #include "machine/pe.h"
 #include "net/interconnect.h"
 #include "memory/memory_layout.h"
@@ -41,6 +43,10 @@ class Host : public sc_core::sc_module {
   /// One PE's copy of the scene as the link carries it: without the voxel data when the PEs build
   /// it (voxelisation = pe).
   uint64_t scene_link_bytes() const;
+  /// partition = dynamic: PE `pe` asks for its next tile, now (from the PE's process).
+  void ask_for_tile(int pe);
+  /// partition = dynamic: the tiles each PE got.
+  std::vector<uint32_t> tiles_per_pe() const;
 
  private:
   /// A b_transport into PE `pe`'s local memory, at once.
@@ -69,6 +75,10 @@ class Host : public sc_core::sc_module {
   void distribute();
   /// PE `pe`'s primary rays `from`.. (`count` of them, fewer at the end of its pixels).
   std::vector<Ray> rays_of(int pe, size_t from, size_t count) const;
+  /// A transfer of PE `pe`'s primary rays, no earlier than `ready` (`first`: the PE's first):
+  /// when it lands in the PE's memory, and the write that lands it.
+  std::pair<uint64_t, std::function<void()>> ray_write(int pe, std::vector<Ray> rays,
+                                                       uint64_t ready, bool first);
   void send_rays(int pe, std::vector<Ray> rays);
   void deliver_scene(int pe, const TransferTimes& t);
   /// Writes the scene into PE `pe`'s memory as transfer `t` (its last part) arrives.
@@ -84,6 +94,15 @@ class Host : public sc_core::sc_module {
   /// Gathers every PE's frame buffer: after all are done, each as it finishes, or streamed
   /// (gather).
   void gather_all();
+  /// partition = dynamic: sends PE `pe` tile `k` (its rays, or its descriptor) or, without one,
+  /// the answer that none is left, no earlier than `ready`; returns when it lands in the PE's
+  /// memory and the write that lands it.
+  std::pair<uint64_t, std::function<void()>> send_tile(int pe, std::optional<size_t> k,
+                                                       uint64_t ready, bool first);
+  /// partition = dynamic: the host's tile dealer, a process of its own beside the host's thread:
+  /// takes the PEs' requests as they are made, answers them in the order they arrive (of equal
+  /// times, by PE), and lands the answers in the PEs' memories.
+  void deal_tiles();
 
   MachineConfig config_;
   const Scene& scene_;
@@ -96,6 +115,18 @@ class Host : public sc_core::sc_module {
   Interconnect net_;
   /// Writes issued for later (a star's or a tree's link still busy), by arrival, then issue order.
   std::multimap<uint64_t, std::function<void()>> pending_;
+  // partition = dynamic.
+  std::vector<Tile> tiles_;
+  TileDealer dealer_{0};
+  struct Ask {
+    uint64_t at;  ///< made (asked_), or arrived at the host (arrived_)
+    int pe;
+    bool operator<(const Ask& o) const { return at != o.at ? at < o.at : pe < o.pe; }
+  };
+  std::vector<Ask> asked_, arrived_;
+  std::multimap<uint64_t, std::function<void()>> answers_;  ///< the dealer's writes, by arrival
+  Sleeper deal_sleep_;                                      ///< rank 0, as the host's
+  sc_core::sc_event asked_event_;  ///< arbitration = kernel: a request was made
 };
 
 }  // namespace rtm

@@ -28,12 +28,23 @@ void LocalMemory::b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time& del
     const size_t old = rays.size();
     rays.resize(old + n);
     if (n > 0) std::memcpy(static_cast<void*>(rays.data() + old), t.get_data_ptr(), len);
+    // A dynamic partition's frame buffer has a slot for every ray come.
+    if (frame.size() < rays.size()) {
+      frame.resize(rays.size());
+      ids.resize(rays.size(), -1);
+    }
+    ++transfers_in;
     rays_arrived.notify(sc_core::SC_ZERO_TIME);
     const bool camera = ctx_.config.ray_generation == MachineConfig::RayGeneration::Pe;
     const MemoryAddresses& at = ctx_.memory->addresses();
     if (n > 0)
       ctx_.memory->host_write(camera ? at.rays : at.primary_ray(old),
-                              camera ? kCameraRecordBytes : n * kRayRecordBytes, from, to);
+                              ray_transfer_bytes(ctx_.config, n, old == 0), from, to);
+  } else if (t.is_write() && addr == kNoTileBase) {
+    rays_expected = rays.size();
+    ++transfers_in;
+    rays_arrived.notify(sc_core::SC_ZERO_TIME);
+    ctx_.memory->host_write(ctx_.memory->addresses().rays, kTileDescriptorBytes, from, to);
   } else if (t.is_read() && addr == kFrameBase && len == frame.size() * sizeof(PixelSum)) {
     if (len > 0)
       std::memcpy(t.get_data_ptr(), frame.data(), len);  // a PE without pixels has no frame buffer

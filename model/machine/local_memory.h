@@ -1,7 +1,10 @@
 // A PE's local memory as a TLM-2.0 target: the host writes the scene image and the PE's primary
-// rays into it, and reads the PE's frame buffer back.
+// rays into it, and reads the PE's frame buffer back. With partition = dynamic the rays come a
+// tile at a time, each the answer to the PE's request for one, and the frame buffer grows with
+// them: its slots are the rays' places, in the order they came.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <systemc>
@@ -29,6 +32,8 @@ class LocalMemory : public sc_core::sc_module {
   static constexpr uint64_t kRayBase = 0x1000'0000;    ///< primary rays, appended in arrival order
   static constexpr uint64_t kFrameBase = 0x2000'0000;  ///< frame buffer (PixelSum per pixel slot)
   static constexpr uint64_t kIdBase = 0x3000'0000;  ///< primary-hit primitive ids (int32 per slot)
+  /// partition = dynamic: the host's answer that no tile is left (a descriptor of height 0).
+  static constexpr uint64_t kNoTileBase = 0x4000'0000;
 
   tlm_utils::simple_target_socket<LocalMemory> socket{"socket"};
 
@@ -36,8 +41,11 @@ class LocalMemory : public sc_core::sc_module {
 
   // Primary rays as they arrive from the host.
   std::vector<Ray> rays;
-  size_t rays_expected = 0;
+  size_t rays_expected = 0;  ///< kRaysUnknown: more may come (partition = dynamic)
+  size_t transfers_in = 0;   ///< writes of rays, or of the answer that no tile is left
   sc_core::sc_event rays_arrived;
+  /// partition = dynamic: the PE's request for its next tile, to the host (set by the machine).
+  std::function<void()> ask_for_tile;
   // The PE's part of the frame, indexed by pixel slot.
   std::vector<PixelSum> frame;
   std::vector<int32_t> ids;

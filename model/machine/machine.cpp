@@ -57,9 +57,10 @@ class Machine : public sc_core::sc_module {
     if (c.arbitration == MachineConfig::Arbitration::Ranked)
       keeper = std::make_unique<Timekeeper>("timekeeper");
     auto parts = partition_screen(s.camera.width, s.camera.height, c);
+    const uint64_t screen_pixels = uint64_t(s.camera.width) * uint64_t(s.camera.height);
     auto image = std::make_shared<SceneImage>(s, g, c);
     needs = image->visit([&](const auto& mem) { return analyse_scene(s, mem.rams); });
-    check_local_memory(*image, parts, c);
+    check_local_memory(*image, parts, c, screen_pixels);
     if (c.leave_out) {
       units.shadow_rays = needs.shadow_rays;
       units.reflection = needs.reflected_rays;
@@ -76,7 +77,7 @@ class Machine : public sc_core::sc_module {
     std::vector<Pe*> raw;
     for (int i = 0; i < c.pes; ++i) {
       const std::string pe = "pe" + std::to_string(i);
-      const size_t pixels = parts[size_t(i)].size();
+      const size_t pixels = parts[size_t(i)].size();  // dynamic: none yet
       if (engine_unsupported.empty())
         pes.push_back(
             std::make_unique<EnginePe>(pe.c_str(), i, c, units, pixels, keeper.get(), *driver));
@@ -86,12 +87,16 @@ class Machine : public sc_core::sc_module {
       raw.push_back(pes.back().get());
       PeState& st = pes.back()->ctx;
       st.spill_rays = memory[size_t(i)].spill_rays();
-      st.memory = std::make_shared<PeMemory>(c, *image, pixels);
+      st.memory = std::make_shared<PeMemory>(
+          c, *image, c.partition == Partition::Dynamic ? screen_pixels : pixels);
       st.spawn_fanout =
           (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
     }
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
-    for (int i = 0; i < c.pes; ++i) host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
+    for (int i = 0; i < c.pes; ++i) {
+      host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
+      pes[size_t(i)]->memory.ask_for_tile = [this, i] { host->ask_for_tile(i); };
+    }
     if (progress)
       progress_display =
           std::make_unique<ProgressDisplay>(uint64_t(s.camera.width) * uint64_t(s.camera.height));
@@ -128,8 +133,11 @@ class Machine : public sc_core::sc_module {
   /// Lays out each PE's local memory; a PE whose sections do not fit stops the render before it
   /// starts, naming them (the PE with the most pixels needs the most).
   void check_local_memory(const SceneImage& image, const std::vector<std::vector<uint32_t>>& parts,
-                          const MachineConfig& c) {
-    for (const auto& px : parts) memory.push_back(memory_layout(image, px.size(), c));
+                          const MachineConfig& c, uint64_t screen_pixels) {
+    const bool dynamic = c.partition == Partition::Dynamic;
+    // A dynamic partition's PE may get any of the tiles: its memory has room for the whole screen.
+    for (const auto& px : parts)
+      memory.push_back(memory_layout(image, dynamic ? screen_pixels : px.size(), c));
     for (size_t pe = 0; pe < memory.size(); ++pe) {
       const MemoryLayout& m = memory[pe];
       if (m.fits()) continue;
@@ -408,6 +416,7 @@ MachineResult collect_result(Machine& top, const MachineConfig& c) {
   r.clock_ticks = period.value();
   r.host = top.host->times;
   r.links = top.host->link_use();
+  if (c.partition == Partition::Dynamic) r.tiles = top.host->tiles_per_pe();
   for (auto& pe : top.pes) {
     if (!pe->finished()) {
       r.deadlock = true;

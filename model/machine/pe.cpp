@@ -1,5 +1,7 @@
 #include "machine/pe.h"
 
+#include "units/front_buffer.h"
+
 namespace rtm {
 namespace {
 PeContext make_context(int index, const MachineConfig& c, const PeUnits& units,
@@ -20,7 +22,7 @@ PeContext make_context(int index, const MachineConfig& c, const PeUnits& units,
 Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
        size_t pixels, Timekeeper* keeper)
     : sc_module(name), ctx(make_context(index, c, units, keeper)), memory("memory", ctx, pixels) {
-  memory.rays_expected = pixels;
+  memory.rays_expected = c.partition == Partition::Dynamic ? kRaysUnknown : pixels;
 }
 
 }  // namespace rtm

@@ -36,7 +36,8 @@ class Pe : public sc_core::sc_module {
   virtual void trace(Waveform& wave) = 0;
 
  protected:
-  /// `pixels`: how many pixels of the screen this PE renders.
+  /// `pixels`: how many pixels of the screen this PE renders (partition = dynamic: 0, its tiles
+  /// come as it asks for them).
   Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
      size_t pixels, Timekeeper* keeper);
 };

@@ -11,6 +11,12 @@ std::string MemoryLayout::describe() const {
   return s;
 }
 
+uint64_t ray_transfer_bytes(const MachineConfig& c, uint64_t rays, bool first) {
+  if (c.ray_generation == MachineConfig::RayGeneration::Host) return rays * kRayRecordBytes;
+  if (c.partition != Partition::Dynamic) return kCameraRecordBytes;
+  return (first ? kCameraRecordBytes : 0) + kTileDescriptorBytes;
+}
+
 MemoryLayout memory_layout(const SceneImage& image, uint64_t pixels, const MachineConfig& c) {
   MemoryLayout m;
   m.capacity = uint64_t(c.local_memory_bytes);

@@ -19,6 +19,11 @@ struct SceneImage;
 constexpr uint64_t kRayRecordBytes = 28;
 /// Bytes of the camera and screen-share descriptor a PE needs to generate its own primary rays.
 constexpr uint64_t kCameraRecordBytes = 64;
+/// partition = dynamic: a PE's request for its next tile (PE -> host) ...
+constexpr uint64_t kTileRequestBytes = 4;
+/// ... and the host's answer, a tile descriptor: x, y, width, height as 16-bit words (height 0:
+/// no tile is left). With ray_generation = host the tile's ray records travel instead.
+constexpr uint64_t kTileDescriptorBytes = 8;
 /// Bytes per frame-buffer pixel (also what the gather moves): RGB as three floats and the
 /// primitive id.
 constexpr uint64_t kPixelRecordBytes = 16;
@@ -43,6 +48,11 @@ struct MemoryLayout {
   /// "primitives 123 B, voxel data 456 B, …" for messages.
   std::string describe() const;
 };
+
+/// Bytes of a transfer of `rays` primary rays to a PE, on the link and into its local memory: their
+/// records; or, generating them on the PE, the camera record (with the PE's `first` transfer) and,
+/// of a dynamic partition, the tile's descriptor.
+uint64_t ray_transfer_bytes(const MachineConfig& c, uint64_t rays, bool first);
 
 /// PE memory for `pixels` pixels and as many primary rays (one per pixel; with ray_generation =
 /// pe only the camera descriptor).

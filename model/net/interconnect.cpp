@@ -51,9 +51,18 @@ uint64_t Interconnect::hop_ticks(uint64_t bytes) const {
   return latency_ticks_ + ticks(seconds, 1e12);
 }
 
-Interconnect::Hop Interconnect::hop(size_t link, uint64_t bytes, uint64_t earliest) {
-  const uint64_t start = std::max(earliest, link_free_[link]);
+Interconnect::Hop Interconnect::hop(size_t link, uint64_t bytes, uint64_t earliest, bool in_gap) {
   const uint64_t d = hop_ticks(bytes);
+  uint64_t start = std::max(earliest, link_free_[link]);
+  std::vector<Hop>* busy = busy_.empty() ? nullptr : &busy_[link];
+  auto at = busy ? busy->end() : std::vector<Hop>::iterator{};
+  if (in_gap && busy) {
+    // The hops on a link never overlap: by start, their ends grow too.
+    at = std::upper_bound(busy->begin(), busy->end(), earliest,
+                          [](uint64_t t, const Hop& h) { return t < h.end; });
+    for (start = earliest; at != busy->end() && start + d > at->start; ++at)
+      start = std::max(start, at->end);
+  }
   if (start >= horizon_ || d >= horizon_ - start) {
     char s[200];
     std::snprintf(
@@ -61,7 +70,8 @@ Interconnect::Hop Interconnect::hop(size_t link, uint64_t bytes, uint64_t earlie
         (unsigned long long)bytes, links_[link].name.c_str(), double(start), double(horizon_));
     throw InterconnectTimeError(s);
   }
-  link_free_[link] = start + d;
+  link_free_[link] = std::max(link_free_[link], start + d);
+  if (busy) busy->insert(at, {start, start + d});
   LinkUse& u = links_[link];
   u.busy_ticks += d;
   u.bytes += bytes;
@@ -102,12 +112,12 @@ uint64_t Interconnect::forwardable(const Hop& h) const {
   return cut_through_ ? h.start + latency_ticks_ : h.end;
 }
 
-TransferTimes Interconnect::along(const std::vector<size_t>& route, uint64_t bytes,
-                                  uint64_t ready) {
+TransferTimes Interconnect::along(const std::vector<size_t>& route, uint64_t bytes, uint64_t ready,
+                                  bool in_gaps) {
   TransferTimes t{0, 0, ready};
   uint64_t earliest = ready;
   for (size_t i = 0; i < route.size(); ++i) {
-    const Hop h = hop(route[i], bytes, earliest);
+    const Hop h = hop(route[i], bytes, earliest, in_gaps);
     if (i == 0) t.start = h.start;
     t.arrive = h.start;
     t.end = h.end;
@@ -184,6 +194,17 @@ TransferTimes Interconnect::gather(int pe, uint64_t bytes, uint64_t ready) {
   std::vector<size_t> up = path(pe);
   std::reverse(up.begin(), up.end());
   return along(up, bytes, ready);
+}
+
+TransferTimes Interconnect::gather_in_gaps(int pe, uint64_t bytes, uint64_t ready) {
+  if (bytes == 0) return {ready, ready, ready};
+  if (busy_.empty()) throw std::logic_error("gather_in_gaps without keep_busy");
+  std::vector<size_t> up = topology_ == Topology::Tree ? path(pe)
+                           : topology_ == Topology::Serial || topology_ == Topology::Bus
+                               ? std::vector<size_t>{0}
+                               : std::vector<size_t>{size_t(pe)};
+  std::reverse(up.begin(), up.end());
+  return along(up, bytes, ready, true);
 }
 
 uint64_t Interconnect::host_free() const {

@@ -59,6 +59,14 @@ class Interconnect {
   std::vector<TransferTimes> broadcast(uint64_t bytes, uint64_t ready);
   /// PE `pe` -> host, no earlier than `ready`.
   TransferTimes gather(int pe, uint64_t bytes, uint64_t ready);
+  /// PE `pe` -> host, no earlier than `ready`, each hop in the first gap long enough for it that
+  /// the transfers asked for so far leave on its link (a star's host ports aside): a transfer asked
+  /// for after others that happen later (a streamed gather's block, reserved once the PEs are
+  /// done, among the tile records of a dynamic partition) goes between them, and they stay put.
+  /// Needs keep_busy().
+  TransferTimes gather_in_gaps(int pe, uint64_t bytes, uint64_t ready);
+  /// From now on every link remembers when it is busy (for gather_in_gaps).
+  void keep_busy() { busy_.resize(links_.size()); }
 
   /// The earliest time one of the host's ports is free: the host can start another transfer.
   uint64_t host_free() const;
@@ -75,12 +83,14 @@ class Interconnect {
   struct Hop {
     uint64_t start, end;
   };
-  Hop hop(size_t link, uint64_t bytes, uint64_t earliest);
+  /// `in_gap`: in the first gap long enough on the link, not after everything asked for so far.
+  Hop hop(size_t link, uint64_t bytes, uint64_t earliest, bool in_gap = false);
   /// The earliest a PE may pass on a hop `h` it receives: when all of it is in
   /// (store-and-forward), or when its header is (cut-through: the latency after the hop starts).
   uint64_t forwardable(const Hop& h) const;
   /// Hop after hop over `route`, the first no earlier than `ready`.
-  TransferTimes along(const std::vector<size_t>& route, uint64_t bytes, uint64_t ready);
+  TransferTimes along(const std::vector<size_t>& route, uint64_t bytes, uint64_t ready,
+                      bool in_gaps = false);
   /// The port of a star taking a transfer on `link`: the one letting it start first.
   size_t star_port(size_t link, uint64_t ready) const;
   /// The tree's links from the host down to `pe`.
@@ -93,8 +103,9 @@ class Interconnect {
   double bytes_per_second_;
   uint64_t horizon_;
   std::vector<LinkUse> links_;
-  std::vector<uint64_t> link_free_;  ///< each link is idle from then
-  std::vector<uint64_t> port_free_;  ///< a star's host ports
+  std::vector<uint64_t> link_free_;     ///< each link is idle from then
+  std::vector<uint64_t> port_free_;     ///< a star's host ports
+  std::vector<std::vector<Hop>> busy_;  ///< keep_busy(): each link's hops, by start
 };
 
 }  // namespace rtm

@@ -306,6 +306,26 @@ TEST(Interconnect, GathersContendWithTransfers) {
   }
 }
 
+// A transfer asked for after later ones (a streamed gather's block among a dynamic partition's
+// tile records) takes the first gap long enough on its link; the others stay put.
+TEST(Interconnect, AGatherInGapsGoesBetweenTransfersAskedForEarlier) {
+  Interconnect n(net(Topology::Serial, 2), kHorizon);
+  n.keep_busy();
+  // The link busy over [0, R) and [R + G + 1, 2R + G + 1): a gap of G + 1 between them.
+  EXPECT_EQ(n.send(0, kRays, 0).end, R);
+  EXPECT_EQ(n.send(1, kRays, R + G + 1).start, R + G + 1);
+  // A frame buffer (G) fits in the gap, from when it is ready ...
+  const TransferTimes a = n.gather_in_gaps(0, kFrame, 0);
+  EXPECT_EQ(a.start, R);
+  EXPECT_EQ(a.end, R + G);
+  // ... a second no longer does: after the last.
+  const TransferTimes b = n.gather_in_gaps(1, kFrame, 0);
+  EXPECT_EQ(b.start, 2 * R + G + 1);
+  EXPECT_EQ(n.idle_at(), 2 * R + 2 * G + 1);
+  // A later transfer asked for in order still follows everything.
+  EXPECT_EQ(n.gather(0, kFrame, 0).start, 2 * R + 2 * G + 1);
+}
+
 TEST(Interconnect, NothingToCarryTakesNoLinkAndNoTime) {
   for (Topology t : {Topology::Serial, Topology::Bus, Topology::Star, Topology::Tree}) {
     Interconnect n(net(t, 3, 3), kHorizon);

@@ -22,6 +22,10 @@
 
 namespace rtm {
 
+/// rays_expected while more primary rays may come (partition = dynamic: until the host says its
+/// tiles are gone).
+inline constexpr size_t kRaysUnknown = SIZE_MAX;
+
 /// Where a ray handed out by the front buffer came from, for the event log.
 enum FrontSource : uint8_t { kFromQueue = 0, kFromSpill = 1, kFromHost = 2 };
 
@@ -50,7 +54,14 @@ class FrontBufferPolicy {
   }
   /// Spawned rays are new: their parent's credit came back with its end.
   void spawned(const Item& r) { queue_.push_back(r); }
-  void primaries_arrived(size_t n) { primaries_ = n; }
+  /// The first `n` primary rays are in local memory, of `expected` (kRaysUnknown: more may come).
+  /// A new tile (or the host's answer that none is left) answers the PE's request for one.
+  void primaries_arrived(size_t n) { primaries_arrived(n, rays_expected_); }
+  void primaries_arrived(size_t n, size_t expected) {
+    if (n > primaries_ || expected != rays_expected_) asked_ = false;
+    primaries_ = n;
+    rays_expected_ = expected;
+  }
 
   Next next() const {
     if (in_flight_ < credits_) {
@@ -91,7 +102,13 @@ class FrontBufferPolicy {
     if (m && pe_.config.ray_generation == MachineConfig::RayGeneration::Host)
       m->request(m->front(), m->addresses().primary_ray(next_primary_), kRayRecordBytes,
                  now / pe_.cycle, std::max(cycles, m->unloaded(kRayRecordBytes)), wait);
-    return next_primary_++;
+    ++next_primary_;
+    // A dynamic partition asks for its next tile when it takes the last primary ray it holds: the
+    // link's round trip overlaps the rays still in its loop, and no PE holds a tile another could
+    // have started (asking a tile ahead was slower: docs/machine.md, "Screen partitioning").
+    if (rays_expected_ == kRaysUnknown && !asked_ && next_primary_ == primaries_)
+      asked_ = ask_ = true;
+    return next_primary_ - 1;
   }
   /// A ray (`id`) goes past the front buffer: it takes a credit and `cycles` of the front buffer.
   void dispatched(uint64_t now, uint32_t id, uint64_t cycles, uint8_t from) {
@@ -137,6 +154,7 @@ class FrontBufferPolicy {
     const size_t before = queue_.size();
     drain();
     spill_arrivals(before, now);
+    waiting_for_tile(now);
     if (queue_.size() > capacity()) {
       // The ray trees outgrew local memory: the machine stops the frame (machine/machine.cpp).
       pe_.counters.spill_overflow = queue_.size();
@@ -178,6 +196,8 @@ class FrontBufferPolicy {
   ///   void dispatch(Item&&, cycles, from, MemoryWait&&)  the ray goes into the front buffer's
   ///   pipeline void want(t)                     wake me at t void finished() every ray has ended
   ///   (called once)
+  ///   void ask_for_tile()              the PE asks the host for its next tile (partition =
+  ///   dynamic)
   template <class Ops>
   bool carry_out(uint64_t now, uint64_t cycle, Ops& ops) {
     Decision d = decide(now, cycle, [&] { drain(ops); });
@@ -187,6 +207,10 @@ class FrontBufferPolicy {
         return true;
       case Decision::Primary:
         ops.dispatch(ops.primary(d.primary), d.cycles, d.from, std::move(d.wait));
+        if (ask_) {
+          ask_ = false;
+          ops.ask_for_tile();
+        }
         return true;
       case Decision::Align:
         ops.want(d.at);
@@ -276,9 +300,26 @@ class FrontBufferPolicy {
               kSpillRecordBytes, now / pe_.cycle);
   }
 
+  /// The PE's loop is empty and every primary ray it holds taken while more may come: it waits for
+  /// a tile from then (counted in tile_wait, from its first ray on) until one, or the host's
+  /// answer that none is left, arrives.
+  void waiting_for_tile(uint64_t now) {
+    const bool idle = rays_expected_ == kRaysUnknown && next_primary_ == primaries_ &&
+                      next_primary_ > 0 && queue_.empty() && in_flight_ == 0;
+    if (idle && tile_wait_since_ == kNotWaiting) tile_wait_since_ = now;
+    if (!idle && tile_wait_since_ != kNotWaiting) {
+      pe_.counters.tile_wait += now - tile_wait_since_;
+      tile_wait_since_ = kNotWaiting;
+    }
+  }
+
+  static constexpr uint64_t kNotWaiting = UINT64_MAX;
   PeState& pe_;
   const int credits_;
-  const size_t rays_expected_;
+  size_t rays_expected_;
+  bool asked_ = false;  ///< a request for a tile is out, not yet answered
+  bool ask_ = false;    ///< a request to send (carry_out sends it)
+  uint64_t tile_wait_since_ = kNotWaiting;
   RingQueue<Item> queue_;
   size_t next_primary_ = 0, primaries_ = 0;
   int in_flight_ = 0;

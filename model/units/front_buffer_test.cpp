@@ -259,3 +259,76 @@ TEST(FrontBufferPolicy, DecidesToAlignPrimaryRaysToTheClockAndToWaitForInput) {
 
 }  // namespace
 }  // namespace rtm
+
+namespace rtm {
+namespace {
+
+/// A scheduler's operations for carry_out that record what the front buffer does.
+struct Recorder {
+  explicit Recorder(Policy& policy) : p(policy) {}
+  Policy& p;
+  int ends = 0;  ///< rays' ends waiting on its input
+  std::vector<int> dispatched;
+  int asks = 0, finishes = 0;
+  bool read_end() { return ends > 0 && ends--; }
+  bool read(FifoId, int&) { return false; }
+  void drained() {}
+  int primary(size_t n) { return int(n); }
+  void dispatch(int r, uint64_t cycles, uint8_t from, MemoryWait&&) {
+    p.dispatched(0, uint32_t(r), cycles, from);
+    dispatched.push_back(r);
+  }
+  void want(uint64_t) {}
+  void finished() { ++finishes; }
+  void ask_for_tile() { ++asks; }
+};
+
+// partition = dynamic: the PE asks for a tile when it takes the last primary ray it holds, once
+// until the host answers; its loop standing empty meanwhile is tile_wait; after the host's "none"
+// it asks no more and finishes when its rays are done.
+TEST(FrontBufferPolicy, ADynamicPartitionAsksWhenItTakesItsLastRay) {
+  PeState pe = pe_with(4, 64);
+  Policy p(pe, kRaysUnknown);
+  Recorder ops(p);
+  p.primaries_arrived(2, kRaysUnknown);  // the first tile, unasked
+  EXPECT_TRUE(p.carry_out(0, 1, ops));
+  EXPECT_EQ(ops.asks, 0) << "a ray left";
+  EXPECT_TRUE(p.carry_out(1, 1, ops));
+  EXPECT_EQ(ops.asks, 1) << "the last ray it held";
+  EXPECT_FALSE(p.carry_out(2, 1, ops));
+  ops.ends = 2;  // both rays end: the loop is empty, waiting for the answer
+  EXPECT_FALSE(p.carry_out(3, 1, ops));
+  EXPECT_FALSE(p.finished()) << "more may come";
+  EXPECT_EQ(ops.asks, 1) << "one request out at a time";
+  p.primaries_arrived(4, kRaysUnknown);  // the answer: a tile of two, at cycle 10
+  EXPECT_TRUE(p.carry_out(10, 1, ops));
+  EXPECT_EQ(pe.counters.tile_wait, 7u) << "empty from 3 to 10";
+  EXPECT_EQ(ops.asks, 1);
+  EXPECT_TRUE(p.carry_out(11, 1, ops));
+  EXPECT_EQ(ops.asks, 2);
+  p.primaries_arrived(4, 4);  // "none left"
+  ops.ends = 2;
+  EXPECT_FALSE(p.carry_out(12, 1, ops));
+  EXPECT_TRUE(p.finished());
+  EXPECT_EQ(ops.finishes, 1);
+  EXPECT_EQ(ops.asks, 2);
+  EXPECT_EQ(ops.dispatched, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(pe.counters.tile_wait, 7u) << "rays in the loop: no wait";
+}
+
+// A static partition never asks.
+TEST(FrontBufferPolicy, AStaticPartitionNeverAsks) {
+  PeState pe = pe_with(4, 64);
+  Policy p(pe, 2);
+  Recorder ops(p);
+  p.primaries_arrived(2);
+  EXPECT_TRUE(p.carry_out(0, 1, ops));
+  EXPECT_TRUE(p.carry_out(1, 1, ops));
+  ops.ends = 2;
+  EXPECT_FALSE(p.carry_out(2, 1, ops));
+  EXPECT_TRUE(p.finished());
+  EXPECT_EQ(ops.asks, 0);
+}
+
+}  // namespace
+}  // namespace rtm

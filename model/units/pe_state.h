@@ -51,6 +51,7 @@ struct PeCounters {
   uint64_t start = 0;         ///< the first primary ray handed out
   uint64_t finish = 0;        ///< the last ray ended
   uint64_t credit_stall = 0;  ///< rays waiting but no credit to send them
+  uint64_t tile_wait = 0;     ///< loop empty, waiting for a tile (partition = dynamic)
   uint64_t spill_overflow =
       0;  ///< rays waiting when they outgrew the spill area (0: they never did)
   uint64_t spill_overflow_at = 0;
