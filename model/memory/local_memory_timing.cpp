@@ -130,6 +130,11 @@ void LocalMemoryTiming::admit_one_bank(const Request& r, uint64_t n) {
       start = bank.next_free(b) - (b - start);
       continue;
     }
+    // The bank free for the beats is the one port free for them.
+    if (shared) {
+      port = 0;
+      break;
+    }
     if ((port = free_port(start, n)) >= 0) break;
     start = next_start(start);
   }

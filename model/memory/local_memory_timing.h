@@ -131,9 +131,9 @@ class LocalMemoryTiming {
     uint64_t beat;
     int bank;
   };
-  /// The grants not yet collected, by ticket. Tickets come in sequence and are collected a few
-  /// hundred at most after they were made, so the slot of a ticket's low bits nearly always
-  /// holds it: a table lookup, no allocation; a ticket whose slot is taken goes in `others`.
+  /// The grants not yet collected, by ticket. Tickets come in sequence and a PE's units collect
+  /// theirs within the few items they hold, so the slot of a ticket's low bits is nearly always
+  /// free for it: a table lookup, no allocation; a ticket whose slot is taken goes in `others`.
   class Grants {
    public:
     bool has(Ticket t) const {
@@ -163,7 +163,7 @@ class LocalMemoryTiming {
     }
 
    private:
-    static constexpr Ticket kMask = 4095;
+    static constexpr Ticket kMask = 1023;
     struct Slot {
       Ticket ticket = 0;
       Grant grant;

@@ -118,7 +118,7 @@ uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_
       post_host_bursts(now_cycle - 1);
       timing_->resolve(now_cycle - 1);
     }
-    collect_posted();
+    if (!posted_.empty()) collect_posted();
     size_t kept = 0;
     for (size_t i = 0; i < w.pending.size(); ++i) {
       const MemoryWait::Pending p = w.pending[i];
