@@ -53,13 +53,11 @@ void LocalMemoryTiming::resolve(uint64_t cycle) {
 }
 
 LocalMemoryTiming::Grant LocalMemoryTiming::collect(Ticket t) {
-  const auto it = grants_.find(t);
-  if (it == grants_.end())
+  Grant g;
+  if (!grants_.take(t, g))
     throw std::logic_error(
         "local memory: request " + std::to_string(t) +
         (t < next_ticket_ ? " is not resolved yet, or was collected" : " was never made"));
-  const Grant g = it->second;
-  grants_.erase(it);
   return g;
 }
 
@@ -82,6 +80,7 @@ void LocalMemoryTiming::admit_waiting() {
 void LocalMemoryTiming::admit(const Request& r) {
   forget_before(r.cycle);
   const uint64_t n = beats(r.bytes);
+  if (config_.banks == 1) return admit_one_bank(r, n);
   bank_uses(r.address, r.bytes, uses_);
   // Conflicts: the banks its unloaded schedule would find booked.
   conflicting_.clear();
@@ -104,17 +103,55 @@ void LocalMemoryTiming::admit(const Request& r) {
     start = next_start(start);
   }
 
-  port_booked_[size_t(port)].book(start, n);
-  port_stats_[size_t(port)].busy_cycles += n;
   for (const Use& u : uses_) {
     bank_booked_[size_t(u.bank)].book(start + u.beat);
     ++bank_stats_[size_t(u.bank)].busy_cycles;
   }
+  grant(r, n, start, port);
+}
+
+/// admit() with one bank, in closed form: every beat uses it, so its uses are the request's
+/// cycles start .. start + n - 1 and the first booked of them is the one admit() would find first.
+void LocalMemoryTiming::admit_one_bank(const Request& r, uint64_t n) {
+  // With one port too, every request books the bank's cycles and the port's alike: one table
+  // serves both.
+  const bool shared = config_.ports == 1;
+  BookedCycles& bank = shared ? port_booked_[0] : bank_booked_[0];
+  // The first booked cycle of the beats from `start` on, or kNone.
+  auto first_booked = [&](uint64_t start) {
+    const uint64_t b = bank.next_booked(start);
+    return b != BookedCycles::kNone && b < start + n ? b : BookedCycles::kNone;
+  };
+  if (first_booked(r.cycle) != BookedCycles::kNone) ++bank_stats_[0].conflicts;
+  uint64_t start = r.cycle;
+  int port = -1;
+  for (;;) {
+    if (const uint64_t b = first_booked(start); b != BookedCycles::kNone) {
+      start = bank.next_free(b) - (b - start);
+      continue;
+    }
+    // The bank free for the beats is the one port free for them.
+    if (shared) {
+      port = 0;
+      break;
+    }
+    if ((port = free_port(start, n)) >= 0) break;
+    start = next_start(start);
+  }
+  if (!shared) bank.book(start, n);
+  bank_stats_[0].busy_cycles += n;
+  grant(r, n, start, port);
+}
+
+/// Books the request's port from `start` and keeps its grant and statistics.
+void LocalMemoryTiming::grant(const Request& r, uint64_t n, uint64_t start, int port) {
+  port_booked_[size_t(port)].book(start, n);
+  port_stats_[size_t(port)].busy_cycles += n;
   RequesterStats& s = requesters_[size_t(r.requester)];
   ++s.requests;
   s.bytes += r.bytes;
   s.stall_cycles += start - r.cycle;
-  grants_[r.ticket] = {r.cycle, start, start + config_.latency + n - 1, port};
+  grants_.put(r.ticket, {r.cycle, start, start + config_.latency + n - 1, port});
 }
 
 /// The banks each beat uses, into `uses`.

@@ -107,7 +107,7 @@ class LocalMemoryTiming {
   Ticket request(int requester, uint64_t address, uint64_t bytes, uint64_t cycle);
   /// No more requests will be made for cycles up to `cycle`: resolves those waiting.
   void resolve(uint64_t cycle);
-  bool resolved(Ticket t) const { return grants_.count(t) != 0; }
+  bool resolved(Ticket t) const { return grants_.has(t); }
   /// The request's grant, which is forgotten; throws std::logic_error if it is not resolved yet,
   /// or was collected.
   Grant collect(Ticket t);
@@ -131,8 +131,52 @@ class LocalMemoryTiming {
     uint64_t beat;
     int bank;
   };
+  /// The grants not yet collected, by ticket. Tickets come in sequence and a PE's units collect
+  /// theirs within the few items they hold, so the slot of a ticket's low bits is nearly always
+  /// free for it: a table lookup, no allocation; a ticket whose slot is taken goes in `others`.
+  class Grants {
+   public:
+    bool has(Ticket t) const {
+      const Slot& s = slots_[t & kMask];
+      return (s.used && s.ticket == t) || (!others_.empty() && others_.count(t) != 0);
+    }
+    void put(Ticket t, const Grant& g) {
+      Slot& s = slots_[t & kMask];
+      if (s.used)
+        others_[t] = g;
+      else
+        s = {t, g, true};
+    }
+    /// Removes t's grant into g; false if there is none.
+    bool take(Ticket t, Grant& g) {
+      Slot& s = slots_[t & kMask];
+      if (s.used && s.ticket == t) {
+        g = s.grant;
+        s.used = false;
+        return true;
+      }
+      const auto it = others_.find(t);
+      if (it == others_.end()) return false;
+      g = it->second;
+      others_.erase(it);
+      return true;
+    }
+
+   private:
+    static constexpr Ticket kMask = 1023;
+    struct Slot {
+      Ticket ticket = 0;
+      Grant grant;
+      bool used = false;
+    };
+    std::vector<Slot> slots_ = std::vector<Slot>(kMask + 1);
+    std::unordered_map<Ticket, Grant> others_;
+  };
+
   void admit_waiting();
   void admit(const Request& r);
+  void admit_one_bank(const Request& r, uint64_t n);
+  void grant(const Request& r, uint64_t n, uint64_t start, int port);
   void bank_uses(uint64_t address, uint64_t bytes, std::vector<Use>& uses) const;
   uint64_t first_free_banks(const std::vector<Use>& uses, uint64_t start) const;
   int free_port(uint64_t start, uint64_t beats);
@@ -148,7 +192,7 @@ class LocalMemoryTiming {
   std::vector<Request> waiting_;  ///< the requests of one cycle, not yet admitted
   std::vector<Use> uses_;         ///< the request being admitted's, kept to reuse its storage
   std::vector<int> conflicting_;  ///< likewise
-  std::unordered_map<Ticket, Grant> grants_;
+  Grants grants_;
   Ticket next_ticket_ = 0;
   uint64_t open_from_ = 0;  ///< the earliest cycle a request may still be made for
   uint64_t forgotten_before_ = 0;

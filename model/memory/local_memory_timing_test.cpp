@@ -432,5 +432,26 @@ TEST(LocalMemoryTiming, EachGrantIsTheEarliestFreeStartGivenTheGrantsBeforeIt) {
   }
 }
 
+// Grants are kept by ticket until collected, however many are held and in whatever order they are
+// collected: more than the table of recent tickets holds, so that tickets share its places.
+TEST(LocalMemoryTiming, EveryGrantIsKeptUntilCollectedHoweverManyAreHeld) {
+  LocalMemoryTiming m = with(memory(0, 0, 4, 2, 4, MemoryArbitration::Fcfs));
+  std::vector<LocalMemoryTiming::Ticket> t;
+  for (uint64_t i = 0; i < 10000; ++i) t.push_back(m.request(0, 4 * i, 4 * (1 + i % 3), i));
+  // Every other one first, then the rest from the newest: each grant is its own request's.
+  for (int pass = 0; pass < 2; ++pass)
+    for (size_t k = 0; k < t.size(); ++k) {
+      const size_t i = pass == 0 ? 2 * k : t.size() - 1 - k;
+      if (i >= t.size() || (pass == 1 && i % 2 == 0)) continue;
+      ASSERT_TRUE(m.resolved(t[i])) << i;
+      const Grant g = m.collect(t[i]);
+      ASSERT_EQ(g.issue, i);
+      ASSERT_EQ(g.completion, i + 2 + i % 3) << i;  // unloaded: latency + beats - 1
+      ASSERT_FALSE(m.resolved(t[i])) << i;
+    }
+  EXPECT_THROW(m.collect(t[0]), std::logic_error);
+  EXPECT_THROW(m.collect(t.back()), std::logic_error);
+}
+
 }  // namespace
 }  // namespace rtm

@@ -63,9 +63,10 @@ PeMemory::VoxelRead PeMemory::voxel_read(uint64_t address, uint64_t bytes) {
 }
 
 void PeMemory::post(int who, uint64_t address, uint64_t bytes, uint64_t cycle) {
-  MemoryWait w;
-  request(who, address, bytes, cycle, 0, w);
-  for (const MemoryWait::Pending& p : w.pending) posted_.push_back(p.ticket);
+  beats_ += beats_of(bytes);
+  if (!timing_) return count(who, bytes);
+  if (who != host()) post_host_bursts(cycle);
+  posted_.push_back(timing_->request(who, address, bytes, cycle));
 }
 
 void PeMemory::host_write(uint64_t address, uint64_t bytes, uint64_t from, uint64_t to) {
@@ -117,9 +118,10 @@ uint64_t PeMemory::ready(MemoryWait& w, uint64_t accepted, uint64_t due, uint64_
       post_host_bursts(now_cycle - 1);
       timing_->resolve(now_cycle - 1);
     }
-    collect_posted();
+    if (!posted_.empty()) collect_posted();
     size_t kept = 0;
-    for (const MemoryWait::Pending& p : w.pending) {
+    for (size_t i = 0; i < w.pending.size(); ++i) {
+      const MemoryWait::Pending p = w.pending[i];
       if (!timing_->resolved(p.ticket)) {
         w.pending[kept++] = p;
         unknown = true;

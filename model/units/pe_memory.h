@@ -41,7 +41,33 @@ struct MemoryWait {
     LocalMemoryTiming::Ticket ticket;
     uint64_t need;  ///< cycles after the item was taken that its plan needs the data at
   };
-  std::vector<Pending> pending;
+  /// The requests: nearly every item makes one or two, kept inline (an item's requests are made
+  /// and collected millions of times a frame, a heap block each in a vector), the rest beyond.
+  class PendingList {
+   public:
+    bool empty() const { return size_ == 0; }
+    size_t size() const { return size_; }
+    Pending& operator[](size_t i) { return i < kInline ? inline_[i] : more_[i - kInline]; }
+    void push_back(const Pending& p) {
+      if (size_ < kInline)
+        inline_[size_] = p;
+      else
+        more_.push_back(p);
+      ++size_;
+    }
+    /// Keeps the first n (n <= size()).
+    void resize(size_t n) {
+      more_.resize(n > kInline ? n - kInline : 0);
+      size_ = n;
+    }
+
+   private:
+    static constexpr size_t kInline = 2;
+    Pending inline_[kInline]{};
+    size_t size_ = 0;
+    std::vector<Pending> more_;
+  };
+  PendingList pending;
   uint64_t latency = 0;  ///< the item's latency in the plan (Work::cycles)
   int64_t ready =
       INT64_MIN;  ///< cycles after acceptance the result can leave at, by the grants collected

@@ -34,3 +34,20 @@ def test_a_build_without_rtm_is_refused_before_anything_is_timed(tmp_path):
                        capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=60)
     assert r.returncode == 2, r.stdout + r.stderr
     assert f"no rtm program at {tmp_path}/nowhere/rtm" in r.stderr and r.stdout == "", r.stdout + r.stderr
+
+
+def test_paper_rows_time_both_presets_against_the_reference_on_the_benchmark_scenes(rtm, tmp_path):
+    build = os.path.dirname(rtm)
+    r = subprocess.run([BENCH, "--runs", "1", "--paper-only", "--paper-size", "8x8", "--dir", str(tmp_path)],
+                       capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=240,
+                       env=dict(os.environ, RTM_BUILD_DIR=build))
+    assert r.returncode == 0, r.stdout + r.stderr
+    lines = r.stdout.splitlines()
+    # --paper-only: none of the quick rows; each scene's reference, then both presets with their
+    # ratio to it and their cycles.
+    assert not any(l.startswith("| scene | renderer | PEs |") for l in lines), r.stdout
+    for scene in ("balls-4", "rings-7", "tree-11"):
+        mine = [l.split(" | ") for l in lines if l.startswith(f"| {scene} |")]
+        assert [cells[1] for cells in mine] == [
+            "reference, 1 thread", "model fast, paper preset", "model fast, default preset"], r.stdout
+        assert all(float(cells[3]) > 0 and int(cells[6].replace(",", "")) > 0 for cells in mine[1:]), r.stdout
