@@ -124,28 +124,36 @@ void Host::run() {
   sc_core::sc_stop();  // in clocked timing the clock would run on forever
 }
 
+void Host::frame_work(uint64_t items) {
+  if (config_.pe_frame == PeFrame::Grid)
+    host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_frame_cycles) * items),
+                              "the host's change of frame"));
+}
+
+void Host::voxel_work() {
+  host_work(checked_periods(host_cycle(),
+                            double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
+                            "the host's voxel-data generation"));
+}
+
+uint64_t Host::pe_ticks(uint64_t cycles, const char* what) const {
+  return checked_periods(sc_time(config_.clock_ns, sc_core::SC_NS), double(cycles), what).value();
+}
+
 void Host::preprocess() {
   // Pre-processing 0: every primitive, light and the camera into the grid's frame, in fp64 (the
   // simulator framed them before simulation, as it built the grid).
-  if (config_.pe_frame == PeFrame::Grid)
-    host_work(checked_periods(host_cycle(),
-                              double(uint64_t(config_.host_frame_cycles) *
-                                     (scene_.primitives.size() + scene_.lights.size() + 1)),
-                              "the host's change of frame"));
+  frame_work(scene_.primitives.size() + scene_.lights.size() + 1);
   // Pre-processing 1: voxel-data generation (the grid itself was built before simulation; the
   // host is charged per primitive reference it registers), unless each PE builds its own.
   if (config_.voxelisation == MachineConfig::Voxelisation::Host)
-    host_work(checked_periods(host_cycle(),
-                              double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
-                              "the host's voxel-data generation"));
+    voxel_work();
   else
     times.pe_voxelisation =
-        checked_periods(sc_time(config_.clock_ns, sc_core::SC_NS),
-                        double(pe_voxelisation_cycles(uint64_t(config_.pe_voxel_cycles),
-                                                      uint64_t(config_.memory_bytes_per_cycle),
-                                                      grid_.start.size() - 1, grid_.items.size())),
-                        "a PE's voxel-data generation")
-            .value();
+        pe_ticks(pe_voxelisation_cycles(uint64_t(config_.pe_voxel_cycles),
+                                        uint64_t(config_.memory_bytes_per_cycle),
+                                        grid_.start.size() - 1, grid_.items.size()),
+                 "a PE's voxel-data generation");
   times.voxels = now();
 }
 
@@ -159,17 +167,10 @@ std::vector<TransferTimes> Host::send_scene_block(uint64_t bytes) {
 
 void Host::stream_scene() {
   const size_t n = scene_.primitives.size(), block = size_t(config_.scene_block);
-  const bool framing = config_.pe_frame == PeFrame::Grid;
   const bool pe_voxels = config_.voxelisation == MachineConfig::Voxelisation::Pe;
-  auto frame_work = [&](size_t items) {
-    if (framing)
-      host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_frame_cycles) * items),
-                                "the host's change of frame"));
-  };
   std::vector<uint64_t> references(n, 0);
   if (pe_voxels)
     for (uint32_t prim : grid_.items) ++references[prim];
-  const sc_time pe_cycle(config_.clock_ns, sc_core::SC_NS);
   // Per PE: when it has registered the references of every block in so far.
   std::vector<uint64_t> registered(pes_.size(), 0);
   std::vector<TransferTimes> last;
@@ -187,27 +188,21 @@ void Host::stream_scene() {
     }
     last = send_scene_block(bytes);
     const uint64_t work =
-        checked_periods(pe_cycle, double(uint64_t(config_.pe_voxel_cycles) * refs),
-                        "a PE's voxel-data generation")
-            .value();
+        pe_ticks(uint64_t(config_.pe_voxel_cycles) * refs, "a PE's voxel-data generation");
     for (size_t pe = 0; pe < pes_.size(); ++pe)
       registered[pe] = std::max(registered[pe], last[pe].end) + work;
   }
   if (!pe_voxels) {
-    host_work(checked_periods(host_cycle(),
-                              double(uint64_t(config_.host_voxel_cycles) * grid_.items.size()),
-                              "the host's voxel-data generation"));
+    voxel_work();
     last = send_scene_block(image_->voxel_bytes);
   }
   times.voxels = now();
   // Voxelising, a PE writes the voxel offsets once its last block's references are in: its copy
   // is ready for rays then. What the build adds after the scene is in is on the frame's path.
   const uint64_t offsets =
-      checked_periods(pe_cycle,
-                      double(pe_voxelisation_cycles(0, uint64_t(config_.memory_bytes_per_cycle),
-                                                    grid_.start.size() - 1, 0)),
-                      "a PE's voxel-offset writes")
-          .value();
+      pe_ticks(pe_voxelisation_cycles(0, uint64_t(config_.memory_bytes_per_cycle),
+                                      grid_.start.size() - 1, 0),
+               "a PE's voxel-offset writes");
   for (size_t pe = 0; pe < pes_.size(); ++pe) {
     const TransferTimes& t = last[pe];
     scene_ready_[pe] = pe_voxels ? registered[pe] + offsets : t.arrive;
@@ -374,6 +369,7 @@ void Host::distribute() {
   const int n = int(pes_.size());
   const bool pe_rays = config_.ray_generation == MachineConfig::RayGeneration::Pe;
   const size_t pixels = size_t(scene_.camera.width) * size_t(scene_.camera.height);
+  const bool scene_sent = config_.scene_block > 0;  // stream_scene sent it
   // A dynamic partition's first tiles, one to each PE in turn while any are left, before any PE
   // can ask for more.
   std::vector<std::optional<size_t>> first_tile(static_cast<size_t>(n));
@@ -385,7 +381,6 @@ void Host::distribute() {
       host_work(checked_periods(host_cycle(), double(uint64_t(config_.host_ray_cycles) * pixels),
                                 "the host's primary-ray generation"));
     times.rays = now();
-    const bool scene_sent = config_.scene_block > 0;
     if (config_.broadcast && !scene_sent) send_scene_to_all();
     for (int pe = 0; pe < n; ++pe) {
       if (!config_.broadcast && !scene_sent) send_scene(pe);
@@ -402,7 +397,7 @@ void Host::distribute() {
   }
   // Streaming: the scene first, then primary rays block by block, generation overlapping the PEs'
   // work.
-  if (config_.scene_block == 0) send_scene_to_all();
+  if (!scene_sent) send_scene_to_all();
   for (size_t from = 0;; from += size_t(config_.ray_block)) {
     bool any = false;
     for (int pe = 0; pe < n; ++pe) {

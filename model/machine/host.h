@@ -64,6 +64,12 @@ class Host : public sc_core::sc_module {
   /// The host's thread: pre-processing, then every PE's data, then the gather.
   void run();
   sc_core::sc_time host_cycle() const;
+  /// The host's change of frame (pe_frame = grid) of `items` primitives, lights and cameras.
+  void frame_work(uint64_t items);
+  /// The host's voxel-data generation: host_voxel_cycles a primitive reference.
+  void voxel_work();
+  /// `cycles` PE cycles in ticks, `what` naming them if they pass the time horizon.
+  uint64_t pe_ticks(uint64_t cycles, const char* what) const;
   void preprocess();
   /// scene_block > 0: pre-processing and the scene's transfer a block of primitives at a time,
   /// each block sent while the host frames the next, the PEs registering each block's references
