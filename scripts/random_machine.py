@@ -52,6 +52,10 @@ def random_config(rng, scenes):
     if rng.randrange(3) == 0:
         args[args.index("--partition") + 1] = "dynamic"
         sets.update({"tile": rng.randint(1, 12), "ray_block": 0})
+    # Several frames through the pipelined host, on a static partition with each frame's rays at
+    # once (drawn last, so the draws before stay what they were).
+    elif rng.randrange(3) == 0:
+        sets.update({"frames": rng.randint(2, 4), "ray_block": 0})
     if sets["link_topology"] == "star" and sets["broadcast"] == "true":
         sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():

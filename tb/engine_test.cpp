@@ -176,6 +176,15 @@ INSTANTIATE_TEST_SUITE_P(
              "rings-1.nff --size 24x24 --pes 4 --set voxelisation=pe --set link_topology=tree "
              "--set tree_forwarding=cut_through --set broadcast=true --set scene_block=3 --set "
              "gather=streamed"},
+        // Several frames: each PE runs ahead within a frame, tells the host its end, and takes
+        // the next frame's rays once it has switched (its voxel data built).
+        Case{"FramesThroughAPipelinedHost",
+             "balls-1.nff --size 24x24 --pes 3 --frames 3 --set voxelisation=pe --set "
+             "gather=as_finished"},
+        Case{"FramesStreamedOnATree",
+             "rings-1.nff --size 24x24 --pes 4 --frames 3 --set ray_generation=pe --set "
+             "link_topology=tree --set tree_forwarding=cut_through --set broadcast=true --set "
+             "gather=streamed --set gather_block=9 --set scene_block=3"},
         Case{"SlowLinkNoLeaveOut",
              "balls-2.nff --size 24x24 --pes 2 --set link_bandwidth_mb_s=5 --set leave_out=false "
              "--set clock_ns=7"},
@@ -210,7 +219,8 @@ TEST(EngineOnThreads, TheFramesAreTheSameOnOneThreadAndOnSeveral) {
         "tree-2.nff --size 40x40 --pes 7 --set ray_block=23 --set gather=as_finished"
         " --set intersection_units=2",
         "balls-1.nff --size 3x2 --pes 8 --set ray_block=1",
-        "balls-2.nff --size 40x40 --pes 6 --partition dynamic --set tile=5"})
+        "balls-2.nff --size 40x40 --pes 6 --partition dynamic --set tile=5",
+        "balls-2.nff --size 32x32 --pes 5 --frames 3 --set ray_generation=pe"})
     for (const char* threads : {"--sim-threads 2", "--sim-threads 3"})
       expect_same_frame(kScenes + args, "--sim-threads 1", threads);
 }

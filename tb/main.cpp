@@ -159,7 +159,7 @@ int sc_main(int argc, char* argv[]) {
   render->add_option("--config", r.config_file,
                      "Machine configuration file (YAML key: value; see rtm config)");
   render->add_option("--set", r.sets, "Machine configuration override KEY=VALUE (repeatable)");
-  // --pes and --search-units are checked as their configuration keys (config/config.cpp).
+  // --pes, --search-units and --frames are checked as their configuration keys (config/config.cpp).
   render->add_option("--pes", r.pes, "Processing elements");
   render->add_option("--timing", r.timing,
                      "fast (default: the MAC by formula, the PEs on the PE engine) or clocked (the "
@@ -171,6 +171,10 @@ int sc_main(int argc, char* argv[]) {
       "--partition", r.partition,
       "Screen partitioning: scanlines, blocks, strips, pixels or dynamic (tiles on demand)");
   render->add_option("--search-units", r.search_units, "Replicated 3DDDA units per PE");
+  render->add_option("--frames", r.frames,
+                     "Frames to render, the same frame each time, the host preparing the next "
+                     "while the PEs render one (the key frames); the statistics give the steady "
+                     "state's frame time");
   render->add_option("--mac-schedule", r.mac_schedule,
                      "MAC schedule: sparse (default) or full (the paper's 28 products)");
   render->add_option("--tech", r.tech,

@@ -38,6 +38,7 @@ struct RenderOptions {
   std::optional<int> pes;
   std::string timing, precision, partition, mac_schedule;
   std::optional<int> search_units;
+  std::optional<int> frames;
   std::string tech;        ///< technology file; empty: the `tech` key's
   std::string vcd;         ///< waveform file
   std::string vcd_window;  ///< "FROM:TO" in PE cycles (either side may be empty)

@@ -257,6 +257,12 @@ void print_machine_summary(const Scene& s, const Grid& g, double grid_seconds,
               precision_text(c).c_str(), to_string(c.timing), configuration_text(c).c_str());
   std::printf("cycles: %llu (%.3f ms simulated at %.4g ns a cycle)\n", (unsigned long long)m.cycles,
               sc_core::sc_time::from_value(m.end).to_seconds() * 1e3, c.clock_ns);
+  if (m.frame_done.size() > 1)
+    std::printf(
+        "frames: %zu; the first whole at the host at cycle %llu, then one every %.0f "
+        "cycles (%.4g frames/s)\n",
+        m.frame_done.size(), (unsigned long long)m.frame_done.front(), m.frame_cycles(),
+        1e9 / (m.frame_cycles() * c.clock_ns));
   print_rays(m.counts);
   std::printf("rays per cycle: %.4f\n",
               double(m.counts.total_rays()) / double(std::max<uint64_t>(1, m.cycles)));

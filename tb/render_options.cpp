@@ -147,6 +147,7 @@ MachineConfig machine_config(const RenderOptions& opt) {
   if (!opt.partition.empty()) set("partition", opt.partition, "--partition");
   if (!opt.mac_schedule.empty()) set("mac_schedule", opt.mac_schedule, "--mac-schedule");
   if (opt.search_units) set("search_units", std::to_string(*opt.search_units), "--search-units");
+  if (opt.frames) set("frames", std::to_string(*opt.frames), "--frames");
   if (!opt.tech.empty()) set("tech", opt.tech, "--tech");
   try {
     c.validate();

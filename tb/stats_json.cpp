@@ -231,6 +231,21 @@ nlohmann::json tiles_json(const std::vector<uint32_t>& tiles) {
 
 }  // namespace
 
+/// The frames of the run: when each was whole at the host, each one's time after the one before
+/// (the first's from the start), and the steady state's (MachineResult::frame_cycles).
+nlohmann::json frames_json(const MachineResult& m, const MachineConfig& c) {
+  const std::vector<uint64_t> done =
+      m.frame_done.empty() ? std::vector<uint64_t>{m.cycles} : m.frame_done;
+  nlohmann::json each = nlohmann::json::array();
+  for (size_t k = 0; k < done.size(); ++k) each.push_back(done[k] - (k ? done[k - 1] : 0));
+  const double seconds = double(m.frame_cycles()) * c.clock_ns * 1e-9;
+  return {{"count", done.size()},
+          {"done_cycles", done},
+          {"frame_cycles", each},
+          {"steady_frame_cycles", m.frame_cycles()},
+          {"frames_per_s", seconds > 0 ? 1 / seconds : 0.0}};
+}
+
 nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
   auto cyc = [&](uint64_t ticks) { return whole_cycles(ticks, c); };
   const FrameStats& s = m.stats;
@@ -245,6 +260,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
                       {"credit_stall_cycles", cyc(p.credit_stall)},
                       {"tiles", i < m.tiles.size() ? m.tiles[i] : 0},
                       {"tile_wait_cycles", cyc(p.tile_wait)},
+                      {"frame_wait_cycles", cyc(p.frame_wait)},
                       {"rays", p.counts.total_rays()},
                       {"spills", p.spills},
                       {"memory_used_bytes", m.memory[i].used},
@@ -298,6 +314,7 @@ nlohmann::json machine_json(const MachineResult& m, const MachineConfig& c) {
       {"phases", phases_json(s.profile)},
       {"load_imbalance", s.profile.imbalance},
       {"tiles_per_pe", tiles_json(m.tiles)},
+      {"frames", frames_json(m, c)},
       {"mac_bound_cycles", s.mac_bound_cycles},
       {"cycles_over_mac_bound", s.cycles_over_mac_bound},
       {"bottleneck", s.bottleneck.name},
@@ -409,6 +426,7 @@ nlohmann::json summary_json(const MachineResult& m, const MachineConfig& c, cons
                             const ImageError& err) {
   const FrameStats& s = m.stats;
   nlohmann::json j = {{"cycles", m.cycles},
+                      {"frame_cycles", m.frame_cycles()},
                       {"wall_seconds", m.wall_seconds},
                       {"sim_time_ns", sim_time_ns(m)},
                       {"voxel_steps", m.counts.voxel_steps},

@@ -18,7 +18,7 @@ namespace rtm {
 /// The stats file's format version: docs/stats.schema.json describes exactly this one, and allows
 /// no key it does not list, so any change to the format (a key added, gone, or changed in type or
 /// meaning) raises it, with the schema in the same commit.
-inline constexpr int kStatsSchemaVersion = 6;
+inline constexpr int kStatsSchemaVersion = 7;
 
 /// What was run, at the head of every stats file: the format's version, the build that ran it
 /// (tb/build_info.h), the command line as given (argv), the scene file as named there (null: the

@@ -368,7 +368,10 @@ std::string ConfigKey::accepted() const {
 //   seen, so a capacity above the scene's primitive count acts as that count: compulsory misses
 //   only. The voxel cache: at most 1 GiB, more than the voxel data of the largest grid (2^24
 //   voxels) with its lists; its tags are allocated whole (8 bytes a line).
+// - frames: at most 1024. The simulator keeps every frame's pixels (the machine holds two frames'),
+//   so a run's memory grows with them, and a steady state shows within a few frames.
 constexpr int kMaxPes = 16384;
+constexpr int kMaxFrames = 1024;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxPixels = kMaxImageSide * kMaxImageSide;
 constexpr double kTickNs = 0.001;
@@ -653,6 +656,13 @@ const std::vector<ConfigKey>& config_keys() {
               "references as the block arrives; lights and materials go with the first block, the "
               "host's voxel data after the last",
               &M::scene_block, from(0, kMaxMacRamPrimitives)),
+      int_key("frames",
+              "frames rendered in one run, the same frame each time, its scene prepared and sent "
+              "anew as an animation's would be: the host prepares frame k+1 (and sends it, into "
+              "a second scene copy in each local memory) while the PEs render frame k, and a PE "
+              "starts a frame once it has finished the one before; the statistics give each "
+              "frame's time and the steady state's (partition static, ray_block 0)",
+              &M::frames, from(1, kMaxFrames)),
       enum_key("arbitration",
                "same-cycle order: ranked (a fixed order by unit, independent of the kernel: "
                "clocked and fast timing give the same cycles on any frame) or kernel (SystemC's "
@@ -981,6 +991,14 @@ void MachineConfig::validate() const {
     bad("ray_block", std::to_string(ray_block) +
                          " with partition = dynamic: a dynamic partition sends a tile's rays as "
                          "the PE asks for it, so ray_block must be 0");
+  if (frames > 1 && partition == Partition::Dynamic)
+    bad("frames", std::to_string(frames) +
+                      " with partition = dynamic: a run of several frames deals each PE the same "
+                      "pixels every frame, so the partition must be static");
+  if (frames > 1 && ray_block > 0)
+    bad("frames", std::to_string(frames) + " with ray_block = " + std::to_string(ray_block) +
+                      ": a run of several frames sends each frame's rays at once, so ray_block "
+                      "must be 0");
   if (loop_credits > safe_credits())
     bad("loop_credits", "must not exceed the smallest FIFO depth past the front buffer (" +
                             std::to_string(safe_credits()) +

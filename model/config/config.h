@@ -151,6 +151,9 @@ struct MachineConfig {
   bool broadcast = false;
   int ray_block = 0;
   int scene_block = 0;  ///< primitives per scene transfer, framed and sent in turn (0: at once)
+  /// Frames in one run: the same frame again, the host preparing each while the PEs render the
+  /// one before (machine/host.h).
+  int frames = 1;
   enum class Gather { AfterAll, AsFinished, Streamed };
   Gather gather = Gather::AfterAll;
   int gather_block = 256;  ///< pixels per transfer of a streamed gather

@@ -245,6 +245,7 @@ class CycleDriver {
     void want(uint64_t t) { d.want(u, t); }
     void finished() {}
     void ask_for_tile() {}  // it holds every primary ray from the start
+    void frame_ended() {}   // and runs one frame
   };
   /// Shading's operations for ShadingWriter: `ray` is the oldest shaded ray.
   struct WriteOps {

@@ -86,7 +86,9 @@ bool PeEngine::idle() const {
 }
 
 void PeEngine::run_before(uint64_t t) {
-  for (uint64_t next; asked_at_ == kNever && (next = next_instant()) < t;) step(next);
+  for (uint64_t next;
+       asked_at_ == kNever && frame_ended_at_ == kNever && (next = next_instant()) < t;)
+    step(next);
 }
 
 void PeEngine::rays_arrived(uint64_t t, size_t n, size_t expected) {
@@ -352,6 +354,7 @@ struct PeEngine::FrontOps {
   void want(uint64_t t) { e.want(e.place(UnitKind::FrontBuffer), t); }
   void finished() {}
   void ask_for_tile() { e.asked_at_ = now; }
+  void frame_ended() { e.frame_ended_at_ = now; }
 };
 
 /// Shading's operations for ShadingWriter: `ray` is the oldest shaded ray's slot.

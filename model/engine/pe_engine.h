@@ -49,7 +49,8 @@ class PeEngine {
            const std::vector<Ray>& rays, size_t rays_expected);
 
   /// Simulates everything that happens before time t, stopping after an instant in which the PE
-  /// asked for a tile (partition = dynamic): its answer may arrive before t.
+  /// asked for a tile (partition = dynamic: its answer may arrive before t) or ended a frame
+  /// (frames > 1: the next frame's rays may arrive before t).
   void run_before(uint64_t t);
   /// The first n primary rays, of `expected` (kRaysUnknown: more may come), are in local memory
   /// from time t on (no earlier than what ran).
@@ -57,6 +58,8 @@ class PeEngine {
   size_t rays_known() const { return front_.primaries_known(); }
   /// When the PE asked for a tile in what ran last (kNever: it did not), forgetting it.
   uint64_t take_ask() { return std::exchange(asked_at_, kNever); }
+  /// When the PE ended a frame, more to come, in what ran last (kNever: it did not), forgetting it.
+  uint64_t take_frame_end() { return std::exchange(frame_ended_at_, kNever); }
 
   bool finished() const { return front_.finished(); }
   uint64_t finish_time() const { return pe_.counters.finish; }
@@ -194,9 +197,10 @@ class PeEngine {
   std::vector<size_t> due_now_;  ///< the first due_count_ are the units due at the next instant
   size_t due_count_ = 0;
   uint64_t seq_ = 0;
-  uint64_t pending_step_ = kNever;  ///< an instant with no unit due but rays arriving
-  bool front_poked_ = false;        ///< an input of the front buffer was written in this instant
-  uint64_t asked_at_ = kNever;      ///< the PE asked for a tile then
+  uint64_t pending_step_ = kNever;    ///< an instant with no unit due but rays arriving
+  bool front_poked_ = false;          ///< an input of the front buffer was written in this instant
+  uint64_t asked_at_ = kNever;        ///< the PE asked for a tile then
+  uint64_t frame_ended_at_ = kNever;  ///< the PE ended a frame then (frames > 1)
 
   // The units.
   FrontBufferPolicy<uint32_t> front_;

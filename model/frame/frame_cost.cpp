@@ -5,7 +5,8 @@ namespace rtm {
 FrameActivity frame_activity(const MachineResult& m, const MachineConfig& c, uint64_t pixels) {
   FrameActivity a;
   a.pes = c.pes;
-  a.seconds = double(m.cycles) * c.clock_ns * 1e-9;
+  // Several frames: a frame of the steady state, its time and its share of the run's work.
+  a.seconds = m.frame_cycles() * c.clock_ns * 1e-9;
   a.pixels = pixels;
   a.rays = m.counts.total_rays();
   a.voxel_steps = m.counts.voxel_steps;
@@ -24,6 +25,14 @@ FrameActivity frame_activity(const MachineResult& m, const MachineConfig& c, uin
   for (const LinkUse& l : m.links) a.link_bytes += l.bytes;
   a.voxel_primitives = m.voxel_primitives;
   a.voxel_references = m.voxel_references;
+  if (const uint64_t n = m.frame_done.size(); n > 1) {
+    for (uint64_t* x : {&a.rays, &a.voxel_steps, &a.intersection_tests, &a.clip_tests,
+                        &a.mac_products, &a.coef_ram_fills, &a.cache_accesses, &a.cache_line_fills,
+                        &a.memory_bytes, &a.link_bytes, &a.voxel_primitives, &a.voxel_references})
+      *x /= n;
+    for (uint64_t& x : a.items) x /= n;
+    for (uint64_t& x : a.fifo_writes) x /= n;
+  }
   return a;
 }
 

@@ -30,6 +30,8 @@ struct HostTimes {
   /// first ray (0: the host built it); with a streamed scene (scene_block > 0) the most any PE's
   /// build adds after its last block is in.
   uint64_t pe_voxelisation = 0;
+  /// frames > 1: when each frame's pixels were all at the host.
+  std::vector<uint64_t> frame_done;
 };
 
 /// Per FIFO kind, over all PEs.
@@ -61,7 +63,15 @@ struct MachineResult {
   std::vector<MemoryUse> memory_use;  ///< what each PE's local memory did (units/pe_memory.h)
   uint64_t end = 0;                   ///< the frame's simulated time, in ticks
   uint64_t cycles = 0;                ///< the frame's simulated time in PE cycles
-  FrameStats stats;                   ///< derived from the counters above (frame_stats.h)
+  /// frames > 1: when each frame's pixels were all at the host, in PE cycles (else empty).
+  std::vector<uint64_t> frame_done;
+  /// A frame's time: with several frames the steady state's, the mean of every frame's after the
+  /// first (which also fills the pipeline).
+  double frame_cycles() const {
+    const size_t n = frame_done.size();
+    return n < 2 ? double(cycles) : double(frame_done[n - 1] - frame_done[0]) / double(n - 1);
+  }
+  FrameStats stats;  ///< derived from the counters above (frame_stats.h)
   double wall_seconds = 0;
   SceneNeeds needs;                         ///< what the scene can use (render/scene_needs.h)
   std::vector<std::string> left_out_units;  ///< per PE, not elaborated

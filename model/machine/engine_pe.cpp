@@ -1,5 +1,7 @@
 #include "machine/engine_pe.h"
 
+#include <algorithm>
+
 namespace rtm {
 
 EnginePe::EnginePe(sc_core::sc_module_name name, int index, const MachineConfig& c,
@@ -16,10 +18,16 @@ void EnginePe::run() {
   // quantum boundaries shared by every PE, so that the driver runs the PEs side by side. A
   // dynamic partition's rays come only as answers to the PE's requests for tiles (the first
   // unasked): between an answer and its next request nothing can reach it, so it runs ahead until
-  // it asks, then asks at the time it did.
+  // it asks, then asks at the time it did. A run of several frames is alike: the next frame's rays
+  // are taken only once the frame the PE is on has ended, so it runs ahead once that frame's rays
+  // are in, until the frame ends, and tells the host then.
   const uint64_t quantum = ctx.period.value() * kQuantumCycles;
   const bool dynamic = ctx.config.partition == Partition::Dynamic;
-  size_t expected = memory.rays_expected, answers_due = 1;
+  size_t expected = memory.rays_expected, answers_due = 1, frames_ended = 0;
+  auto rays_for_now = [&] {
+    return ctx.frame_rays ? std::min(expected, (frames_ended + 1) * size_t(ctx.frame_rays))
+                          : expected;
+  };
   for (bool all_in = false;;) {
     const uint64_t now = sc_core::sc_time_stamp().value();
     if (!all_in) {
@@ -28,8 +36,7 @@ void EnginePe::run() {
         expected = memory.rays_expected;
         engine_.rays_arrived(now, memory.rays.size(), expected);
       }
-      all_in =
-          dynamic ? memory.transfers_in == answers_due : memory.rays.size() == memory.rays_expected;
+      all_in = dynamic ? memory.transfers_in == answers_due : memory.rays.size() >= rays_for_now();
     }
     const uint64_t boundary = (now / quantum + 1) * quantum;
     if (all_in) driver_.run_before(engine_, boundary + quantum);
@@ -37,6 +44,13 @@ void EnginePe::run() {
       if (asked > now) sc_core::wait(sc_core::sc_time::from_value(asked - now));
       memory.ask_for_tile();
       ++answers_due;
+      all_in = false;
+      continue;
+    }
+    if (const uint64_t ended = engine_.take_frame_end(); ended != PeEngine::kNever) {
+      if (ended > now) sc_core::wait(sc_core::sc_time::from_value(ended - now));
+      memory.frame_ended();
+      ++frames_ended;
       all_in = false;
       continue;
     }

@@ -39,6 +39,7 @@ struct FrontBufferModule::FrontOps {
   void want(uint64_t t) { m.sleep_->want(t); }
   void finished() { m.finished_event_.notify(sc_core::SC_ZERO_TIME); }
   void ask_for_tile() { m.mem_.ask_for_tile(); }
+  void frame_ended() { m.mem_.frame_ended(); }
 };
 
 struct FrontBufferModule::Ops {

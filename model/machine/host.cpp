@@ -45,7 +45,9 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       scene_ready_(pes_.size(), 0),
       sleep_(keeper, 0),
       net_(c, kTimeHorizonTicks),
-      deal_sleep_(keeper, 0) {
+      deal_sleep_(keeper, 0),
+      frames_ended_(pes_.size(), 0),
+      frame_sleep_(keeper, 0) {
   for (size_t i = 0; i < pes_.size(); ++i)
     links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(
         ("link" + std::to_string(i)).c_str()));
@@ -56,6 +58,13 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
     net_.keep_busy();
     SC_THREAD(deal_tiles);
   }
+  if (c.frames > 1) {
+    net_.keep_busy();
+    times.frame_done.assign(size_t(c.frames), 0);
+  }
+  // A PE without pixels has no frames to end.
+  for (size_t pe = 0; pe < pes_.size(); ++pe)
+    if (parts_[pe].empty()) frames_ended_[pe] = SIZE_MAX;
 }
 
 void Host::transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len,
@@ -107,16 +116,23 @@ void Host::host_work(sc_time t) {
 sc_time Host::host_cycle() const { return sc_time(config_.host_clock_ns, sc_core::SC_NS); }
 
 void Host::run() {
-  if (config_.scene_block > 0)
-    stream_scene();
-  else
-    preprocess();
-  distribute();
+  for (size_t k = 0; k < size_t(config_.frames); ++k) {
+    // Frame k's scene and rays take the places frame k-2's had in every PE's local memory.
+    if (k >= 2) wait_for_frame(k - 2);
+    if (config_.scene_block > 0)
+      stream_scene();
+    else
+      preprocess();
+    distribute();
+  }
   host_sleep_until(net_.idle_at());  // every transfer over
   times.transfer = now();
   // Rays held back until their PE has built its voxel data (voxelisation = pe).
   if (!pending_.empty()) host_sleep_until(pending_.rbegin()->first);
-  gather_all();
+  if (config_.frames > 1)
+    gather_frames();
+  else
+    gather_all();
   host_sleep_until(net_.idle_at());
   times.gathered = now();
   for (const LinkUse& l : net_.links()) times.link_busy += l.busy_ticks;
@@ -415,17 +431,19 @@ void Host::distribute() {
 }
 
 void Host::read_frame(int pe, sc_time delay) {
+  // Every frame's slots (frames > 1: frame after frame, each the same pixels).
   const auto& px = parts_[size_t(pe)];
-  std::vector<PixelSum> frame(px.size());
-  std::vector<int32_t> ids(px.size());
+  const size_t slots = px.size() * size_t(config_.frames);
+  std::vector<PixelSum> frame(slots);
+  std::vector<int32_t> ids(slots);
   transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kFrameBase,
             reinterpret_cast<unsigned char*>(frame.data()), frame.size() * sizeof(PixelSum), delay);
   transport(pe, tlm::TLM_READ_COMMAND, LocalMemory::kIdBase,
             reinterpret_cast<unsigned char*>(ids.data()), ids.size() * sizeof(int32_t),
             sc_core::SC_ZERO_TIME);
-  for (size_t i = 0; i < px.size(); ++i) {
-    image.rgb[px[i]] = frame[i].value();
-    image.ids[px[i]] = ids[i];
+  for (size_t i = 0; i < slots; ++i) {
+    image.rgb[px[i % px.size()]] = frame[i].value();
+    image.ids[px[i % px.size()]] = ids[i];
   }
 }
 
@@ -514,6 +532,73 @@ void Host::gather_all() {
   }
   // The frame's PE phase ends with the last PE, whatever the link was doing then.
   for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
+}
+
+void Host::pe_frame_ended(int pe) {
+  const size_t k = frames_ended_[size_t(pe)]++;
+  frame_ended_event_.notify(sc_core::SC_ZERO_TIME);
+  // The PE switching to the next frame (building its voxel data) is no stall.
+  busy_until =
+      std::max(busy_until, sc_time::from_value(now() + pes_[size_t(pe)]->ctx.frame_switch));
+  // Its pixels go on the links now, before anything the host sends later: frame k+2, which takes
+  // the places frame k had, comes only once every PE has ended frame k (run), so on every PE's
+  // link it follows that frame's pixels out of its frame buffer.
+  if (config_.gather != MachineConfig::Gather::AfterAll) return gather_frame(pe, k, now());
+  if (*std::min_element(frames_ended_.begin(), frames_ended_.end()) <= k) return;
+  for (int p = 0; p < int(pes_.size()); ++p) gather_frame(p, k, now());
+}
+
+void Host::wait_for_frame(size_t k) {
+  const sc_core::sc_event_or_list either = frame_sleep_.event() | frame_ended_event_;
+  while (*std::min_element(frames_ended_.begin(), frames_ended_.end()) <= k) {
+    while (!pending_.empty() && pending_.begin()->first <= now()) {
+      const std::function<void()> deliver = std::move(pending_.begin()->second);
+      pending_.erase(pending_.begin());
+      deliver();
+    }
+    if (!pending_.empty()) {
+      frame_sleep_.want(pending_.begin()->first);
+      // PEs waiting for these writes are no stall.
+      busy_until = std::max(busy_until, sc_time::from_value(pending_.rbegin()->first));
+    }
+    frame_sleep_.wait(&either);
+  }
+}
+
+void Host::gather_frame(int pe, size_t k, uint64_t ready) {
+  const size_t n = parts_[size_t(pe)].size();
+  if (n == 0) return;
+  // Blocks of gather_block slots each once its pixels are done, or the frame's part at once.
+  const bool streamed = config_.gather == MachineConfig::Gather::Streamed;
+  const size_t per_block = streamed ? size_t(config_.gather_block) : n;
+  const auto done = pes_[size_t(pe)]->ctx.pixel_done.begin() + std::ptrdiff_t(k * n);
+  for (size_t first = 0; first < n; first += per_block) {
+    const size_t last = std::min(n, first + per_block);
+    const uint64_t at =
+        streamed ? *std::max_element(done + std::ptrdiff_t(first), done + std::ptrdiff_t(last))
+                 : ready;
+    const uint64_t bytes =
+        (streamed ? kGatherBlockHeaderBytes : 0) + (last - first) * kPixelRecordBytes;
+    const TransferTimes t = timed([&] { return net_.gather_in_gaps(pe, bytes, at); });
+    times.frame_done[k] = std::max(times.frame_done[k], t.end);
+  }
+}
+
+void Host::gather_frames() {
+  for (Pe* pe : pes_)
+    if (!pe->finished()) sc_core::wait(pe->finished_event);
+  for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
+  // The last frame, which no PE told the end of: as the gather asks, in the order the PEs ended
+  // it (of equal times, by PE).
+  const size_t last = size_t(config_.frames) - 1;
+  std::vector<std::pair<uint64_t, int>> ends;
+  for (int pe = 0; pe < int(pes_.size()); ++pe)
+    if (!parts_[size_t(pe)].empty()) ends.push_back({pes_[size_t(pe)]->ctx.counters.finish, pe});
+  std::sort(ends.begin(), ends.end());
+  const uint64_t all_done = ends.empty() ? now() : ends.back().first;
+  for (auto [end, pe] : ends)
+    gather_frame(pe, last, config_.gather == MachineConfig::Gather::AfterAll ? all_done : end);
+  for (int pe = 0; pe < int(pes_.size()); ++pe) read_frame(pe, sc_core::SC_ZERO_TIME);
 }
 
 }  // namespace rtm

@@ -2,7 +2,10 @@
 // the scene and each PE's primary rays into the PEs' local memories over the interconnect
 // (TLM-2.0 b_transport, timed by net/interconnect.h: topology, bytes, bandwidth, latency), and
 // the gathering of the PEs' frame buffers. With partition = dynamic it deals the screen's tiles
-// to the PEs as they ask for them (frame/tiles.h), one up front to each.
+// to the PEs as they ask for them (frame/tiles.h), one up front to each. With frames > 1 it
+// prepares and sends frame after frame, each as soon as every PE has finished the frame two
+// before (each local memory holds two frames' scenes, rays and frame buffers), and puts each
+// frame's pixels on the links as the PEs end it.
 #pragma once
 
 #include <functional>
@@ -47,6 +50,8 @@ class Host : public sc_core::sc_module {
   void ask_for_tile(int pe);
   /// partition = dynamic: the tiles each PE got.
   std::vector<uint32_t> tiles_per_pe() const;
+  /// frames > 1: PE `pe` has ended a frame, more to come, now (from the PE's process).
+  void pe_frame_ended(int pe);
 
  private:
   /// A b_transport into PE `pe`'s local memory, at once.
@@ -100,6 +105,16 @@ class Host : public sc_core::sc_module {
   /// Gathers every PE's frame buffer: after all are done, each as it finishes, or streamed
   /// (gather).
   void gather_all();
+  /// frames > 1: until every PE has ended frame `k` (counted from 0), landing the writes due
+  /// meanwhile.
+  void wait_for_frame(size_t k);
+  /// frames > 1: PE `pe`'s part of frame `k` onto the links, each transfer in the first gap after
+  /// it is ready that the transfers asked for so far leave: the whole part from `ready` on, or
+  /// (gather = streamed) each block once its pixels are done.
+  void gather_frame(int pe, size_t k, uint64_t ready);
+  /// frames > 1: once every PE is done, the last frame's parts (the others went as the PEs ended
+  /// them: pe_frame_ended), and every frame's pixels read.
+  void gather_frames();
   /// partition = dynamic: sends PE `pe` tile `k` (its rays, or its descriptor) or, without one,
   /// the answer that none is left, no earlier than `ready`; returns when it lands in the PE's
   /// memory and the write that lands it.
@@ -133,6 +148,10 @@ class Host : public sc_core::sc_module {
   std::multimap<uint64_t, std::function<void()>> answers_;  ///< the dealer's writes, by arrival
   Sleeper deal_sleep_;                                      ///< rank 0, as the host's
   sc_core::sc_event asked_event_;  ///< arbitration = kernel: a request was made
+  // frames > 1.
+  std::vector<size_t> frames_ended_;  ///< per PE: the frames it has ended
+  sc_core::sc_event frame_ended_event_;
+  Sleeper frame_sleep_;  ///< rank 0, as the host's: the waits for a frame's end
 };
 
 }  // namespace rtm

@@ -46,6 +46,13 @@ class LocalMemory : public sc_core::sc_module {
   sc_core::sc_event rays_arrived;
   /// partition = dynamic: the PE's request for its next tile, to the host (set by the machine).
   std::function<void()> ask_for_tile;
+  /// frames > 1: the PE has ended a frame, more to come, now (the host is told: tell_frame_end,
+  /// set by the machine).
+  void frame_ended() {
+    ++frames_ended_;
+    if (tell_frame_end) tell_frame_end();
+  }
+  std::function<void()> tell_frame_end;
   // The PE's part of the frame, indexed by pixel slot.
   std::vector<PixelSum> frame;
   std::vector<int32_t> ids;
@@ -53,6 +60,7 @@ class LocalMemory : public sc_core::sc_module {
  private:
   void b_transport(tlm::tlm_generic_payload& t, sc_core::sc_time& delay);
   PeContext& ctx_;
+  size_t frames_ended_ = 0;
 };
 
 }  // namespace rtm

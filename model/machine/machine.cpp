@@ -91,11 +91,23 @@ class Machine : public sc_core::sc_module {
           c, *image, c.partition == Partition::Dynamic ? screen_pixels : pixels);
       st.spawn_fanout =
           (units.shadow_rays ? s.lights.size() : 0) + units.reflection + units.refraction;
+      if (c.frames > 1) {
+        st.frame_rays = pixels;
+        if (c.voxelisation == MachineConfig::Voxelisation::Pe)
+          st.frame_switch =
+              checked_periods(period,
+                              double(pe_voxelisation_cycles(uint64_t(c.pe_voxel_cycles),
+                                                            uint64_t(c.memory_bytes_per_cycle),
+                                                            g.start.size() - 1, g.items.size())),
+                              "a PE's voxel-data generation")
+                  .value();
+      }
     }
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());
     for (int i = 0; i < c.pes; ++i) {
       host->links[size_t(i)]->bind(pes[size_t(i)]->memory.socket);
       pes[size_t(i)]->memory.ask_for_tile = [this, i] { host->ask_for_tile(i); };
+      pes[size_t(i)]->memory.tell_frame_end = [this, i] { host->pe_frame_ended(i); };
     }
     if (progress)
       progress_display =
@@ -439,6 +451,8 @@ MachineResult collect_result(Machine& top, const MachineConfig& c) {
         {top.units.refraction, "shading.refraction"}})
     if (!kept) r.left_out_units.push_back(name);
   r.cycles = uint64_t(std::llround(end / period));
+  for (uint64_t t : top.host->times.frame_done)
+    r.frame_done.push_back(cycles_of(sc_time::from_value(t), c));
   r.stats = frame_stats(r, c);
   return r;
 }

@@ -22,7 +22,8 @@ PeContext make_context(int index, const MachineConfig& c, const PeUnits& units,
 Pe::Pe(sc_core::sc_module_name name, int index, const MachineConfig& c, const PeUnits& units,
        size_t pixels, Timekeeper* keeper)
     : sc_module(name), ctx(make_context(index, c, units, keeper)), memory("memory", ctx, pixels) {
-  memory.rays_expected = c.partition == Partition::Dynamic ? kRaysUnknown : pixels;
+  memory.rays_expected =
+      c.partition == Partition::Dynamic ? kRaysUnknown : pixels * size_t(c.frames);
 }
 
 }  // namespace rtm

@@ -28,6 +28,12 @@ MemoryLayout memory_layout(const SceneImage& image, uint64_t pixels, const Machi
                 {"primary rays", pe_rays ? kCameraRecordBytes : pixels * kRayRecordBytes},
                 {"frame buffer", pixels * kPixelRecordBytes}};
   for (const MemorySection& s : m.sections) m.used += s.bytes;
+  // Several frames: the next frame's scene and rays come, and the last one's frame buffer is
+  // gathered, while the PE renders this one.
+  if (c.frames > 1) {
+    m.sections.push_back({"the next frame's copy of these", m.used});
+    m.used *= 2;
+  }
   return m;
 }
 

@@ -8,7 +8,7 @@ namespace rtm {
 
 MemoryAddresses::MemoryAddresses(const SceneImage& image, uint64_t pixels, const MachineConfig& c) {
   const MemoryLayout layout = memory_layout(image, pixels, c);
-  if (layout.sections.size() != 5)
+  if (layout.sections.size() != (c.frames > 1 ? 6 : 5))
     throw std::logic_error("memory addresses: memory_layout's sections changed");
   std::vector<uint64_t> start;
   uint64_t at = 0;

@@ -66,7 +66,8 @@ class FrontBufferPolicy {
   Next next() const {
     if (in_flight_ < credits_) {
       if (!queue_.empty()) return Next::Queued;
-      if (next_primary_ < primaries_ && room_for_primary()) return Next::Primary;
+      if (next_primary_ < primaries_ && room_for_primary() && !before_frame_end())
+        return Next::Primary;
     }
     if (next_primary_ == rays_expected_ && queue_.empty() && in_flight_ == 0) return Next::Finished;
     return Next::Wait;
@@ -96,12 +97,19 @@ class FrontBufferPolicy {
   /// A ray the host made is read from local memory within the dispatch (`wait`).
   size_t pop_primary(uint64_t now, uint64_t& cycles, MemoryWait& wait) {
     if (next_primary_ == 0) pe_.counters.start = now;
+    if (pe_.frame_rays && next_primary_ % pe_.frame_rays == 0)
+      pe_.counters.frame_starts.push_back(now);
+    if (frame_wait_since_ != kNotWaiting) {
+      pe_.counters.frame_wait += now - frame_wait_since_;
+      frame_wait_since_ = kNotWaiting;
+    }
     cycles = dispatch_cycles(true);
     wait.latency = cycles;
     PeMemory* m = pe_.memory.get();
     if (m && pe_.config.ray_generation == MachineConfig::RayGeneration::Host)
-      m->request(m->front(), m->addresses().primary_ray(next_primary_), kRayRecordBytes,
-                 now / pe_.cycle, std::max(cycles, m->unloaded(kRayRecordBytes)), wait);
+      m->request(m->front(), m->addresses().primary_ray(pe_.place_in_frame(next_primary_)),
+                 kRayRecordBytes, now / pe_.cycle, std::max(cycles, m->unloaded(kRayRecordBytes)),
+                 wait);
     ++next_primary_;
     // A dynamic partition asks for its next tile when it takes the last primary ray it holds: the
     // link's round trip overlaps the rays still in its loop, and no PE holds a tile another could
@@ -143,7 +151,7 @@ class FrontBufferPolicy {
     Decision d;
     if (state_ == State::Aligning) {
       // The primary ray it decided on goes at the PE clock edge it asked to be woken at.
-      if (now % cycle) return d;
+      if (now % cycle || now < align_at_) return d;
       state_ = State::Deciding;
       d.kind = Decision::Primary;
       d.primary = pop_primary(now, d.cycles, d.wait);
@@ -155,6 +163,7 @@ class FrontBufferPolicy {
     drain();
     spill_arrivals(before, now);
     waiting_for_tile(now);
+    frame_ending(now);
     if (queue_.size() > capacity()) {
       // The ray trees outgrew local memory: the machine stops the frame (machine/machine.cpp).
       pe_.counters.spill_overflow = queue_.size();
@@ -169,15 +178,20 @@ class FrontBufferPolicy {
         d.from = spilled ? kFromSpill : kFromQueue;
         return d;
       }
-      case Next::Primary:
-        // Rays from the host arrive between PE clock edges.
+      case Next::Primary: {
+        // Rays from the host arrive between PE clock edges; a frame's first waits for the PE's
+        // switch from the frame before.
         state_ = State::Aligning;
-        if (const uint64_t off = now % cycle) {
+        const bool first_of_frame = pe_.frame_rays && next_primary_ % pe_.frame_rays == 0;
+        const uint64_t from = first_of_frame ? std::max(now, next_frame_at_) : now;
+        align_at_ = from + (cycle - from % cycle) % cycle;
+        if (align_at_ > now) {
           d.kind = Decision::Align;
-          d.at = now + cycle - off;
+          d.at = align_at_;
           return d;
         }
         return decide(now, cycle, drain);
+      }
       case Next::Finished:
         finish(now);
         return d;
@@ -198,9 +212,14 @@ class FrontBufferPolicy {
   ///   (called once)
   ///   void ask_for_tile()              the PE asks the host for its next tile (partition =
   ///   dynamic)
+  ///   void frame_ended()               the PE has ended a frame, more to come (frames > 1)
   template <class Ops>
   bool carry_out(uint64_t now, uint64_t cycle, Ops& ops) {
     Decision d = decide(now, cycle, [&] { drain(ops); });
+    if (tell_frame_end_) {
+      tell_frame_end_ = false;
+      ops.frame_ended();
+    }
     switch (d.kind) {
       case Decision::Queued:
         ops.dispatch(std::move(d.queued), d.cycles, d.from, std::move(d.wait));
@@ -240,7 +259,7 @@ class FrontBufferPolicy {
   bool wait(uint64_t now) {
     if (state_ != State::Deciding || finished_) return false;
     state_ = State::Waiting;
-    stalled_ = !queue_.empty() || next_primary_ < primaries_;
+    stalled_ = !queue_.empty() || (next_primary_ < primaries_ && !before_frame_end());
     waiting_since_ = now;
     return true;
   }
@@ -313,6 +332,24 @@ class FrontBufferPolicy {
     }
   }
 
+  /// frames > 1: the next primary ray starts a frame, and the frame before has rays in the loop.
+  bool before_frame_end() const {
+    const uint64_t n = pe_.frame_rays;
+    return n > 0 && next_primary_ > 0 && next_primary_ % n == 0 &&
+           frames_ended_ < next_primary_ / n;
+  }
+  /// frames > 1: a frame whose rays have all ended ends at `now`; the next may start once the PE
+  /// has switched to it (PeState::frame_switch), and the PE tells the host (carry_out).
+  void frame_ending(uint64_t now) {
+    if (!before_frame_end() || !queue_.empty() || in_flight_ > 0) return;
+    ++frames_ended_;
+    pe_.counters.frame_ends.push_back(now);
+    if (next_primary_ == rays_expected_) return;  // the last: the PE is finished
+    next_frame_at_ = now + pe_.frame_switch;
+    frame_wait_since_ = now;
+    tell_frame_end_ = true;
+  }
+
   static constexpr uint64_t kNotWaiting = UINT64_MAX;
   PeState& pe_;
   const int credits_;
@@ -320,6 +357,12 @@ class FrontBufferPolicy {
   bool asked_ = false;  ///< a request for a tile is out, not yet answered
   bool ask_ = false;    ///< a request to send (carry_out sends it)
   uint64_t tile_wait_since_ = kNotWaiting;
+  // frames > 1.
+  size_t frames_ended_ = 0;
+  uint64_t next_frame_at_ = 0;  ///< the next frame's first primary ray goes no earlier
+  uint64_t frame_wait_since_ = kNotWaiting;
+  bool tell_frame_end_ = false;  ///< a frame's end to tell (carry_out tells it)
+  uint64_t align_at_ = 0;        ///< Aligning: the primary ray goes at this PE clock edge
   RingQueue<Item> queue_;
   size_t next_primary_ = 0, primaries_ = 0;
   int in_flight_ = 0;

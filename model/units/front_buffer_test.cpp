@@ -269,7 +269,8 @@ struct Recorder {
   Policy& p;
   int ends = 0;  ///< rays' ends waiting on its input
   std::vector<int> dispatched;
-  int asks = 0, finishes = 0;
+  int asks = 0, finishes = 0, frame_ends = 0;
+  std::vector<uint64_t> wants;
   bool read_end() { return ends > 0 && ends--; }
   bool read(FifoId, int&) { return false; }
   void drained() {}
@@ -278,9 +279,10 @@ struct Recorder {
     p.dispatched(0, uint32_t(r), cycles, from);
     dispatched.push_back(r);
   }
-  void want(uint64_t) {}
+  void want(uint64_t t) { wants.push_back(t); }
   void finished() { ++finishes; }
   void ask_for_tile() { ++asks; }
+  void frame_ended() { ++frame_ends; }
 };
 
 // partition = dynamic: the PE asks for a tile when it takes the last primary ray it holds, once
@@ -328,6 +330,41 @@ TEST(FrontBufferPolicy, AStaticPartitionNeverAsks) {
   EXPECT_FALSE(p.carry_out(2, 1, ops));
   EXPECT_TRUE(p.finished());
   EXPECT_EQ(ops.asks, 0);
+}
+
+// frames > 1: a frame's first primary ray waits until the frame before has ended (its rays all
+// out of the loop), and then for the PE's switch; the end is told once, the last frame's is the
+// finish; the loop standing empty between frames is frame_wait.
+TEST(FrontBufferPolicy, AFrameStartsOnceTheOneBeforeHasEndedAndThePeHasSwitched) {
+  PeState pe = pe_with(4, 64);
+  pe.frame_rays = 2;
+  pe.frame_switch = 5;
+  Policy p(pe, 4);
+  Recorder ops(p);
+  p.primaries_arrived(4);  // both frames' rays are in
+  EXPECT_TRUE(p.carry_out(0, 1, ops));
+  EXPECT_TRUE(p.carry_out(1, 1, ops));
+  EXPECT_FALSE(p.carry_out(2, 1, ops)) << "frame 1's first ray waits for frame 0's end";
+  ops.ends = 1;
+  EXPECT_FALSE(p.carry_out(3, 1, ops)) << "a ray of frame 0 still in the loop";
+  EXPECT_EQ(ops.frame_ends, 0);
+  ops.ends = 1;
+  EXPECT_FALSE(p.carry_out(4, 1, ops)) << "frame 0 ended at 4: the switch takes to 9";
+  EXPECT_EQ(ops.frame_ends, 1);
+  EXPECT_EQ(pe.counters.frame_ends, (std::vector<uint64_t>{4}));
+  EXPECT_EQ(ops.wants.back(), 9u);
+  EXPECT_FALSE(p.carry_out(7, 1, ops)) << "woken early: still switching";
+  EXPECT_TRUE(p.carry_out(9, 1, ops));
+  EXPECT_EQ(pe.counters.frame_wait, 5u);
+  EXPECT_EQ(pe.counters.frame_starts, (std::vector<uint64_t>{0, 9}));
+  EXPECT_TRUE(p.carry_out(10, 1, ops));
+  ops.ends = 2;
+  EXPECT_FALSE(p.carry_out(11, 1, ops));
+  EXPECT_TRUE(p.finished());
+  EXPECT_EQ(ops.frame_ends, 1) << "the last frame's end is the finish";
+  EXPECT_EQ(ops.finishes, 1);
+  EXPECT_EQ(pe.counters.frame_ends, (std::vector<uint64_t>{4, 11}));
+  EXPECT_EQ(ops.dispatched, (std::vector<int>{0, 1, 2, 3}));
 }
 
 }  // namespace

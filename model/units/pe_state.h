@@ -52,6 +52,10 @@ struct PeCounters {
   uint64_t finish = 0;        ///< the last ray ended
   uint64_t credit_stall = 0;  ///< rays waiting but no credit to send them
   uint64_t tile_wait = 0;     ///< loop empty, waiting for a tile (partition = dynamic)
+  uint64_t frame_wait = 0;    ///< loop empty between two frames (frames > 1)
+  /// frames > 1: when each frame's first primary ray was handed out, and when its last ray ended
+  /// (its loop empty after its last primary ray).
+  std::vector<uint64_t> frame_starts, frame_ends;
   uint64_t spill_overflow =
       0;  ///< rays waiting when they outgrew the spill area (0: they never did)
   uint64_t spill_overflow_at = 0;
@@ -93,12 +97,25 @@ struct PeState {
 
   uint64_t cycles(uint64_t ticks) const { return ticks / cycle; }
 
+  /// frames > 1: the PE's primary rays a frame (its pixels; 0: one frame). Its rays and pixel
+  /// slots run on from frame to frame; in local memory each frame's lie where the first's do.
+  uint64_t frame_rays = 0;
+  /// frames > 1: what a PE does between two frames before the next one's first ray (voxelisation
+  /// = pe: building that frame's voxel data), in ticks.
+  uint64_t frame_switch = 0;
+  /// Where pixel slot or primary ray `i` lies in local memory: its frame's copy is laid out as
+  /// the first frame's (memory/memory_layout.h).
+  uint64_t place_in_frame(uint64_t i) const { return frame_rays ? i % frame_rays : i; }
+
   /// Per pixel slot of the PE: its rays made and not yet ended, and when the last one ended (the
   /// pixel's final brightness is in the frame buffer from then: gather = streamed sends it). Kept
-  /// only for a streamed gather, the one reader: every ray's put passes here.
+  /// only for its readers, a streamed gather and a run of several frames (gathered once the run
+  /// is over): every ray's put passes here.
   std::vector<uint32_t> pixel_rays;
   std::vector<uint64_t> pixel_done;
-  bool tracks_pixels() const { return config.gather == MachineConfig::Gather::Streamed; }
+  bool tracks_pixels() const {
+    return config.gather == MachineConfig::Gather::Streamed || frame_rays > 0;
+  }
   /// `n` more rays of pixel `slot` are made (a primary ray; the rays a shaded one spawns).
   void rays_made(uint32_t slot, size_t n) {
     if (!tracks_pixels()) return;

@@ -51,7 +51,8 @@ Work ShadingUnit::take(const MachineRay& r, PixelSum& pixel, int32_t& primary_id
   Work w{cycles, pipeline_interval(c.shade_interval, cycles), output(0), {}};
   if (PeMemory* m = pe_.memory.get()) {
     // The pixel's brightness is read, added to and written back within the unit's cycles.
-    const uint64_t at = m->addresses().frame_entry(r.slot), cycle = now / pe_.cycle;
+    const uint64_t at = m->addresses().frame_entry(pe_.place_in_frame(r.slot)),
+                   cycle = now / pe_.cycle;
     w.wait.latency = cycles;
     m->request(m->shading(), at, kBrightnessBytes, cycle,
                std::max(cycles, m->unloaded(kBrightnessBytes)), w.wait);

@@ -27,6 +27,8 @@ SUMMARY_COLUMNS = [
     "area_mm2", "energy_j", "power_w", "frames_per_s_per_mm2", "frames_per_j", "energy_delay",
     "energy_front_buffer_j", "energy_shading_j", "energy_search_j", "energy_mac_j", "energy_root_j",
     "energy_local_memory_j", "energy_link_j", "energy_leakage_j",
+    # A frame's time: with several frames (the key frames) the steady state's; else cycles.
+    "frame_cycles",
 ]
 # The sweep's own: how rtm exited, where it ran, which file it read.
 RUN_COLUMNS = ["exit_code", "host", "scene_file"]

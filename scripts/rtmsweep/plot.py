@@ -213,10 +213,16 @@ def plot_cycles(configs, scenes, out, written):
     save(fig, out.path("cycles"), written)
 
 
+def frame_column(c):
+    """The column a frame's time is in: frame_cycles (with several frames, the steady state's)
+    where every run has it, else cycles (a results.csv from before it)."""
+    return "frame_cycles" if len(c.values("frame_cycles")[0]) == len(c.rows) else "cycles"
+
+
 def speedup_of(c):
-    """PE counts, speedups and parallel efficiencies of a configuration's runs, relative to its
+    """PE counts, speedups and parallel efficiencies of a configuration's frames, relative to its
     first run (sorted by PE count: the 1-PE run when there is one)."""
-    p, y = c.values("cycles")
+    p, y = c.values(frame_column(c))
     speedup = [y[0] / v for v in y]
     return p, speedup, [s * p[0] / q for s, q in zip(speedup, p)]
 
@@ -384,10 +390,13 @@ def write_markdown(out, written, name, lines):
 
 def write_table(configs, out, written):
     """scaling.md: per configuration and PE count, cycles, speedup and parallel efficiency, where
-    the frame went, and the bottleneck."""
-    lines = ["| configuration | PEs | cycles | speedup | efficiency | host % | transfer % "
-             "| PE work % | gather % | load imbalance | bottleneck |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    the frame went, and the bottleneck; with several frames a run's cycles are all of them, and a
+    column gives a frame's (the steady state's), which the speedups are of."""
+    frames = any(frame_column(c) == "frame_cycles" and
+                 any(num(r.get("frame_cycles")) != num(r.get("cycles")) for r in c.rows) for c in configs)
+    lines = ["| configuration | PEs | cycles | " + ("frame cycles | " if frames else "") +
+             "speedup | efficiency | host % | transfer % | PE work % | gather % | load imbalance | bottleneck |",
+             "|---|---|---|" + ("---|" if frames else "") + "---|---|---|---|---|---|---|---|"]
     fmt = lambda v, f: (f % v) if v is not None else ""
     for c in configs:
         # Every ok row has its cycles (load), so the speedups line up with the rows.
@@ -398,7 +407,8 @@ def write_table(configs, out, written):
             for col, _, _ in PHASES:
                 v = num(r.get(col))
                 shares.append(f"{100 * v / cyc:.1f}" if v is not None and cyc else "")
-            lines.append(f"| {c.label} | {p} | {int(cyc):,} | {fmt(speed, '%.1f')} | {fmt(eff, '%.2f')} | " +
+            frame = f"{num(r.get('frame_cycles')) or cyc:,.0f} | " if frames else ""
+            lines.append(f"| {c.label} | {p} | {int(cyc):,} | {frame}{fmt(speed, '%.1f')} | {fmt(eff, '%.2f')} | " +
                          " | ".join(shares) +
                          f" | {fmt(num(r.get('load_imbalance')), '%.3f')} | {r.get('bottleneck', '')} |")
     return write_markdown(out, written, "scaling.md", lines)
