@@ -47,7 +47,17 @@ Bottleneck bottleneck(const FrameProfile& p) {
       (p.gather_streamed && p.total > 0
            ? " (the streamed gather's tail after the last PE " + percent(p.gather / p.total) + ")"
            : "");
-  if (host + link + voxels >= 0.5) return {host_or_link, host_and_link};
+  if (p.pipelined) {
+    // Pipelined frames: the host, the link or the PEs, whichever takes longest a frame; of the
+    // PEs', their voxelisation or their work, whichever is the more.
+    const double work = p.total > 0 ? p.pe / p.total : 0;
+    if (work + voxels <= std::max(host, link))
+      return {host >= link ? "host_preprocessing" : "interconnect", host_and_link};
+    if (voxels >= work) return {"pe_voxelisation", host_and_link};
+  } else if (host + link + voxels >= 0.5) {
+    // One frame: the serial parts against the rest.
+    return {host_or_link, host_and_link};
+  }
   if (p.memory_access >= 0.5 || p.memory_wait >= 0.5)
     return {"memory",
             "reads of local memory " + percent(p.memory_access) +

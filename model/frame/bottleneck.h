@@ -43,6 +43,11 @@ struct FrameProfile {
   double imbalance = 1;  ///< max / mean PE working window
   double tile_wait =
       0;  ///< fraction of the working windows a PE's loop was empty, waiting for a tile (dynamic)
+  /// Several frames (frames > 1): total is a frame of the steady state, and host_preprocess,
+  /// transfer (the busiest link's, gather included) and pe (the longest PE's work, its switches
+  /// between frames apart) are each stage's time a frame: they overlap, and the longest sets the
+  /// pace.
+  bool pipelined = false;
 };
 
 /// Every verdict bottleneck() gives: host_preprocessing (voxel and primary-ray generation on the

@@ -36,6 +36,28 @@ TEST(Bottleneck, HostOrLinkTakingHalfTheFrame) {
   EXPECT_EQ(bottleneck(p).name, "interconnect");
 }
 
+// Several frames: the stages overlap, so the longest a frame sets the pace, however much the
+// others take; of the PEs', their voxelisation or their work.
+TEST(Bottleneck, PipelinedFramesNameTheLongestStage) {
+  FrameProfile p = busy_pes();
+  p.pipelined = true;
+  p.issue[UnitKind::Mac] = 0.9;
+  p.host_preprocess = 300;
+  p.transfer = 250;
+  p.pe = 950;
+  EXPECT_EQ(bottleneck(p).name, "mac") << "host and link together more than half, the PEs longer";
+  p.pipelined = false;
+  EXPECT_EQ(bottleneck(p).name, "host_preprocessing") << "one frame: the serial parts add up";
+  p.pipelined = true;
+  p.pe = 200;
+  EXPECT_EQ(bottleneck(p).name, "host_preprocessing");
+  p.transfer = 400;
+  EXPECT_EQ(bottleneck(p).name, "interconnect");
+  p.pe = 300;
+  p.pe_voxelisation = 350;
+  EXPECT_EQ(bottleneck(p).name, "pe_voxelisation") << "the PEs' 650 a frame, most of it building";
+}
+
 TEST(Bottleneck, AStreamedGatherIsNamedWithItsTail) {
   FrameProfile p = busy_pes();
   p.transfer = 300;

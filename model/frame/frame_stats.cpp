@@ -27,9 +27,10 @@ UnitShares divided(UnitShares u, double by) {
 /// `ticks` of simulated time in clock periods of `period` ticks (as sc_time divides them).
 double in_cycles(uint64_t ticks, uint64_t period) { return double(ticks) / double(period); }
 
-/// A PE's working window in cycles: its first primary ray handed out to its last ray ended.
+/// A PE's working window in cycles: its first primary ray handed out to its last ray ended, but
+/// for its switches between frames.
 double working_window(const PeCounters& p, uint64_t period) {
-  return in_cycles(p.finish - p.start, period);
+  return in_cycles(p.finish - p.start - p.frame_wait, period);
 }
 
 std::vector<SearchUnitShares> search_unit_shares(const PeCounters& p, uint64_t period) {
@@ -54,6 +55,16 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
   f.gather = in_cycles(m.host.gathered - m.host.pes_done, period);
   f.gather_streamed = c.gather == MachineConfig::Gather::Streamed;
   f.pe_voxelisation = in_cycles(m.host.pe_voxelisation, period);
+  const double frames = double(std::max<size_t>(1, m.frame_done.size()));
+  if (frames > 1) {
+    f.pipelined = true;
+    f.total = m.frame_cycles();
+    f.host_preprocess = in_cycles(m.host.work, period) / frames;
+    uint64_t busiest = 0;
+    for (const LinkUse& l : m.links) busiest = std::max(busiest, l.busy_ticks);
+    f.transfer = in_cycles(busiest, period) / frames;
+    f.gather = 0;
+  }
   double window = 0, longest = 0, stall = 0, tile_wait = 0, memory_wait = 0, memory_access = 0,
          held = 0;
   for (size_t i = 0; i < m.per_pe.size(); ++i) {
@@ -82,6 +93,7 @@ FrameProfile profile(const MachineResult& m, const MachineConfig& c) {
     f.memory_access = held > 0 ? memory_access / held : 0;
     f.imbalance = longest / (window / double(m.per_pe.size()));
   }
+  if (f.pipelined) f.pe = longest / frames;
   return f;
 }
 

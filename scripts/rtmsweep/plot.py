@@ -403,11 +403,13 @@ def write_table(configs, out, written):
         _, speedups, efficiencies = speedup_of(c)
         for r, speed, eff in zip(c.rows, speedups, efficiencies):
             cyc, p = num(r.get("cycles")), r["_pes"]
+            # Of a frame: with several frames each phase is a stage's time a frame (they overlap).
+            per_frame = num(r.get("frame_cycles")) or cyc
             shares = []
             for col, _, _ in PHASES:
                 v = num(r.get(col))
-                shares.append(f"{100 * v / cyc:.1f}" if v is not None and cyc else "")
-            frame = f"{num(r.get('frame_cycles')) or cyc:,.0f} | " if frames else ""
+                shares.append(f"{100 * v / per_frame:.1f}" if v is not None and per_frame else "")
+            frame = f"{per_frame:,.0f} | " if frames else ""
             lines.append(f"| {c.label} | {p} | {int(cyc):,} | {frame}{fmt(speed, '%.1f')} | {fmt(eff, '%.2f')} | " +
                          " | ".join(shares) +
                          f" | {fmt(num(r.get('load_imbalance')), '%.3f')} | {r.get('bottleneck', '')} |")
