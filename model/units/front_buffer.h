@@ -97,8 +97,6 @@ class FrontBufferPolicy {
   /// A ray the host made is read from local memory within the dispatch (`wait`).
   size_t pop_primary(uint64_t now, uint64_t& cycles, MemoryWait& wait) {
     if (next_primary_ == 0) pe_.counters.start = now;
-    if (pe_.frame_rays && next_primary_ % pe_.frame_rays == 0)
-      pe_.counters.frame_starts.push_back(now);
     if (frame_wait_since_ != kNotWaiting) {
       pe_.counters.frame_wait += now - frame_wait_since_;
       frame_wait_since_ = kNotWaiting;

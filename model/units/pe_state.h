@@ -53,9 +53,8 @@ struct PeCounters {
   uint64_t credit_stall = 0;  ///< rays waiting but no credit to send them
   uint64_t tile_wait = 0;     ///< loop empty, waiting for a tile (partition = dynamic)
   uint64_t frame_wait = 0;    ///< loop empty between two frames (frames > 1)
-  /// frames > 1: when each frame's first primary ray was handed out, and when its last ray ended
-  /// (its loop empty after its last primary ray).
-  std::vector<uint64_t> frame_starts, frame_ends;
+  /// frames > 1: when each frame's last ray ended (its loop empty after its last primary ray).
+  std::vector<uint64_t> frame_ends;
   uint64_t spill_overflow =
       0;  ///< rays waiting when they outgrew the spill area (0: they never did)
   uint64_t spill_overflow_at = 0;
