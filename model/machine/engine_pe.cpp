@@ -23,9 +23,9 @@ void EnginePe::run() {
   // are in, until the frame ends, and tells the host then.
   const uint64_t quantum = ctx.period.value() * kQuantumCycles;
   const bool dynamic = ctx.config.partition == Partition::Dynamic;
-  size_t expected = memory.rays_expected, answers_due = 1, frames_ended = 0;
+  size_t expected = memory.rays_expected, answers_due = 1;
   auto rays_for_now = [&] {
-    return ctx.frame_rays ? std::min(expected, (frames_ended + 1) * size_t(ctx.frame_rays))
+    return ctx.frame_rays ? std::min(expected, (memory.frames_ended() + 1) * size_t(ctx.frame_rays))
                           : expected;
   };
   for (bool all_in = false;;) {
@@ -50,7 +50,6 @@ void EnginePe::run() {
     if (const uint64_t ended = engine_.take_frame_end(); ended != PeEngine::kNever) {
       if (ended > now) sc_core::wait(sc_core::sc_time::from_value(ended - now));
       memory.frame_ended();
-      ++frames_ended;
       all_in = false;
       continue;
     }

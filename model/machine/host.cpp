@@ -46,7 +46,6 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
       sleep_(keeper, 0),
       net_(c, kTimeHorizonTicks),
       deal_sleep_(keeper, 0),
-      frames_ended_(pes_.size(), 0),
       frame_sleep_(keeper, 0) {
   for (size_t i = 0; i < pes_.size(); ++i)
     links.push_back(std::make_unique<tlm_utils::simple_initiator_socket<Host>>(
@@ -62,9 +61,6 @@ Host::Host(sc_core::sc_module_name name, const MachineConfig& c, const Scene& s,
     net_.keep_busy();
     times.frame_done.assign(size_t(c.frames), 0);
   }
-  // A PE without pixels has no frames to end.
-  for (size_t pe = 0; pe < pes_.size(); ++pe)
-    if (parts_[pe].empty()) frames_ended_[pe] = SIZE_MAX;
 }
 
 void Host::transport(int pe, tlm::tlm_command cmd, uint64_t addr, unsigned char* data, size_t len,
@@ -152,6 +148,15 @@ void Host::voxel_work() {
                             "the host's voxel-data generation"));
 }
 
+uint64_t pe_voxelisation_ticks(const MachineConfig& c, const Grid& g) {
+  return checked_periods(sc_time(c.clock_ns, sc_core::SC_NS),
+                         double(pe_voxelisation_cycles(uint64_t(c.pe_voxel_cycles),
+                                                       uint64_t(c.memory_bytes_per_cycle),
+                                                       g.start.size() - 1, g.items.size())),
+                         "a PE's voxel-data generation")
+      .value();
+}
+
 uint64_t Host::pe_ticks(uint64_t cycles, const char* what) const {
   return checked_periods(sc_time(config_.clock_ns, sc_core::SC_NS), double(cycles), what).value();
 }
@@ -165,11 +170,7 @@ void Host::preprocess() {
   if (config_.voxelisation == MachineConfig::Voxelisation::Host)
     voxel_work();
   else
-    times.pe_voxelisation =
-        pe_ticks(pe_voxelisation_cycles(uint64_t(config_.pe_voxel_cycles),
-                                        uint64_t(config_.memory_bytes_per_cycle),
-                                        grid_.start.size() - 1, grid_.items.size()),
-                 "a PE's voxel-data generation");
+    times.pe_voxelisation = pe_voxelisation_ticks(config_, grid_);
   times.voxels = now();
 }
 
@@ -492,7 +493,7 @@ void Host::gather_streamed() {
   // the blocks go between them.
   for (const Block& b : blocks)
     timed([&] {
-      const uint64_t bytes = kGatherBlockHeaderBytes + b.pixels * kPixelRecordBytes;
+      const uint64_t bytes = gather_block_bytes(b.pixels);
       return dynamic ? net_.gather_in_gaps(b.pe, bytes, b.ready)
                      : net_.gather(b.pe, bytes, b.ready);
     });
@@ -534,8 +535,15 @@ void Host::gather_all() {
   for (Pe* pe : pes_) times.pes_done = std::max(times.pes_done, pe->ctx.counters.finish);
 }
 
+size_t Host::frames_ended_by_all() const {
+  size_t least = SIZE_MAX;  // a PE without pixels has no frames to end
+  for (size_t pe = 0; pe < pes_.size(); ++pe)
+    if (!parts_[pe].empty()) least = std::min(least, pes_[pe]->memory.frames_ended());
+  return least;
+}
+
 void Host::pe_frame_ended(int pe) {
-  const size_t k = frames_ended_[size_t(pe)]++;
+  const size_t k = pes_[size_t(pe)]->memory.frames_ended() - 1;
   frame_ended_event_.notify(sc_core::SC_ZERO_TIME);
   // The PE switching to the next frame (building its voxel data) is no stall.
   busy_until =
@@ -544,18 +552,14 @@ void Host::pe_frame_ended(int pe) {
   // the places frame k had, comes only once every PE has ended frame k (run), so on every PE's
   // link it follows that frame's pixels out of its frame buffer.
   if (config_.gather != MachineConfig::Gather::AfterAll) return gather_frame(pe, k, now());
-  if (*std::min_element(frames_ended_.begin(), frames_ended_.end()) <= k) return;
+  if (frames_ended_by_all() <= k) return;
   for (int p = 0; p < int(pes_.size()); ++p) gather_frame(p, k, now());
 }
 
 void Host::wait_for_frame(size_t k) {
   const sc_core::sc_event_or_list either = frame_sleep_.event() | frame_ended_event_;
-  while (*std::min_element(frames_ended_.begin(), frames_ended_.end()) <= k) {
-    while (!pending_.empty() && pending_.begin()->first <= now()) {
-      const std::function<void()> deliver = std::move(pending_.begin()->second);
-      pending_.erase(pending_.begin());
-      deliver();
-    }
+  while (frames_ended_by_all() <= k) {
+    host_sleep_until(now());  // the writes due
     if (!pending_.empty()) {
       frame_sleep_.want(pending_.begin()->first);
       // PEs waiting for these writes are no stall.
@@ -578,7 +582,7 @@ void Host::gather_frame(int pe, size_t k, uint64_t ready) {
         streamed ? *std::max_element(done + std::ptrdiff_t(first), done + std::ptrdiff_t(last))
                  : ready;
     const uint64_t bytes =
-        (streamed ? kGatherBlockHeaderBytes : 0) + (last - first) * kPixelRecordBytes;
+        streamed ? gather_block_bytes(last - first) : (last - first) * kPixelRecordBytes;
     const TransferTimes t = timed([&] { return net_.gather_in_gaps(pe, bytes, at); });
     times.frame_done[k] = std::max(times.frame_done[k], t.end);
   }

@@ -25,6 +25,9 @@
 
 namespace rtm {
 
+/// A PE's build of its voxel data (voxelisation = pe), in ticks of simulated time.
+uint64_t pe_voxelisation_ticks(const MachineConfig& c, const Grid& g);
+
 class Host : public sc_core::sc_module {
  public:
   /// One per PE: the logical path from the host to its local memory, whatever links the
@@ -105,6 +108,8 @@ class Host : public sc_core::sc_module {
   /// Gathers every PE's frame buffer: after all are done, each as it finishes, or streamed
   /// (gather).
   void gather_all();
+  /// frames > 1: the frames every PE with pixels has ended (its local memory counts them).
+  size_t frames_ended_by_all() const;
   /// frames > 1: until every PE has ended frame `k` (counted from 0), landing the writes due
   /// meanwhile.
   void wait_for_frame(size_t k);
@@ -149,7 +154,6 @@ class Host : public sc_core::sc_module {
   Sleeper deal_sleep_;                                      ///< rank 0, as the host's
   sc_core::sc_event asked_event_;  ///< arbitration = kernel: a request was made
   // frames > 1.
-  std::vector<size_t> frames_ended_;  ///< per PE: the frames it has ended
   sc_core::sc_event frame_ended_event_;
   Sleeper frame_sleep_;  ///< rank 0, as the host's: the waits for a frame's end
 };

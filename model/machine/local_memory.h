@@ -53,6 +53,8 @@ class LocalMemory : public sc_core::sc_module {
     if (tell_frame_end) tell_frame_end();
   }
   std::function<void()> tell_frame_end;
+  /// frames > 1: the frames the PE has ended so far.
+  size_t frames_ended() const { return frames_ended_; }
   // The PE's part of the frame, indexed by pixel slot.
   std::vector<PixelSum> frame;
   std::vector<int32_t> ids;

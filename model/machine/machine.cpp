@@ -94,13 +94,7 @@ class Machine : public sc_core::sc_module {
       if (c.frames > 1) {
         st.frame_rays = pixels;
         if (c.voxelisation == MachineConfig::Voxelisation::Pe)
-          st.frame_switch =
-              checked_periods(period,
-                              double(pe_voxelisation_cycles(uint64_t(c.pe_voxel_cycles),
-                                                            uint64_t(c.memory_bytes_per_cycle),
-                                                            g.start.size() - 1, g.items.size())),
-                              "a PE's voxel-data generation")
-                  .value();
+          st.frame_switch = pe_voxelisation_ticks(c, g);
       }
     }
     host = std::make_unique<Host>("host", c, s, g, image, std::move(parts), raw, keeper.get());

@@ -81,6 +81,10 @@ constexpr uint64_t kHostBurstBytes = 64;
 /// A streamed gather's transfer (gather = streamed): this header, the block's first pixel slot,
 /// then the block's frame-buffer entries (kPixelRecordBytes each).
 constexpr uint64_t kGatherBlockHeaderBytes = 4;
+/// A streamed gather's transfer of `pixels` slots.
+constexpr uint64_t gather_block_bytes(uint64_t pixels) {
+  return kGatherBlockHeaderBytes + pixels * kPixelRecordBytes;
+}
 
 // ---- Where each record starts ----
 
