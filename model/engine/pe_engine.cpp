@@ -1,12 +1,12 @@
 #include "engine/pe_engine.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace rtm {
 
 std::string engine_unsupported(const MachineConfig& c, bool tracing) {
   if (c.pe_simulation == MachineConfig::PeSimulation::Modules) return "pe_simulation = modules";
-  if (c.timing != Timing::Fast) return "clocked timing runs the MAC on a clock";
   if (c.arbitration != MachineConfig::Arbitration::Ranked)
     return "arbitration = kernel leaves the same-cycle order to SystemC";
   if (c.flow_control != FlowControl::Credits)
@@ -54,8 +54,12 @@ PeEngine::PeEngine(PeState& pe, std::vector<PixelSum>& frame, std::vector<int32_
     stage_input_[size_t(K)] = &fifo(inputs(K).front());
     for (int k = 0; k < unit_count(K, pe.config); ++k) stage_units<K>().emplace_back(pe, k);
   });
-  for (int lane = 0; lane < unit_count(UnitKind::Mac, pe.config); ++lane)
+  for (int lane = 0; lane < unit_count(UnitKind::Mac, pe.config); ++lane) {
     macs_.emplace_back(pe, lane);
+    if (pe.config.timing == Timing::Clocked)
+      clocked_macs_.emplace_back(macs_.back().timing(), pe.config.intersection_precision_in_force(),
+                                 cycle_);
+  }
   for (int lane = 0; lane < unit_count(UnitKind::Root, pe.config); ++lane)
     roots_.emplace_back(pe, lane);
   for (size_t u = 0; u < places_.size(); ++u) wake(u, 0);
@@ -224,6 +228,16 @@ struct PeEngine::Ops {
       return e.emit(h.out, e.slots_[h.item], h.item, K, index(), now);
     } else if constexpr (K == UnitKind::Mac) {
       Fifo& out = e.fifo(FifoId::Root, size_t(index()));
+      if (!e.clocked_macs_.empty()) {
+        // As in the modules (machine/intersection_module.cpp): the clocked sums, checked against
+        // the fast model's, are the ones the root unit takes, and a result that cannot leave holds
+        // the clocked MAC.
+        EdgeByEdgeMac& clocked = e.clocked_macs_[size_t(index())];
+        const std::string differs =
+            clocked.check(now, e.results_[h.item], e.pe_.image->mem32.has_value());
+        if (!differs.empty()) throw std::logic_error(differs);
+        clocked.stall(now, out.full());
+      }
       if (out.full()) return false;
       out.write(h.item, now);
       record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r, h.out);
@@ -244,6 +258,8 @@ struct PeEngine::Ops {
       e.shading_writer_.retired();
     } else if constexpr (K == UnitKind::Root) {
       e.free_results_.push_back(h.item);
+    } else if constexpr (K == UnitKind::Mac) {
+      if (!e.clocked_macs_.empty()) e.clocked_macs_[size_t(index())].retired();
     }
   }
 
@@ -272,6 +288,8 @@ struct PeEngine::Ops {
       m.r = e.slots_[slot];
       e.free_slots_.push_back(slot);  // the ray travels with its MAC result now
       Work w = e.macs_[size_t(index())].take(m, now);
+      if (!e.clocked_macs_.empty())
+        e.clocked_macs_[size_t(index())].start(now, mac_job(*e.pe_.image, m.r, m.plan), w.cycles);
       pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
       return true;
     } else if constexpr (K == UnitKind::Root) {

@@ -27,6 +27,7 @@
 #include <variant>
 #include <vector>
 
+#include "units/clock_level_mac.h"
 #include "units/fifo_report.h"
 #include "units/front_buffer.h"
 #include "units/intersection.h"
@@ -215,6 +216,7 @@ class PeEngine {
   }
   std::array<Fifo*, kUnitKinds> stage_input_{};  ///< a ray stage's input FIFO
   std::vector<MacUnit> macs_;
+  std::vector<EdgeByEdgeMac> clocked_macs_;  ///< per MAC, in clocked timing only
   std::vector<RootUnit> roots_;
   ShadingUnit shading_;
   /// By kind, the replicated units (ray stages, MACs) waiting for an item: the lowest-numbered

@@ -1,49 +1,28 @@
-// The MAC unit (paper §5.2, Fig. 2): two multipliers and an adder chained as a pipeline,
-// accumulating 6 products for α, 12 for β and 10 for γ per primitive.
+// The MAC unit (paper §5.2, Fig. 2) on the PE clock: the clock-level datapath
+// (units/clock_level_mac.h) as a SystemC process whose registers a waveform shows.
 //
 // Two implementations that agree exactly, in values and in cycles:
 //  - MacTiming (units/mac_timing.h, the cycle model) + form_abg: the fast one, cycle counts by
 //    formula, values by the schedule;
-//  - ClockedMac: a process on the PE clock with pipeline registers (the datapath of clocked
-//    timing: the root unit takes its sums, and the fast model's must equal them).
+//  - ClockLevelMac: pipeline registers advanced edge by edge (the datapath of clocked timing: the
+//    root unit takes its sums, and the fast model's must equal them).
 #pragma once
 
-#include <array>
 #include <cstdint>
-#include <deque>
-#include <vector>
+#include <string>
 
 #include <systemc>
 
-#include "config/config.h"
 #include "machine/trace_window.h"
 #include "machine/waveform.h"
-#include "units/mac_timing.h"
+#include "units/clock_level_mac.h"
 
 namespace rtm {
 
-/// Rounds a double to the machine's precision. Computing a float operation in double and
-/// rounding once gives exactly the IEEE float result for +, − and × (53 >= 2·24 + 2), so the
-/// clocked MAC can hold its registers as doubles.
-inline double round_to(Precision p, double x) {
-  return p == Precision::Fp32 ? double(float(x)) : x;
-}
-
-/// A MAC job in the clocked unit's terms: latches and one RAM image per primitive, already
-/// rounded to the machine precision.
-struct MacJob {
-  std::vector<Latches<double>> latches;  ///< per primitive (the origin is re-centred on each)
-  std::vector<CoefRam<double>> rams;
-  std::vector<MacOps> ops;  ///< per primitive; empty: the full schedule for all
-  std::vector<uint64_t>
-      loads;  ///< per primitive, cycles to load its coefficients (MacTiming::Job::loads)
-  uint32_t ray_id = 0;
-};
-
-/// The clocked MAC (Fig. 2) as the datapath of clocked timing: jobs posted at cycle boundaries
-/// stream through two multipliers and the adder, a new job's products issuing while the previous
-/// job's drain, each product in the cycle the schedule (MacTiming) gives it. The registers are
-/// the process's state on every edge it runs; the signals mirror them inside the waveform window.
+/// The clock-level MAC on the PE clock: jobs posted at cycle boundaries stream through two
+/// multipliers and the adder, a new job's products issuing while the previous job's drain, each
+/// product in the cycle the schedule (MacTiming) gives it. The signals mirror the registers inside
+/// the waveform window.
 ///
 /// A process on the PE clock, but an SC_THREAD rather than an SC_CTHREAD: with no job inside it
 /// waits for the next one instead of waking on every edge of the frame.
@@ -70,16 +49,12 @@ class ClockedMac : public sc_core::sc_module {
   ClockedMac(sc_core::sc_module_name name, const MacTiming& timing, Precision precision,
              sc_core::sc_time period);
 
-  /// A finished job: α, β, γ per primitive and its cycles from its first edge to its last.
-  struct Done {
-    std::vector<std::array<double, 3>> sums;
-    uint64_t cycles = 0;
-  };
+  using Done = ClockLevelMac::Done;
   /// Posts a job at a cycle boundary: its cycle 0 is the next edge.
   void start(MacJob job);
   /// The oldest job, if its last sums are out (half a cycle before the cycle boundary after its
   /// last edge); false while it runs.
-  bool finish(Done& done);
+  bool finish(Done& done) { return mac_.finish(done); }
   /// While set, the result cannot be handed on: the whole pipeline holds, edge after edge.
   void stall(bool on) { stalled_ = on; }
   /// start(), wait until the job is done, finish(): for a caller with nothing else to do.
@@ -91,49 +66,11 @@ class ClockedMac : public sc_core::sc_module {
 
  private:
   void clocked();
-  void edge();
-  bool idle() const;
+  /// The registers' signals after an edge.
+  void trace_edge(const ClockLevelMac::Registers& r);
 
-  /// A product on its way down the pipeline.
-  struct Stage {
-    bool valid = false;
-    uint64_t job = 0;  ///< its job's serial number
-    int prim = 0;
-    int k = 0;          ///< index into kMacSchedule
-    bool last = false;  ///< the primitive's last product
-    double value = 0;   ///< the product so far
-  };
-  struct Posted {
-    MacJob job;
-    MacTiming::Job plan;
-    uint64_t start = 0;   ///< the tick of its cycle 0
-    int prim = 0, j = 0;  ///< its next product to issue
-    Done done;
-    bool finished = false;
-  };
-  Posted& job(uint64_t serial) { return jobs_[size_t(serial - first_serial_)]; }
-
-  // The stages of one edge, in the order edge() runs them.
-  /// The adder: the product leaving it into α, β or γ; true when a primitive's sums are handed.
-  bool accumulate(bool tracing);
-  /// Multiplier 2: the product from multiplier 1 times its coefficient, into the adder.
-  Stage multiply_by_coefficient();
-  /// Multiplier 1: the product of two latches, into multiplier 2.
-  Stage multiply_latches();
-  /// The product the schedule issues at this edge (invalid: none), for multiplier 1.
-  Stage issue();
-  /// The registers' signals after the edge.
-  void trace_edge(const Stage& in, const Stage& m1, const Stage& m2, bool handed);
-
-  MacTiming timing_;
-  Precision precision_;
+  ClockLevelMac mac_;
   sc_core::sc_time period_;
-  std::deque<Posted> jobs_;  ///< posted and not yet handed on, oldest first
-  uint64_t first_serial_ = 0;
-  uint64_t tick_ = 0;  ///< edges run so far (held edges do not count)
-  std::deque<Stage> mul1_, mul2_, adder_;
-  double sum_[3] = {0, 0, 0};
-  uint32_t accumulated_ = 0;
   bool stalled_ = false;
   sc_core::sc_event posted_, finished_;
   const TraceWindow* window_ = nullptr;

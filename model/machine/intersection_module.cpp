@@ -23,50 +23,6 @@ IntersectionModule::IntersectionModule(sc_core::sc_module_name name, PeContext& 
   SC_THREAD(root_thread);
 }
 
-namespace {
-
-/// The clocked MAC's job: latches and RAM words in the machine's precision, held as doubles.
-template <class Real>
-MacJob make_job(const SceneMemory<Real>& mem, const MachineRay& r, int64_t voxel) {
-  MacJob job;
-  const Grid& g = *mem.grid;
-  for (const uint32_t *it = g.begin(voxel), *end = it + g.count(voxel); it != end; ++it) {
-    const Latches<Real> l = mem.latches(r.ray, *it, r.examined.t_enter);
-    Latches<double> ld{};
-    for (int i = 0; i < 7; ++i) ld[size_t(i)] = double(l[size_t(i)]);
-    job.latches.push_back(ld);
-    CoefRam<double> ram{};
-    for (int w = 0; w < kRamWords; ++w) ram[size_t(w)] = double(mem.rams[*it][size_t(w)]);
-    job.rams.push_back(ram);
-    if (!mem.ops.empty()) job.ops.push_back(mem.ops[*it]);
-  }
-  job.ray_id = r.id;
-  return job;
-}
-
-/// The fast MAC model must predict the clocked MAC's sums bit for bit and its cycles exactly;
-/// anything else is a model bug. The clocked sums are then the ones the root unit takes.
-template <class Real>
-void take_clocked(std::vector<Abg<Real>>& fast, const ClockedMac::Done& clocked,
-                  uint64_t fast_cycles, bool ran) {
-  bool same = ran && fast.size() == clocked.sums.size() && fast_cycles == clocked.cycles;
-  for (size_t i = 0; same && i < fast.size(); ++i)
-    same = double(fast[i].a) == clocked.sums[i][0] && double(fast[i].b) == clocked.sums[i][1] &&
-           double(fast[i].g) == clocked.sums[i][2];
-  if (!same)
-    SC_REPORT_FATAL("rtm/pe/mac",
-                    (std::string("the fast MAC model disagrees with the clocked MAC: ") +
-                     (ran ? "clocked " + std::to_string(clocked.cycles) +
-                                " cycles (or other sums) against fast "
-                          : std::string("still running after the fast model's ")) +
-                     std::to_string(fast_cycles) + (ran ? "" : " cycles"))
-                        .c_str());
-  for (size_t i = 0; i < fast.size(); ++i)
-    fast[i] = {Real(clocked.sums[i][0]), Real(clocked.sums[i][1]), Real(clocked.sums[i][2])};
-}
-
-}  // namespace
-
 struct IntersectionModule::MacOps {
   IntersectionModule& x;
   bool checked = false;  ///< the head job's clocked sums were checked
@@ -76,12 +32,13 @@ struct IntersectionModule::MacOps {
     Held& h = x.mac_pipe_.head().item;
     if (x.clocked_ && !checked) {
       // The clocked unit has put the job's last sums out half a cycle before the stage takes them.
+      // The fast model must predict the clocked MAC's sums bit for bit and its cycles exactly;
+      // anything else is a model bug. The clocked sums are then the ones the root unit takes.
       ClockedMac::Done done;
       const bool ran = x.clocked_->finish(done);
-      if (x.ctx_.image->mem32)
-        take_clocked(h.m.abg32, done, x.job_cycles_.front(), ran);
-      else
-        take_clocked(h.m.abg64, done, x.job_cycles_.front(), ran);
+      const std::string differs =
+          check_clocked(h.m, x.ctx_.image->mem32.has_value(), done, x.job_cycles_.front(), ran);
+      if (!differs.empty()) SC_REPORT_FATAL("rtm/pe/mac", differs.c_str());
       x.job_cycles_.pop_front();
       checked = true;
     }
@@ -103,12 +60,7 @@ struct IntersectionModule::MacOps {
     Work w = x.mac_.take(h.m, now);
     h.out = w.out;
     if (x.clocked_) {
-      const SceneImage& img = *x.ctx_.image;
-      const DdaState& s = h.m.r.examined;
-      const int64_t v = img.grid->index(s.cell[0], s.cell[1], s.cell[2]);
-      MacJob job = img.visit([&](const auto& mem) { return make_job(mem, h.m.r, v); });
-      job.loads = h.m.plan.loads;
-      x.clocked_->start(std::move(job));
+      x.clocked_->start(mac_job(*x.ctx_.image, h.m.r, h.m.plan));
       x.job_cycles_.push_back(w.cycles);
     }
     x.mac_pipe_.accept(h, now, w.cycles, w.interval, std::move(w.wait));

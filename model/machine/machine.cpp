@@ -52,7 +52,7 @@ class Machine : public sc_core::sc_module {
           int sim_threads)
       : sc_module(name), engine_unsupported(rtm::engine_unsupported(c, tracing)), config_(c) {
     const sc_time period(c.clock_ns, sc_core::SC_NS);
-    if (c.timing == Timing::Clocked)
+    if (c.timing == Timing::Clocked && !engine_unsupported.empty())  // the engine clocks its own
       clock = std::make_unique<sc_core::sc_clock>("clk", period, 0.5, period / 2, true);
     if (c.arbitration == MachineConfig::Arbitration::Ranked)
       keeper = std::make_unique<Timekeeper>("timekeeper");

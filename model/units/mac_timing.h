@@ -1,6 +1,6 @@
 // The MAC unit's cycle model (paper §5.2, Fig. 2), by formula: when each product issues and when
-// each primitive's α, β, γ leave the adder. machine/clocked_mac.h's ClockedMac runs the same
-// schedule on a clock and must agree with it exactly.
+// each primitive's α, β, γ leave the adder. The clock-level MAC (ClockLevelMac) runs the same
+// schedule edge by edge (units/clock_level_mac.h) and must agree with it exactly.
 //
 // Products issue in schedule order, one every add_latency cycles (each add depends on the
 // previous one, so a longer adder cannot accept a product every cycle). A primitive's coefficients
