@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "units/test_mac_jobs.h"
+
 namespace rtm {
 namespace {
 
@@ -39,63 +41,26 @@ class Driver : public sc_core::sc_module {
  private:
   void run() {
     std::mt19937_64 rng(12345);
-    std::uniform_real_distribution<double> u(-3, 3);
     std::uniform_int_distribution<int> prims(1, 6);
     const sc_core::sc_time period(10, sc_core::SC_NS);
-    std::vector<std::array<double, 3>> sums;
     for (int round = 0; round < 60; ++round) {
       for (size_t m = 0; m < macs_.size(); ++m) {
         const Case& c = cases_[m];
-        MacJob job;
         const int n = prims(rng);
         // Every other round runs sparse schedules: random coefficient words are zero and skipped.
         const bool sparse = round % 2 == 1;
         std::vector<int> counts;
-        for (int p = 0; p < n; ++p) {
-          Latches<double> l{};
-          for (int i = 0; i < 6; ++i) {
-            const double x = u(rng);  // one draw a statement (geom/test_random.h says why)
-            l[size_t(i)] = round_to(c.precision, x * std::pow(10.0, u(rng)));
-          }
-          l[kOne] = 1;
-          CoefRam<double> ram{};
-          for (int w = 0; w < 10; ++w)
-            ram[size_t(w)] = (sparse && rng() % 2) ? 0.0 : round_to(c.precision, u(rng));
-          if (sparse && ram == CoefRam<double>{}) ram[kRamJ] = 1;  // at least one product
-          ram[kRam2A] = 2 * ram[kRamA];
-          ram[kRam2B] = 2 * ram[kRamB];
-          ram[kRam2C] = 2 * ram[kRamC];
-          job.latches.push_back(l);
-          job.rams.push_back(ram);
-          if (sparse) job.ops.push_back(sparse_ops(ram));
-          counts.push_back(sparse ? int(job.ops.back().size()) : kMacProducts);
-        }
+        const MacJob job = random_job(rng, n, c.precision, sparse, counts);
         const sc_core::sc_time start = sc_core::sc_time_stamp();
         const ClockedMac::Done done = macs_[m]->run(job);
-        const uint64_t cycles = done.cycles;
-        sums = done.sums;
         ++jobs;
-        if (cycles != c.timing.job(counts).cycles() ||
-            (!sparse && cycles != c.timing.job_cycles(n)))
+        if (done.cycles != c.timing.job(counts).cycles() ||
+            (!sparse && done.cycles != c.timing.job_cycles(n)))
           ++cycle_mismatches;
-        if (sc_core::sc_time_stamp() - start != period * double(cycles)) ++time_mismatches;
-        for (int p = 0; p < n; ++p) {
-          double expect[3];
-          if (c.precision == Precision::Fp32) {
-            Latches<float> lf{};
-            CoefRam<float> rf{};
-            for (int i = 0; i < 7; ++i) lf[size_t(i)] = float(job.latches[size_t(p)][size_t(i)]);
-            for (int w = 0; w < kRamWords; ++w)
-              rf[size_t(w)] = float(job.rams[size_t(p)][size_t(w)]);
-            const Abg<float> a = form_abg(lf, rf);
-            expect[0] = a.a, expect[1] = a.b, expect[2] = a.g;
-          } else {
-            const Abg<double> a = form_abg(job.latches[size_t(p)], job.rams[size_t(p)]);
-            expect[0] = a.a, expect[1] = a.b, expect[2] = a.g;
-          }
-          for (int k = 0; k < 3; ++k)
-            if (expect[k] != sums[size_t(p)][size_t(k)]) ++value_mismatches;
-        }
+        if (sc_core::sc_time_stamp() - start != period * double(done.cycles)) ++time_mismatches;
+        for (int p = 0; p < n; ++p)
+          if (done.sums[size_t(p)] != expected_sums(job, size_t(p), c.precision))
+            ++value_mismatches;
         sc_core::wait(period * 3);
       }
     }

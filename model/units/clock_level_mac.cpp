@@ -55,8 +55,7 @@ std::string check_clocked(MacResult& fast, bool mem32, const ClockLevelMac::Done
   return "the fast MAC model disagrees with the clocked MAC: " +
          (ran ? "clocked " + std::to_string(clocked.cycles) +
                     " cycles (or other sums) against fast " + std::to_string(fast_cycles)
-              : "still running after the fast model's " + std::to_string(fast_cycles) +
-                    " cycles");
+              : "still running after the fast model's " + std::to_string(fast_cycles) + " cycles");
 }
 
 // ---- the clock-level MAC ----
