@@ -56,9 +56,6 @@ def random_config(rng, scenes):
     # once (drawn last, so the draws before stay what they were).
     elif rng.randrange(3) == 0:
         sets.update({"frames": rng.randint(2, 4), "ray_block": 0})
-    # Clocked timing: the MAC at clock level, on the engine edge by edge (drawn after the rest).
-    if rng.randrange(4) == 0:
-        args += ["--timing", "clocked"]
     if sets["link_topology"] == "star" and sets["broadcast"] == "true":
         sets["host_ports"] = max(sets["host_ports"], int(args[args.index("--pes") + 1]))
     for k, v in sets.items():

@@ -12,7 +12,8 @@ namespace rtm {
 
 /// A random job of n primitives in precision p; sparse: random coefficient words zero and their
 /// products skipped. Its per-primitive product counts go to `counts`.
-inline MacJob random_job(std::mt19937_64& rng, int n, Precision p, bool sparse, std::vector<int>& counts) {
+inline MacJob random_job(std::mt19937_64& rng, int n, Precision p, bool sparse,
+                         std::vector<int>& counts) {
   std::uniform_real_distribution<double> u(-3, 3);
   MacJob job;
   counts.clear();

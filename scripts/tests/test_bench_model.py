@@ -22,11 +22,19 @@ def test_builds_given_with_against_are_timed_in_one_table_with_their_own_referen
     header = lines[at]
     assert header.count("wall s") == 3 and "new / old1" in header and "new / old2" in header, header
     assert header.count("× reference") == 3, header
-    rows = [l.split(" | ") for l in lines[at + 2:] if l.startswith("| balls-1 |")]
+    end = lines.index("", at)
+    rows = [l.split(" | ") for l in lines[at + 2:end] if l.startswith("| balls-1 |")]
     assert len(rows) == 6, r.stdout
     for cells in rows:
         assert len(cells) == len(header.split(" | ")), cells
     assert all(cells[-1] == "True |" for cells in rows[1:]), r.stdout
+    # Clocked timing: each build's simulated cycles per second on the same frame.
+    at = next(i for i, l in enumerate(lines) if l.startswith("| scene | new wall s |"))
+    header = lines[at]
+    assert header.count("cycles/s") == 3 and "new / old2" in header, header
+    cells = lines[at + 2].split(" | ")
+    assert cells[0] == "| balls-1" and len(cells) == len(header.split(" | ")), lines[at + 2]
+    assert cells[-1] == "True |" and all(int(c.replace(",", "")) > 0 for c in cells[6:9]), cells
 
 
 def test_a_build_without_rtm_is_refused_before_anything_is_timed(tmp_path):
