@@ -228,16 +228,7 @@ struct PeEngine::Ops {
       return e.emit(h.out, e.slots_[h.item], h.item, K, index(), now);
     } else if constexpr (K == UnitKind::Mac) {
       Fifo& out = e.fifo(FifoId::Root, size_t(index()));
-      if (!e.clocked_macs_.empty()) {
-        // As in the modules (machine/intersection_module.cpp): the clocked sums, checked against
-        // the fast model's, are the ones the root unit takes, and a result that cannot leave holds
-        // the clocked MAC.
-        EdgeByEdgeMac& clocked = e.clocked_macs_[size_t(index())];
-        const std::string differs =
-            clocked.check(now, e.results_[h.item], e.pe_.image->mem32.has_value());
-        if (!differs.empty()) throw std::logic_error(differs);
-        clocked.stall(now, out.full());
-      }
+      if (!e.clocked_macs_.empty()) e.clocked_result(size_t(index()), h.item, out.full(), now);
       if (out.full()) return false;
       out.write(h.item, now);
       record_put(e.pe_, now, UnitKind::Mac, index(), e.results_[h.item].r, h.out);
@@ -288,8 +279,7 @@ struct PeEngine::Ops {
       m.r = e.slots_[slot];
       e.free_slots_.push_back(slot);  // the ray travels with its MAC result now
       Work w = e.macs_[size_t(index())].take(m, now);
-      if (!e.clocked_macs_.empty())
-        e.clocked_macs_[size_t(index())].start(now, mac_job(*e.pe_.image, m.r, m.plan), w.cycles);
+      if (!e.clocked_macs_.empty()) e.clocked_job(size_t(index()), m, w.cycles, now);
       pipe().accept({result, w.out}, now, w.cycles, w.interval, std::move(w.wait));
       return true;
     } else if constexpr (K == UnitKind::Root) {
@@ -323,6 +313,23 @@ struct PeEngine::Ops {
 
   void want(uint64_t t) { e.want(u, t); }
 };
+
+// Out of line: the fast MAC's operations stay small enough for wake() to inline every unit's.
+[[gnu::noinline]] void PeEngine::clocked_job(size_t lane, const MacResult& m, uint64_t cycles,
+                                             uint64_t now) {
+  clocked_macs_[lane].start(now, mac_job(*pe_.image, m.r, m.plan), cycles);
+}
+
+[[gnu::noinline]] void PeEngine::clocked_result(size_t lane, uint32_t result, bool full,
+                                                uint64_t now) {
+  // As in the modules (machine/intersection_module.cpp): the clocked sums, checked against the
+  // fast model's, are the ones the root unit takes, and a result that cannot leave holds the
+  // clocked MAC.
+  EdgeByEdgeMac& clocked = clocked_macs_[lane];
+  const std::string differs = clocked.check(now, results_[result], pe_.image->mem32.has_value());
+  if (!differs.empty()) throw std::logic_error(differs);
+  clocked.stall(now, full);
+}
 
 void PeEngine::wake(size_t unit, uint64_t now) {
   // One instance of the step per kind of unit: its operations inline, no switch per call.

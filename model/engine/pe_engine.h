@@ -166,6 +166,10 @@ class PeEngine {
   Fifo& fifo(FifoId id, size_t lane = 0) { return fifos_[first_fifo_[size_t(id)] + lane]; }
 
   uint32_t new_ray(const MachineRay& r);
+  /// Clocked timing: MAC `lane` took the job of `m`, which the fast model times at `cycles`; ...
+  void clocked_job(size_t lane, const MacResult& m, uint64_t cycles, uint64_t now);
+  /// ... its result `result` is due, and its FIFO is `full` or not.
+  void clocked_result(size_t lane, uint32_t result, bool full, uint64_t now);
   /// Writes a search or root unit's output for ray `r` (held in `slot`, or kNoSlot: in a MAC
   /// result); false when its FIFO is full.
   bool emit(const Output& o, const MachineRay& r, uint32_t slot, UnitKind kind, int index,
