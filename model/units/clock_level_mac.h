@@ -69,8 +69,8 @@ class ClockLevelMac {
     bool sums_valid = false;  ///< a primitive's α, β, γ were handed on at this edge
     double alpha = 0, beta = 0, gamma = 0;
   };
-  /// One rising edge, stage by stage from the pipeline's end to its start (each stage takes what
-  /// the one before it held at the last edge). `regs`, when given, receives the registers.
+  /// One rising edge: the schedule's next product enters multiplier 1 and every stage takes what
+  /// the one before it held at the last edge. `regs`, when given, receives the registers.
   /// True when a job finished at this edge.
   bool edge(Registers* regs = nullptr);
 
