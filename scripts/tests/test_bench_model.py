@@ -17,7 +17,8 @@ def test_builds_given_with_against_are_timed_in_one_table_with_their_own_referen
                        env=dict(os.environ, RTM_BUILD_DIR=build))
     assert r.returncode == 0, r.stdout + r.stderr
     lines = r.stdout.splitlines()
-    assert f"old1: {build}/rtm" in lines and f"old2: {build}/rtm" in lines, r.stdout
+    version = subprocess.run([rtm, "--version"], capture_output=True, text=True).stdout.strip()
+    assert f"old1: {version}" in lines and f"old2: {version}" in lines, r.stdout
     at = next(i for i, l in enumerate(lines) if l.startswith("| scene | model |"))
     header = lines[at]
     assert header.count("wall s") == 3 and "new / old1" in header and "new / old2" in header, header
