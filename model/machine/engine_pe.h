@@ -21,8 +21,10 @@ class EnginePe : public Pe {
   void trace(Waveform& wave) override;
 
   /// The engine runs at most two of these ahead of SystemC time, so that the progress display
-  /// and the stall watch (machine.cpp) keep seeing the PE's counters move.
-  static constexpr uint64_t kQuantumCycles = 8192;
+  /// and the stall watch (watchdog.h) keep seeing the PE's counters move. Each quantum visits
+  /// every PE whose rays are in, and by then that PE's state is out of the processor's caches:
+  /// at 256 PEs a shorter quantum costs more in those visits than in the simulation.
+  static constexpr uint64_t kQuantumCycles = 65536;
 
  private:
   void run();

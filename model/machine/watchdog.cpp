@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "machine/engine_pe.h"
 #include "machine/sim_time.h"
 #include "memory/memory_layout.h"
 #include "memory/records.h"
@@ -63,8 +64,9 @@ Watchdog::Watchdog(const Scene& s, const Grid& g, const MachineConfig& c,
   // The clock, and units retrying writes into full FIFOs, keep a simulation alive even when the
   // loop has stalled; and any frame's time must stay below the horizon: watch for both.
   const sc_time period(c.clock_ns, sc_core::SC_NS);
-  const double quiet_cycles =
-      std::max(8.0 * kStepCycles, 2.0 * double(longest_item_cycles(s, g, c)));
+  // A PE on the engine shows its work a quantum at a time.
+  const double quiet_cycles = std::max({8.0 * kStepCycles, 2.0 * double(EnginePe::kQuantumCycles),
+                                        2.0 * double(longest_item_cycles(s, g, c))});
   quiet_window_ = sc_time::from_value(
       uint64_t(std::min(quiet_cycles * double(period.value()), double(kTimeHorizonTicks))));
   base_step_ = period * kStepCycles;
