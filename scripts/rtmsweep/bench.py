@@ -19,6 +19,7 @@ import yaml
 
 from . import page, results, spec, sweep
 
+WHO = "scripts/bench-sweep"  # the writer its study page names
 # The columns that say how a run went on this machine, not what was simulated.
 NOT_SIMULATED = {"wall_seconds", "host", "commit"}
 
@@ -48,6 +49,11 @@ def differences(new, old):
         for c in shared if o else ():
             differing[c] += r[c] != o[c]
     return lone, one_sided, {c: n for c, n in differing.items() if n}
+
+
+def own_seconds(rows):
+    """The runs' own wall seconds, summed."""
+    return sum(float(r["wall_seconds"]) for r in rows if r.get("wall_seconds"))
 
 
 def seconds_by(rows, key):
@@ -103,7 +109,7 @@ def tables(name, builds, timed, jobs):
     lines += [f"- {n}: `{page.build_of(rtm)}`" for n, rtm in builds] + [""]
     lines += ["| build | sweep's wall s | runs' own s in all | new / build, wall | new / build, runs' own "
               "| load average before, after |", "|---|---|---|---|---|---|"]
-    own = [sum(seconds_by(rows, "scene").values()) for _, (_, rows), _ in timed]
+    own = [own_seconds(rows) for _, (_, rows), _ in timed]
     for i, (n, (elapsed, _, load)) in enumerate(zip(names, timed)):
         ratios = " | " if i == 0 else f"{timed[0][0] / elapsed:.2f} | {own[0] / own[i]:.2f}"
         lines.append(f"| {n} | {elapsed:.1f} | {own[i]:.1f} | {ratios} | {load[0]:.2f}, {load[1]:.2f} |")
@@ -144,6 +150,11 @@ def main(argv=None):
     ap.add_argument("--page", help="the study page whose part written by scripts/bench-sweep gets the tables")
     args = ap.parse_args(argv)
 
+    if args.page:
+        try:
+            page.part(args.page, WHO)
+        except page.PageError as e:
+            die(str(e))
     if args.at:
         args.spec = spec_at(args.at, args.spec, args.dir)
     try:
@@ -166,7 +177,7 @@ def main(argv=None):
     print(body, end="")
     if args.page:
         try:
-            page.update(args.page, "scripts/bench-sweep", body, page.build_of(builds[0][1]),
+            page.update(args.page, WHO, body, page.build_of(builds[0][1]),
                         runs=page.runs_line(timed[0][1][1]))
         except page.PageError as e:
             die(str(e))

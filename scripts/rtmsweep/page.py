@@ -75,9 +75,9 @@ def demoted(body):
     return re.sub(r"^#", "###", body, flags=re.M)
 
 
-def update(page, who, body, build, runs=None, date=None):
-    """Rewrites PAGE's part written by WHO (e.g. "scripts/memory-study ports") with the stamp and
-    BODY (Markdown). The page and its markers must exist: the prose around them is hand-written."""
+def part(page, who):
+    """(PAGE's text, where its part written by WHO begins and ends); PageError when the page or
+    its markers are missing: a study checks this before it runs."""
     begin, end = BEGIN.format(who=who), END.format(who=who)
     try:
         with open(page) as f:
@@ -87,6 +87,14 @@ def update(page, who, body, build, runs=None, date=None):
     start, stop = text.find(begin), text.find(end)
     if start < 0 or stop < start:
         raise PageError(f"{page}: no part written by {who} (the lines {begin!r} and {end!r})")
+    return text, start, stop
+
+
+def update(page, who, body, build, runs=None, date=None):
+    """Rewrites PAGE's part written by WHO (e.g. "scripts/memory-study ports") with the stamp and
+    BODY (Markdown). The page and its markers must exist: the prose around them is hand-written."""
+    begin, end = BEGIN.format(who=who), END.format(who=who)
+    text, start, stop = part(page, who)
     date = date or datetime.date.today().isoformat()
     generated = begin + "\n" + stamp(build, date, runs) + "\n\n" + demoted(body).strip() + "\n" + end
     results.write_atomic(page, text[:start] + generated + text[stop + len(end):])

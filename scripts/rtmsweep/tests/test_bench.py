@@ -53,8 +53,8 @@ def fake_build(folder, rtm, extra):
 
 
 def test_a_sweep_timed_with_two_builds_says_whether_their_figures_agree(rtm, tmp_path):
-    spec = write_spec(tmp_path / "two.yaml", SPEC)
-    same = sh(os.path.join(SCRIPTS, "bench-sweep"), spec, "--against", os.path.dirname(rtm),
+    spec_file = write_spec(tmp_path / "two.yaml", SPEC)
+    same = sh(os.path.join(SCRIPTS, "bench-sweep"), spec_file, "--against", os.path.dirname(rtm),
               "--dir", tmp_path / "same", "--jobs", "1", cwd=tmp_path, timeout=300)
     assert same.returncode == 0, same.stderr
     assert "| new | " in same.stdout and "| old | " in same.stdout
@@ -62,7 +62,7 @@ def test_a_sweep_timed_with_two_builds_says_whether_their_figures_agree(rtm, tmp
     assert (tmp_path / "same" / "tables.md").read_text() == same.stdout
 
     slower = fake_build(str(tmp_path / "slower"), rtm, "--set root_latency=40")
-    differ = sh(os.path.join(SCRIPTS, "bench-sweep"), spec, "--against", slower,
+    differ = sh(os.path.join(SCRIPTS, "bench-sweep"), spec_file, "--against", slower,
                 "--dir", tmp_path / "differ", "--jobs", "1", cwd=tmp_path, timeout=300)
     assert differ.returncode == 1, differ.stderr
     assert "new against old: figures differ" in differ.stdout
@@ -70,8 +70,8 @@ def test_a_sweep_timed_with_two_builds_says_whether_their_figures_agree(rtm, tmp
 
 
 def test_a_missing_build_is_an_error_naming_it(tmp_path):
-    spec = write_spec(tmp_path / "two.yaml", SPEC)
-    r = sh(os.path.join(SCRIPTS, "bench-sweep"), spec, "--against", tmp_path / "nowhere", cwd=tmp_path)
+    spec_file = write_spec(tmp_path / "two.yaml", SPEC)
+    r = sh(os.path.join(SCRIPTS, "bench-sweep"), spec_file, "--against", tmp_path / "nowhere", cwd=tmp_path)
     assert r.returncode == 2
     assert "--against" in r.stderr and "nowhere" in r.stderr and "no rtm program" in r.stderr
 
@@ -93,3 +93,13 @@ def test_a_commit_without_the_spec_is_an_error_naming_it(tmp_path):
            "--at", "no-such-commit", "--against", tmp_path, "--dir", tmp_path / "out")
     assert r.returncode == 2
     assert "--at no-such-commit" in r.stderr
+
+
+def test_a_page_without_its_part_is_refused_before_any_sweep_runs(rtm, tmp_path):
+    spec_file = write_spec(tmp_path / "two.yaml", SPEC)
+    (tmp_path / "page.md").write_text("# A page\n\nNo markers.\n")
+    r = sh(os.path.join(SCRIPTS, "bench-sweep"), spec_file, "--against", os.path.dirname(rtm),
+           "--dir", tmp_path / "out", "--page", tmp_path / "page.md", cwd=tmp_path)
+    assert r.returncode == 2
+    assert "page.md" in r.stderr and "no part written by scripts/bench-sweep" in r.stderr
+    assert not (tmp_path / "out").exists()
