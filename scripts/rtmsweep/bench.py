@@ -94,7 +94,7 @@ def timed_sweep(spec_path, rtm, out, jobs):
            "--no-plots"] + (["--jobs", jobs] if jobs else [])
     env = dict(os.environ, RTM_CACHE_DIR=os.path.join(out, "cache"))
     load, start = os.getloadavg()[0], time.monotonic()
-    done = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL)
+    done = subprocess.run(cmd, env=env, stdout=sys.stderr)  # its line a run: the progress
     elapsed = time.monotonic() - start
     if done.returncode != 0:
         die(f"the sweep with {rtm} failed (exit {done.returncode}); its runs are in {out}", 1)
