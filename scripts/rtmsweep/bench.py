@@ -14,6 +14,7 @@ import shutil
 import subprocess
 import sys
 import time
+from typing import NamedTuple
 
 import yaml
 
@@ -22,6 +23,14 @@ from . import page, results, spec, sweep
 WHO = "scripts/bench-sweep"  # the writer its study page names
 # The columns that say how a run went on this machine, not what was simulated.
 NOT_SIMULATED = {"wall_seconds", "host", "commit"}
+
+
+class Sweep(NamedTuple):
+    """One build's whole sweep: its wall time, its results.csv, the load average around it."""
+    elapsed: float
+    head: list
+    rows: list
+    load: tuple
 
 
 def die(message, code=2):
@@ -86,8 +95,7 @@ def spec_at(commit, path, folder):
 
 
 def timed_sweep(spec_path, rtm, out, jobs):
-    """Runs the sweep whole into OUT (emptied first) with RTM and its own empty reference cache:
-    (elapsed seconds, results as (header, rows), the load average before and after)."""
+    """Runs the sweep whole into OUT (emptied first) with RTM and its own empty reference cache."""
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
     cmd = [os.path.join(sweep.SCRIPTS, "sweep"), spec_path, "--out", out, "--rtm", rtm,
@@ -98,34 +106,35 @@ def timed_sweep(spec_path, rtm, out, jobs):
     elapsed = time.monotonic() - start
     if done.returncode != 0:
         die(f"the sweep with {rtm} failed (exit {done.returncode}); its runs are in {out}", 1)
-    return elapsed, results.read_csv(results.results_path(out)), (load, os.getloadavg()[0])
+    head, rows = results.read_csv(results.results_path(out))
+    return Sweep(elapsed, head, rows, (load, os.getloadavg()[0]))
 
 
-def tables(name, builds, timed, jobs):
-    """The page's Markdown: each build, then the times, then the figures compared with new's."""
+def tables(name, builds, versions, timed, compared, jobs):
+    """The page's Markdown: each build (its `--version`), then the times, then the figures of each
+    other build COMPARED with new's (differences())."""
     names = [n for n, _ in builds]
-    lines = [f"Sweep `{name}`, {len(timed[0][1][1])} runs, {f'{jobs} at a time' if jobs else 'one per core at a time'}, on "
+    lines = [f"Sweep `{name}`, {len(timed[0].rows)} runs, {f'{jobs} at a time' if jobs else 'one per core at a time'}, on "
              f"{os.cpu_count()} cores; the builds one after another ({', '.join(names)}).", ""]
-    lines += [f"- {n}: `{page.build_of(rtm)}`" for n, rtm in builds] + [""]
+    lines += [f"- {n}: `{v}`" for n, v in zip(names, versions)] + [""]
     lines += ["| build | sweep's wall s | runs' own s in all | new / build, wall | new / build, runs' own "
               "| load average before, after |", "|---|---|---|---|---|---|"]
-    own = [own_seconds(rows) for _, (_, rows), _ in timed]
-    for i, (n, (elapsed, _, load)) in enumerate(zip(names, timed)):
-        ratios = " | " if i == 0 else f"{timed[0][0] / elapsed:.2f} | {own[0] / own[i]:.2f}"
-        lines.append(f"| {n} | {elapsed:.1f} | {own[i]:.1f} | {ratios} | {load[0]:.2f}, {load[1]:.2f} |")
-    variants = list(seconds_by(timed[0][1][1], "variant")) if "variant" in timed[0][1][0] else []
+    own = [own_seconds(t.rows) for t in timed]
+    for i, (n, t) in enumerate(zip(names, timed)):
+        ratios = " | " if i == 0 else f"{timed[0].elapsed / t.elapsed:.2f} | {own[0] / own[i]:.2f}"
+        lines.append(f"| {n} | {t.elapsed:.1f} | {own[i]:.1f} | {ratios} | {t.load[0]:.2f}, {t.load[1]:.2f} |")
+    variants = list(seconds_by(timed[0].rows, "variant")) if "variant" in timed[0].head else []
     if variants:
         lines += ["", "The runs' own seconds per variant:", "",
                   "| variant | " + " | ".join(names) + " | " + " | ".join(f"new / {n}" for n in names[1:]) + " |",
                   "|---|" + "---|" * (2 * len(names) - 1)]
-        per = [seconds_by(rows, "variant") for _, (_, rows), _ in timed]
+        per = [seconds_by(t.rows, "variant") for t in timed]
         for v in variants:
             cells = [f"{p.get(v, 0):.1f}" for p in per]
             cells += [f"{per[0][v] / p[v]:.2f}" if p.get(v) else "" for p in per[1:]]
             lines.append(f"| {v} | " + " | ".join(cells) + " |")
     lines += [""]
-    for n, (_, other, _) in zip(names[1:], timed[1:]):
-        lone, one_sided, differing = differences(timed[0][1], other)
+    for n, (lone, one_sided, differing) in zip(names[1:], compared):
         same = not lone and not differing
         lines.append(f"- new against {n}: " + ("every simulated figure of every run the same"
                                                 if same else "figures differ"))
@@ -172,14 +181,14 @@ def main(argv=None):
     for n, rtm in builds:
         print(f"bench-sweep: {name} with {n} ({rtm})", file=sys.stderr)
         timed.append(timed_sweep(args.spec, rtm, os.path.join(args.dir, n), args.jobs))
-    body = tables(name, builds, timed, args.jobs)
+    versions = [page.build_of(rtm) for _, rtm in builds]
+    compared = [differences((timed[0].head, timed[0].rows), (t.head, t.rows)) for t in timed[1:]]
+    body = tables(name, builds, versions, timed, compared, args.jobs)
     results.write_atomic(os.path.join(args.dir, "tables.md"), body)
     print(body, end="")
     if args.page:
         try:
-            page.update(args.page, WHO, body, page.build_of(builds[0][1]),
-                        runs=page.runs_line(timed[0][1][1]))
+            page.update(args.page, WHO, body, versions[0], runs=page.runs_line(timed[0].rows))
         except page.PageError as e:
             die(str(e))
-    lone, _, differing = zip(*(differences(timed[0][1], t[1]) for t in timed[1:]))
-    return 0 if not any(lone) and not any(differing) else 1
+    return 0 if all(not lone and not differing for lone, _, differing in compared) else 1
